@@ -1,0 +1,3 @@
+//! Runtime of filippov.
+pub mod numeric;
+pub mod system;

@@ -1,0 +1,3 @@
+//! Plain numeric dynamics over a runtime [`Model`].
+mod model;
+pub use model::*;

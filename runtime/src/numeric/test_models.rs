@@ -1,0 +1,188 @@
+//! Small models shared by the unit tests.
+
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+
+use super::{JointKind, Link, Model};
+
+pub const G: f64 = 9.81;
+
+/// A uniform rod along the link's x axis: com at l/2, inertia diag(0, m l²/12, m l²/12).
+pub fn rod(
+    name: &str,
+    parent: Option<usize>,
+    coordinate: usize,
+    origin_x: f64,
+    m: f64,
+    l: f64,
+) -> Link {
+    Link {
+        name: name.into(),
+        parent,
+        joint: JointKind::Revolute { axis: Vector3::z() },
+        coordinate: Some(coordinate),
+        origin_xyz: Vector3::new(origin_x, 0.0, 0.0),
+        origin_rpy: Vector3::zeros(),
+        mass: m,
+        com: Vector3::new(l / 2.0, 0.0, 0.0),
+        inertia: Matrix3::from_diagonal(&Vector3::new(0.0, m * l * l / 12.0, m * l * l / 12.0)),
+    }
+}
+
+/// Two revolute-z rods in the x–y plane, gravity (0, −9.81, 0); q are relative angles.
+pub fn double_pendulum(m1: f64, l1: f64, m2: f64, l2: f64) -> Model {
+    Model {
+        gravity: Vector3::new(0.0, -G, 0.0),
+        links: vec![
+            rod("upper", None, 0, 0.0, m1, l1),
+            rod("lower", Some(0), 1, l1, m2, l2),
+        ],
+        springs: vec![],
+        dampers: vec![],
+    }
+}
+
+/// Closed-form `M(q)` and `g(q)` of [`double_pendulum`].
+pub fn double_pendulum_closed_form(
+    m1: f64,
+    l1: f64,
+    m2: f64,
+    l2: f64,
+    t1: f64,
+    t2: f64,
+) -> (DMatrix<f64>, DVector<f64>) {
+    let (i1, i2) = (m1 * l1 * l1 / 12.0, m2 * l2 * l2 / 12.0);
+    let m22 = m2 * l2 * l2 / 4.0 + i2;
+    let m12 = m22 + m2 * l1 * l2 / 2.0 * t2.cos();
+    let m11 = m1 * l1 * l1 / 4.0 + i1 + m2 * (l1 * l1 + l1 * l2 * t2.cos()) + m22;
+    let mass = DMatrix::from_row_slice(2, 2, &[m11, m12, m12, m22]);
+    let g2 = G * m2 * l2 / 2.0 * (t1 + t2).cos();
+    let g1 = G * (m1 * l1 / 2.0 + m2 * l1) * t1.cos() + g2;
+    (mass, DVector::from_vec(vec![g1, g2]))
+}
+
+/// A cart on a prismatic x joint carrying a rod on a revolute z joint, gravity −y.
+pub fn cart_pole(mc: f64, mp: f64, l: f64) -> Model {
+    let cart = Link {
+        name: "cart".into(),
+        parent: None,
+        joint: JointKind::Prismatic { axis: Vector3::x() },
+        coordinate: Some(0),
+        origin_xyz: Vector3::zeros(),
+        origin_rpy: Vector3::zeros(),
+        mass: mc,
+        com: Vector3::zeros(),
+        inertia: Matrix3::identity() * 0.1,
+    };
+    Model {
+        gravity: Vector3::new(0.0, -G, 0.0),
+        links: vec![cart, rod("pole", Some(0), 1, 0.0, mp, l)],
+        springs: vec![],
+        dampers: vec![],
+    }
+}
+
+/// A branched spatial tree: non-trivial origins (rpy), general axes, a prismatic joint
+/// and a fixed link, full inertias.
+pub fn spatial_chain() -> Model {
+    let inertia =
+        |a: f64, b: f64, c: f64| Matrix3::new(a, 0.01, -0.02, 0.01, b, 0.03, -0.02, 0.03, c);
+    let link = |name: &str,
+                parent,
+                joint,
+                coordinate,
+                xyz: [f64; 3],
+                rpy: [f64; 3],
+                mass,
+                com: [f64; 3],
+                i| Link {
+        name: String::from(name),
+        parent,
+        joint,
+        coordinate,
+        origin_xyz: Vector3::from(xyz),
+        origin_rpy: Vector3::from(rpy),
+        mass,
+        com: Vector3::from(com),
+        inertia: i,
+    };
+    let axis = |x: f64, y: f64, z: f64| Vector3::new(x, y, z).normalize();
+    Model {
+        gravity: Vector3::new(0.3, -0.2, -G),
+        links: vec![
+            link(
+                "a",
+                None,
+                JointKind::Revolute { axis: Vector3::z() },
+                Some(0),
+                [0.0, 0.0, 0.1],
+                [0.0, 0.0, 0.4],
+                2.0,
+                [0.05, 0.0, 0.2],
+                inertia(0.3, 0.25, 0.1),
+            ),
+            link(
+                "b",
+                Some(0),
+                JointKind::Revolute {
+                    axis: axis(0.0, 1.0, 0.2),
+                },
+                Some(1),
+                [0.0, 0.1, 0.4],
+                [0.3, -0.5, 0.2],
+                1.5,
+                [0.3, 0.02, -0.01],
+                inertia(0.1, 0.2, 0.2),
+            ),
+            link(
+                "c",
+                Some(1),
+                JointKind::Prismatic {
+                    axis: axis(1.0, 0.3, 0.0),
+                },
+                Some(2),
+                [0.5, 0.0, 0.0],
+                [0.0, 0.2, 0.0],
+                0.8,
+                [0.1, 0.0, 0.05],
+                inertia(0.05, 0.06, 0.07),
+            ),
+            link(
+                "tool",
+                Some(2),
+                JointKind::Fixed,
+                None,
+                [0.1, 0.0, 0.0],
+                [1.0, 0.0, -0.3],
+                0.3,
+                [0.0, 0.05, 0.0],
+                inertia(0.02, 0.02, 0.03),
+            ),
+            link(
+                "d",
+                Some(3),
+                JointKind::Revolute {
+                    axis: axis(1.0, 0.0, 1.0),
+                },
+                Some(3),
+                [0.0, 0.2, 0.0],
+                [-0.4, 0.1, 0.9],
+                0.6,
+                [0.0, 0.0, 0.1],
+                inertia(0.04, 0.05, 0.02),
+            ),
+            link(
+                "e",
+                Some(0),
+                JointKind::Revolute { axis: Vector3::x() },
+                Some(4),
+                [0.0, -0.2, 0.3],
+                [0.0, 0.5, 0.0],
+                0.9,
+                [0.0, -0.1, 0.0],
+                inertia(0.06, 0.04, 0.05),
+            ),
+        ],
+        springs: vec![],
+        dampers: vec![],
+    }
+}

@@ -1,2 +1,50 @@
-//! filippov: compile-time specialised simulators for rigid multibody systems.
+//! # filippov
+//!
+//! Compile-time specialised simulators for rigid multibody systems. A struct whose
+//! fields are physical parameters, described with attributes, becomes straight-line
+//! Rust for the mass matrix, Christoffel symbols and Coriolis matrix, gravity, forward
+//! and inverse dynamics and the Jacobian of the forward dynamics:
+//!
+//! ```
+//! use filippov::prelude::*;
+//!
+//! #[derive(Mechanism)]
+//! #[mechanism(gravity = [0.0, -9.81, 0.0])]
+//! #[body(upper, mass = m1, com = [l1 / 2.0, 0.0, 0.0], inertia = rod(m1, l1))]
+//! #[joint(shoulder: revolute(z), parent = world, child = upper)]
+//! #[body(lower, mass = m2, com = [l2 / 2.0, 0.0, 0.0], inertia = rod(m2, l2))]
+//! #[joint(elbow: revolute(z), parent = upper, child = lower, origin = [l1, 0.0, 0.0])]
+//! struct DoublePendulum { m1: f64, l1: f64, m2: f64, l2: f64 }
+//!
+//! let p = DoublePendulum { m1: 1.0, l1: 1.0, m2: 0.5, l2: 0.7 };
+//! let q = SVector::<f64, 2>::new(0.3, -0.2);
+//! let m = p.mass_matrix(&q);
+//! assert!((m[(0, 1)] - m[(1, 0)]).abs() == 0.0);
+//! ```
+//!
+//! ## Attributes
+//! - `#[mechanism(gravity = [gx, gy, gz])]` — optional; no gravity code without it.
+//! - `#[body(name, mass = m, com = [x, y, z], inertia = …)]` — inertia about the centre
+//!   of mass in the link frame: `rod(m, l)` (along x), `cylinder(m, r, h)` (along z),
+//!   `cuboid(m, a, b, c)`, `sphere(m, r)`, `diag(ixx, iyy, izz)`, a symmetric 3×3 array,
+//!   or `point`.
+//! - `#[joint(name: revolute(axis) | prismatic(axis) | fixed, parent = world | body,
+//!   child = body, origin = [x, y, z], rpy = [roll, pitch, yaw])]` — URDF convention;
+//!   the axis is `x`, `y`, `z`, `-x`, … or three numbers.
+//! - `#[spring(joint, k = …, rest = …)]`, `#[damper(joint, c = …)]` on joint coordinates.
+//!
+//! Values are expressions over the struct's `f64` fields, numbers, `PI`, `+ - * /`,
+//! `sqrt`, `sin`, `cos`, `exp`, `ln` and `powi`.
+
+// The derive and the trait share a name, as serde's do: one lives in the macro
+// namespace, the other in the type namespace.
+pub use filippov_macros::Mechanism;
 pub use filippov_runtime as runtime;
+pub use filippov_runtime::system::{ForwardJacobian, Mechanism};
+pub use nalgebra;
+
+/// The names most programs need.
+pub mod prelude {
+    pub use crate::{ForwardJacobian, Mechanism};
+    pub use nalgebra::{SMatrix, SVector};
+}

@@ -1,1 +1,13 @@
-//! placeholder
+//! filippov-macros: the derive entry points, kept thin; the engine is `filippov-codegen`.
+
+use proc_macro::TokenStream;
+
+/// Generates a specialised, fully unrolled simulator for a rigid multibody tree. See the
+/// `filippov` crate documentation for the attributes.
+#[proc_macro_derive(Mechanism, attributes(mechanism, body, joint, spring, damper))]
+pub fn derive_mechanism(input: TokenStream) -> TokenStream {
+    match filippov_codegen::expand(input.into()) {
+        Ok(ts) => ts.into(),
+        Err(e) => filippov_codegen::emit::fallback::errors(e).into(),
+    }
+}

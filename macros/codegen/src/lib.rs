@@ -1,1 +1,45 @@
-//! placeholder
+//! The engine behind `#[derive(Mechanism)]`, as a plain library so that tests, build
+//! scripts and the report can call it.
+//!
+//! Pipeline (one module each): [`parse`] attributes → [`validate`] into a [`model`]
+//! (errors accumulated in [`diag`]) → [`mech`]anics on the symbolic DAG of [`sym`] →
+//! [`emit`] straight-line Rust.
+
+pub mod diag;
+pub mod emit;
+pub mod mech;
+pub mod model;
+pub mod parse;
+pub mod sym;
+pub mod validate;
+
+use proc_macro2::TokenStream;
+
+pub use emit::FnStats;
+
+/// The expansion and what it took.
+pub struct Expansion {
+    pub tokens: TokenStream,
+    pub dof: usize,
+    /// Nodes in the shared expression graph.
+    pub graph_nodes: usize,
+    /// Per generated method: operation counts and number of `let`s.
+    pub functions: Vec<FnStats>,
+}
+
+/// Expands `#[derive(Mechanism)]` on `input` (the struct's tokens).
+pub fn expand(input: TokenStream) -> Result<TokenStream, syn::Error> {
+    expand_with_stats(input).map(|e| e.tokens)
+}
+
+/// [`expand`], also returning operation counts.
+pub fn expand_with_stats(input: TokenStream) -> Result<Expansion, syn::Error> {
+    let input: syn::DeriveInput = syn::parse2(input)?;
+    let mut diag = diag::Diagnostics::new();
+    let model = validate::validate(&input, &mut diag);
+    diag.finish()?;
+    let model = model.expect("a model when there are no errors");
+    let kernels = mech::Kernels::build(&model);
+    let (tokens, functions) = emit::mechanism_impl(&model, &kernels);
+    Ok(Expansion { tokens, dof: kernels.dof, graph_nodes: kernels.graph.len(), functions })
+}

@@ -1,0 +1,49 @@
+//! Error collection: every pass reports into one [`Diagnostics`] and keeps going, so the
+//! user sees all independent mistakes of a declaration in one build.
+
+use std::fmt::Display;
+
+use proc_macro2::Span;
+use quote::ToTokens;
+
+#[derive(Default)]
+pub struct Diagnostics {
+    errors: Vec<syn::Error>,
+}
+
+impl Diagnostics {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// An error spanned at the tokens of `at`.
+    pub fn error_at(&mut self, at: impl ToTokens, msg: impl Display) {
+        self.errors.push(syn::Error::new_spanned(at, msg));
+    }
+
+    pub fn error_span(&mut self, span: Span, msg: impl Display) {
+        self.errors.push(syn::Error::new(span, msg));
+    }
+
+    pub fn push(&mut self, e: syn::Error) {
+        self.errors.push(e);
+    }
+
+    pub fn has_errors(&self) -> bool {
+        !self.errors.is_empty()
+    }
+
+    /// All errors combined into one, or `Ok` if there were none.
+    pub fn finish(self) -> syn::Result<()> {
+        let mut it = self.errors.into_iter();
+        match it.next() {
+            None => Ok(()),
+            Some(mut first) => {
+                for e in it {
+                    first.combine(e);
+                }
+                Err(first)
+            }
+        }
+    }
+}

@@ -1,0 +1,407 @@
+//! One generated function from a set of output nodes.
+//!
+//! Every reachable node used more than once gets a `let` (common subexpressions, in
+//! arena order, which is topological); a node used once is written inline into its only
+//! user. Each `sin`/`cos` pair of one argument comes from a single `sin_cos()`.
+//! Functions beyond [`CHUNK`] lets are split into helper functions that pass the values
+//! crossing a split through a stack array: rustc's time grows much faster than linearly
+//! in the length of one function, and its debug build overflows its stack beyond a few
+//! thousand lets.
+
+use std::collections::BTreeSet;
+
+use proc_macro2::{Ident, Literal, Span, TokenStream};
+use quote::{format_ident, quote};
+
+use crate::sym::{Graph, Id, InputKind, Node, Unary};
+
+/// Most lets in one generated function.
+pub const CHUNK: usize = 1200;
+
+/// What a generated function looks like from outside.
+pub struct Signature {
+    pub name: Ident,
+    /// The inputs the function takes (`q`, `v`, `a`, `tau`), in order.
+    pub inputs: Vec<InputKind>,
+    pub ret: TokenStream,
+    pub doc: String,
+}
+
+/// A generated method and the helper chunks it calls.
+pub struct Emitted {
+    pub method: TokenStream,
+    pub helpers: TokenStream,
+    pub lets: usize,
+}
+
+#[derive(Clone, Copy)]
+enum Item {
+    Let(Id),
+    SinCos(Id, Id),
+}
+
+fn arg_name(k: InputKind) -> Ident {
+    Ident::new(
+        match k {
+            InputKind::Q => "q",
+            InputKind::V => "v",
+            InputKind::A => "a",
+            InputKind::Tau => "tau",
+        },
+        Span::call_site(),
+    )
+}
+
+/// Emits `sig` computing `outputs`; `assemble` builds the return value from the rendered
+/// outputs (in order).
+pub fn emit(
+    g: &Graph,
+    params: &[Ident],
+    dof: usize,
+    sig: &Signature,
+    outputs: &[Id],
+    assemble: &dyn Fn(Vec<TokenStream>) -> TokenStream,
+) -> Emitted {
+    let reach = g.reachable(outputs);
+    let mut uses = vec![0u32; g.len()];
+    for (i, _) in reach.iter().enumerate().filter(|(_, r)| **r) {
+        match g.node(Id(i as u32)) {
+            Node::Add(a, b) | Node::Mul(a, b) => {
+                uses[a.index()] += 1;
+                uses[b.index()] += 1;
+            }
+            Node::Unary(_, a) => uses[a.index()] += 1,
+            _ => {}
+        }
+    }
+    for o in outputs {
+        uses[o.index()] += 1;
+    }
+    let is_leaf = |id: Id| matches!(g.node(id), Node::Const(_) | Node::Param(_) | Node::Input(_));
+    let is_trig = |id: Id| matches!(g.node(id), Node::Unary(Unary::Sin | Unary::Cos, _));
+    let bound: Vec<bool> =
+        (0..g.len()).map(|i| reach[i] && !is_leaf(Id(i as u32)) && (uses[i] >= 2 || is_trig(Id(i as u32)))).collect();
+
+    // Items in topological order; sin and cos of one argument together.
+    let mut items = Vec::new();
+    let mut done = vec![false; g.len()];
+    for i in 0..g.len() {
+        let id = Id(i as u32);
+        if !bound[i] || done[i] {
+            continue;
+        }
+        done[i] = true;
+        let partner = match g.node(id) {
+            Node::Unary(Unary::Sin, x) => g.find(Node::Unary(Unary::Cos, x)).map(|c| (id, c)),
+            Node::Unary(Unary::Cos, x) => g.find(Node::Unary(Unary::Sin, x)).map(|s| (s, id)),
+            _ => None,
+        };
+        match partner {
+            Some((s, c)) if bound[s.index()] && bound[c.index()] => {
+                done[s.index()] = true;
+                done[c.index()] = true;
+                items.push(Item::SinCos(s, c));
+            }
+            _ => items.push(Item::Let(id)),
+        }
+    }
+
+    // Names.
+    let mut names: Vec<Option<Ident>> = vec![None; g.len()];
+    let mut next = 0usize;
+    let mut fresh = |id: Id, names: &mut Vec<Option<Ident>>| {
+        let name = match g.node(id) {
+            Node::Unary(op @ (Unary::Sin | Unary::Cos), x) => match g.node(x) {
+                Node::Input(inp) if inp.kind == InputKind::Q => {
+                    format_ident!("{}{}", if op == Unary::Sin { "s" } else { "c" }, inp.index)
+                }
+                _ => {
+                    next += 1;
+                    format_ident!("x{}", next - 1)
+                }
+            },
+            _ => {
+                next += 1;
+                format_ident!("x{}", next - 1)
+            }
+        };
+        names[id.index()] = Some(name);
+    };
+    for it in &items {
+        match *it {
+            Item::Let(id) => fresh(id, &mut names),
+            Item::SinCos(s, c) => {
+                fresh(s, &mut names);
+                fresh(c, &mut names);
+            }
+        }
+    }
+
+    // Chunks: the last one lives in the method itself.
+    let nchunks = items.len().div_ceil(CHUNK).max(1);
+    let chunk_of_item = |k: usize| (k / CHUNK).min(nchunks - 1);
+    let mut def_chunk = vec![usize::MAX; g.len()];
+    for (k, it) in items.iter().enumerate() {
+        match *it {
+            Item::Let(id) => def_chunk[id.index()] = chunk_of_item(k),
+            Item::SinCos(s, c) => {
+                def_chunk[s.index()] = chunk_of_item(k);
+                def_chunk[c.index()] = chunk_of_item(k);
+            }
+        }
+    }
+    // Where each node is rendered: a bound node in its chunk, an inline one in its user's.
+    let mut home = vec![usize::MAX; g.len()];
+    for o in outputs {
+        if !bound[o.index()] {
+            home[o.index()] = nchunks - 1;
+        }
+    }
+    let mut slot = vec![usize::MAX; g.len()];
+    let mut nslots = 0usize;
+    let mut need_slot = |c: Id, h: usize, slot: &mut Vec<usize>| {
+        if bound[c.index()] && def_chunk[c.index()] != h && slot[c.index()] == usize::MAX {
+            slot[c.index()] = nslots;
+            nslots += 1;
+        }
+    };
+    for o in outputs {
+        need_slot(*o, nchunks - 1, &mut slot);
+    }
+    for i in (0..g.len()).rev() {
+        if !reach[i] {
+            continue;
+        }
+        let h = if bound[i] { def_chunk[i] } else { home[i] };
+        let kids: Vec<Id> = match g.node(Id(i as u32)) {
+            Node::Add(a, b) | Node::Mul(a, b) => vec![a, b],
+            Node::Unary(_, a) => vec![a],
+            _ => vec![],
+        };
+        for c in kids {
+            if bound[c.index()] {
+                need_slot(c, h, &mut slot);
+            } else {
+                home[c.index()] = h;
+            }
+        }
+    }
+
+    let r = Renderer { g, params, bound: &bound, names: &names, def_chunk: &def_chunk, slot: &slot };
+    let args: Vec<TokenStream> = sig
+        .inputs
+        .iter()
+        .map(|k| {
+            let a = arg_name(*k);
+            quote!(#a: &::filippov::nalgebra::SVector<f64, #dof>)
+        })
+        .collect();
+    let arg_names: Vec<Ident> = sig.inputs.iter().map(|k| arg_name(*k)).collect();
+    let nslots_lit = Literal::usize_unsuffixed(nslots);
+    let mut helpers = TokenStream::new();
+    let mut calls = TokenStream::new();
+    let mut chunk_items: Vec<Vec<Item>> = vec![Vec::new(); nchunks];
+    for (k, it) in items.iter().enumerate() {
+        chunk_items[chunk_of_item(k)].push(*it);
+    }
+    let mut main_body = TokenStream::new();
+    for (c, its) in chunk_items.iter().enumerate() {
+        let mut used = BTreeSet::new();
+        let mut body = TokenStream::new();
+        for it in its {
+            let defs: Vec<Id> = match *it {
+                Item::Let(id) => {
+                    let name = names[id.index()].as_ref().expect("named");
+                    let e = r.inline(id, c, &mut used);
+                    body.extend(quote!(let #name = #e;));
+                    vec![id]
+                }
+                Item::SinCos(s, cs) => {
+                    let (ns, nc) = (names[s.index()].as_ref().expect("named"), names[cs.index()].as_ref().expect("named"));
+                    let Node::Unary(_, x) = g.node(s) else { unreachable!() };
+                    let e = r.atom(x, c, &mut used);
+                    body.extend(quote!(let (#ns, #nc) = #e.sin_cos();));
+                    vec![s, cs]
+                }
+            };
+            for d in defs {
+                if slot[d.index()] != usize::MAX {
+                    let k = Literal::usize_unsuffixed(slot[d.index()]);
+                    let name = names[d.index()].as_ref().expect("named");
+                    body.extend(quote!(t[#k] = #name;));
+                }
+            }
+        }
+        if c + 1 == nchunks {
+            let outs: Vec<TokenStream> = outputs.iter().map(|o| r.expr(*o, c, &mut used)).collect();
+            let ret = assemble(outs);
+            let binds = bind_inputs(&used);
+            main_body = quote!(#binds #body #ret);
+        } else {
+            let hname = format_ident!("__{}_part{}", sig.name, c);
+            let binds = bind_inputs(&used);
+            helpers.extend(quote! {
+                #[doc(hidden)]
+                #[inline(never)]
+                #[allow(clippy::all, unused_variables)]
+                fn #hname(&self, #(#args,)* t: &mut [f64; #nslots_lit]) {
+                    #binds
+                    #body
+                }
+            });
+            calls.extend(quote!(self.#hname(#(#arg_names,)* &mut t);));
+        }
+    }
+    let scratch = if nchunks > 1 { quote!(let mut t = [0.0f64; #nslots_lit];) } else { quote!() };
+    let (name, ret, doc) = (&sig.name, &sig.ret, &sig.doc);
+    let method = quote! {
+        #[doc = #doc]
+        #[inline]
+        #[allow(unused_variables, clippy::all)]
+        fn #name(&self, #(#args),*) -> #ret {
+            #scratch
+            #calls
+            #main_body
+        }
+    };
+    Emitted { method, helpers, lets: items.len() }
+}
+
+fn bind_inputs(used: &BTreeSet<(InputKind, u16)>) -> TokenStream {
+    let mut out = TokenStream::new();
+    for (k, i) in used {
+        let arg = arg_name(*k);
+        let name = format_ident!("{}{}", arg, *i);
+        let idx = Literal::usize_unsuffixed(*i as usize);
+        out.extend(quote!(let #name = #arg[#idx];));
+    }
+    out
+}
+
+struct Renderer<'a> {
+    g: &'a Graph,
+    params: &'a [Ident],
+    bound: &'a [bool],
+    names: &'a [Option<Ident>],
+    def_chunk: &'a [usize],
+    slot: &'a [usize],
+}
+
+/// Precedence levels for parenthesising.
+const SUM: u8 = 1;
+const PRODUCT: u8 = 2;
+const ATOM: u8 = 3;
+
+impl Renderer<'_> {
+    /// The node as an operand needing at least precedence `min`.
+    fn operand(&self, id: Id, chunk: usize, min: u8, used: &mut BTreeSet<(InputKind, u16)>) -> TokenStream {
+        let (e, p) = self.render(id, chunk, used);
+        if p >= min { e } else { quote!((#e)) }
+    }
+
+    fn atom(&self, id: Id, chunk: usize, used: &mut BTreeSet<(InputKind, u16)>) -> TokenStream {
+        self.operand(id, chunk, ATOM, used)
+    }
+
+    fn expr(&self, id: Id, chunk: usize, used: &mut BTreeSet<(InputKind, u16)>) -> TokenStream {
+        self.render(id, chunk, used).0
+    }
+
+    /// The definition of a bound node (never its name).
+    fn inline(&self, id: Id, chunk: usize, used: &mut BTreeSet<(InputKind, u16)>) -> TokenStream {
+        self.render_node(id, chunk, used).0
+    }
+
+    fn render(&self, id: Id, chunk: usize, used: &mut BTreeSet<(InputKind, u16)>) -> (TokenStream, u8) {
+        let i = id.index();
+        if self.bound[i] {
+            if self.def_chunk[i] == chunk {
+                let n = self.names[i].as_ref().expect("named");
+                return (quote!(#n), ATOM);
+            }
+            let k = Literal::usize_unsuffixed(self.slot[i]);
+            return (quote!(t[#k]), ATOM);
+        }
+        self.render_node(id, chunk, used)
+    }
+
+    fn render_node(&self, id: Id, chunk: usize, used: &mut BTreeSet<(InputKind, u16)>) -> (TokenStream, u8) {
+        let g = self.g;
+        match g.node(id) {
+            Node::Const(bits) => {
+                let c = f64::from_bits(bits);
+                if !c.is_finite() {
+                    return (if c.is_nan() { quote!(f64::NAN) } else if c > 0.0 { quote!(f64::INFINITY) } else { quote!(f64::NEG_INFINITY) }, ATOM);
+                }
+                let lit = Literal::f64_unsuffixed(c.abs());
+                if c < 0.0 { (quote!(-#lit), SUM) } else { (quote!(#lit), ATOM) }
+            }
+            Node::Param(p) => {
+                let f = &self.params[p as usize];
+                (quote!(self.#f), ATOM)
+            }
+            Node::Input(inp) => {
+                used.insert((inp.kind, inp.index));
+                let n = format_ident!("{}{}", arg_name(inp.kind), inp.index);
+                (quote!(#n), ATOM)
+            }
+            Node::Add(a, b) => {
+                let neg = |x: Id| match g.node(x) {
+                    Node::Unary(Unary::Neg, y) => Some(y),
+                    _ => None,
+                };
+                // Only inline negations are absorbed; a bound `-x` is a value.
+                let na = neg(a).filter(|_| !self.bound[a.index()]);
+                let nb = neg(b).filter(|_| !self.bound[b.index()]);
+                match (na, nb) {
+                    (_, Some(y)) => {
+                        let l = self.operand(a, chunk, SUM, used);
+                        let r = self.operand(y, chunk, PRODUCT, used);
+                        (quote!(#l - #r), SUM)
+                    }
+                    (Some(x), None) => {
+                        let l = self.operand(b, chunk, SUM, used);
+                        let r = self.operand(x, chunk, PRODUCT, used);
+                        (quote!(#l - #r), SUM)
+                    }
+                    (None, None) => {
+                        let l = self.operand(a, chunk, SUM, used);
+                        let r = self.operand(b, chunk, PRODUCT, used);
+                        (quote!(#l + #r), SUM)
+                    }
+                }
+            }
+            Node::Mul(a, b) => {
+                let rec = |x: Id| match g.node(x) {
+                    Node::Unary(Unary::Recip, y) if !self.bound[x.index()] => Some(y),
+                    _ => None,
+                };
+                if let Some(y) = rec(b) {
+                    let l = self.operand(a, chunk, PRODUCT, used);
+                    let r = self.atom(y, chunk, used);
+                    return (quote!(#l / #r), PRODUCT);
+                }
+                if let Some(y) = rec(a) {
+                    let l = self.operand(b, chunk, PRODUCT, used);
+                    let r = self.atom(y, chunk, used);
+                    return (quote!(#l / #r), PRODUCT);
+                }
+                let l = self.operand(a, chunk, PRODUCT, used);
+                let r = self.atom(b, chunk, used);
+                (quote!(#l * #r), PRODUCT)
+            }
+            Node::Unary(op, a) => {
+                let x = self.atom(a, chunk, used);
+                match op {
+                    Unary::Neg => (quote!(-#x), SUM),
+                    Unary::Recip => (quote!(1.0 / #x), PRODUCT),
+                    Unary::Sin => (quote!(#x.sin()), ATOM),
+                    Unary::Cos => (quote!(#x.cos()), ATOM),
+                    Unary::Sqrt => (quote!(#x.sqrt()), ATOM),
+                    Unary::Exp => (quote!(#x.exp()), ATOM),
+                    Unary::Ln => (quote!(#x.ln()), ATOM),
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,114 @@
+//! Emission: the `Mechanism` impl from the kernels, one generated function per method
+//! ([`function`]), the numeric model description ([`describe`]) and, on error, a stub
+//! impl that keeps secondary errors away ([`fallback`]).
+
+pub mod describe;
+pub mod fallback;
+pub mod function;
+
+use proc_macro2::{Literal, TokenStream};
+use quote::{format_ident, quote};
+
+use crate::mech::Kernels;
+use crate::model::Model;
+use crate::sym::{Id, InputKind, OpCount};
+use function::{Signature, emit};
+
+/// What was emitted for one method, for tests and the report.
+#[derive(Clone, Debug)]
+pub struct FnStats {
+    pub name: &'static str,
+    pub ops: OpCount,
+    pub lets: usize,
+}
+
+fn vector(outs: Vec<TokenStream>, n: usize) -> TokenStream {
+    quote!(::filippov::nalgebra::SVector::<f64, #n>::from([#(#outs),*]))
+}
+
+/// Column-major assembly of a row-major list of entries.
+fn matrix(outs: Vec<TokenStream>, n: usize) -> TokenStream {
+    let cols: Vec<TokenStream> = (0..n)
+        .map(|j| {
+            let col: Vec<&TokenStream> = (0..n).map(|i| &outs[i * n + j]).collect();
+            quote!([#(#col),*])
+        })
+        .collect();
+    quote!(::filippov::nalgebra::SMatrix::<f64, #n, #n>::from([#(#cols),*]))
+}
+
+pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>) {
+    use InputKind::*;
+    let n = k.dof;
+    let g = &k.graph;
+    let params = &model.params;
+    let ident = &model.ident;
+    let vec_t = quote!(::filippov::nalgebra::SVector<f64, #n>);
+    let mat_t = quote!(::filippov::nalgebra::SMatrix<f64, #n, #n>);
+    let flat = |m: &[Vec<Id>]| m.iter().flatten().copied().collect::<Vec<Id>>();
+    let mut methods = TokenStream::new();
+    let mut helpers = TokenStream::new();
+    let mut stats = Vec::new();
+    let mut add = |name: &'static str, inputs: Vec<InputKind>, ret: TokenStream, outs: Vec<Id>, asm: &dyn Fn(Vec<TokenStream>) -> TokenStream, doc: &str| {
+        let sig = Signature { name: format_ident!("{}", name), inputs, ret, doc: doc.to_string() };
+        let e = emit(g, params, n, &sig, &outs, asm);
+        stats.push(FnStats { name, ops: g.count_ops(&outs), lets: e.lets });
+        methods.extend(e.method);
+        helpers.extend(e.helpers);
+    };
+    let vasm = |o: Vec<TokenStream>| vector(o, n);
+    let masm = |o: Vec<TokenStream>| matrix(o, n);
+    add("mass_matrix", vec![Q], mat_t.clone(), flat(&k.mass), &masm, " Mass matrix `M(q)` (composite-rigid-body algorithm, unrolled).");
+    let chris: Vec<Id> = k.christoffel.iter().flat_map(|ci| ci.iter().flatten().copied()).collect();
+    add(
+        "christoffel_symbols",
+        vec![Q],
+        quote!([#mat_t; #n]),
+        chris,
+        &|o: Vec<TokenStream>| {
+            let per: Vec<TokenStream> = o.chunks(n * n).map(|c| matrix(c.to_vec(), n)).collect();
+            quote!([#(#per),*])
+        },
+        " Christoffel symbols of the first kind, `out[i][(j, k)] = c_ijk`.",
+    );
+    add("coriolis_matrix", vec![Q, V], mat_t.clone(), flat(&k.coriolis), &masm, " Coriolis matrix `C_ij = Σ_k c_ijk v_k`.");
+    add("gravity", vec![Q], vec_t.clone(), k.gravity.clone(), &vasm, " Generalised gravity force `g(q)`.");
+    add("bias", vec![Q, V], vec_t.clone(), k.bias.clone(), &vasm, " Bias force `C(q, v) v + g(q)` (recursive Newton–Euler with zero acceleration).");
+    add("passive_forces", vec![Q, V], vec_t.clone(), k.passive.clone(), &vasm, " Spring and damper forces on the joint coordinates.");
+    add("inverse_dynamics", vec![Q, V, A], vec_t.clone(), k.inverse.clone(), &vasm, " Inverse dynamics `M a + C v + g − τ_p` (recursive Newton–Euler).");
+    add("forward_dynamics", vec![Q, V, Tau], vec_t.clone(), k.forward.clone(), &vasm, " Forward dynamics `M⁻¹ (τ + τ_p − C v − g)` by a sparse `LᵀDL` of `M`.");
+    let mut jac_outs = k.forward.clone();
+    jac_outs.extend(flat(&k.jac_q));
+    jac_outs.extend(flat(&k.jac_v));
+    add(
+        "forward_dynamics_jacobian",
+        vec![Q, V, Tau],
+        quote!(::filippov::runtime::system::ForwardJacobian<#n>),
+        jac_outs,
+        &|o: Vec<TokenStream>| {
+            let acc = vector(o[..n].to_vec(), n);
+            let dq = matrix(o[n..n + n * n].to_vec(), n);
+            let dv = matrix(o[n + n * n..].to_vec(), n);
+            quote!(::filippov::runtime::system::ForwardJacobian { acceleration: #acc, d_dq: #dq, d_dv: #dv })
+        },
+        " Forward dynamics and its symbolic Jacobian with respect to `(q, v)`.",
+    );
+    add("kinetic_energy", vec![Q, V], quote!(f64), vec![k.kinetic], &|mut o| o.remove(0), " Kinetic energy `½ vᵀ M v`.");
+    add("potential_energy", vec![Q], quote!(f64), vec![k.potential], &|mut o| o.remove(0), " Potential energy of gravity and springs.");
+
+    let names: Vec<Literal> = model.joint_names().iter().map(|s| Literal::string(s)).collect();
+    let describe = describe::model_fn(model);
+    let code = quote! {
+        impl ::filippov::runtime::system::Mechanism<#n> for #ident {
+            const JOINTS: [&'static str; #n] = [#(#names),*];
+            #methods
+            #describe
+        }
+        impl #ident {
+            /// Number of degrees of freedom.
+            pub const DOF: usize = #n;
+            #helpers
+        }
+    };
+    (code, stats)
+}

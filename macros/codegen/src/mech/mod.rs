@@ -1,0 +1,165 @@
+//! Mechanics on the symbolic DAG: every quantity the derive emits, as graph nodes.
+//!
+//! Where things are made:
+//! - joint transforms and motion subspaces: [`kinematics`];
+//! - mass matrix `M(q)`: [`crba`] (composite-rigid-body algorithm);
+//! - inverse dynamics, bias and gravity forces: [`rnea`] (recursive Newton–Euler);
+//! - Christoffel symbols and the Coriolis matrix: [`christoffel`] (derivatives of `M`);
+//! - forward dynamics: [`ltdl`] (sparse `LᵀDL` of `M`) applied to `τ + τ_p − bias`;
+//! - its Jacobian: `∂v̇/∂x = −M⁻¹ ∂ID/∂x` at `a = v̇` ([`Kernels::build`]).
+
+pub mod christoffel;
+pub mod crba;
+pub mod kinematics;
+pub mod ltdl;
+pub mod rnea;
+pub mod spatial;
+
+use std::collections::HashMap;
+
+use crate::model::Model;
+use crate::sym::{Graph, Id, Input, InputKind};
+use spatial::{Inertia, dot3};
+
+/// All outputs of a scene, as nodes of one shared graph.
+pub struct Kernels {
+    pub graph: Graph,
+    pub dof: usize,
+    pub mass: Vec<Vec<Id>>,
+    /// `christoffel[i][j][k] = c_ijk`.
+    pub christoffel: Vec<Vec<Vec<Id>>>,
+    pub coriolis: Vec<Vec<Id>>,
+    pub gravity: Vec<Id>,
+    pub bias: Vec<Id>,
+    pub passive: Vec<Id>,
+    pub inverse: Vec<Id>,
+    pub forward: Vec<Id>,
+    pub jac_q: Vec<Vec<Id>>,
+    pub jac_v: Vec<Vec<Id>>,
+    pub kinetic: Id,
+    pub potential: Id,
+}
+
+impl Kernels {
+    pub fn build(model: &Model) -> Kernels {
+        let mut g = Graph::new();
+        let n = model.dof();
+        let q: Vec<Id> = (0..n).map(|i| g.input(InputKind::Q, i)).collect();
+        let v: Vec<Id> = (0..n).map(|i| g.input(InputKind::V, i)).collect();
+        let a: Vec<Id> = (0..n).map(|i| g.input(InputKind::A, i)).collect();
+        let tau: Vec<Id> = (0..n).map(|i| g.input(InputKind::Tau, i)).collect();
+        let zeros = vec![g.zero(); n];
+        let gravity_vec = model.gravity.as_ref().map(|gv| [gv[0].lower(&mut g), gv[1].lower(&mut g), gv[2].lower(&mut g)]);
+
+        let kin = kinematics::kinematics(&mut g, model);
+        let inertia = crba::link_inertias(&mut g, model);
+        let composite = crba::composite_inertias(&mut g, model, &kin, &inertia);
+        let mass = crba::mass_matrix(&mut g, model, &kin, &composite);
+        let christoffel = christoffel::christoffel_symbols(&mut g, &mass);
+        let coriolis = christoffel::coriolis(&mut g, &christoffel, &v);
+
+        let gravity = rnea::rnea(&mut g, model, &kin, &inertia, gravity_vec, &zeros, &zeros);
+        let bias = rnea::rnea(&mut g, model, &kin, &inertia, gravity_vec, &v, &zeros);
+        let passive = passive_forces(&mut g, model, &q, &v);
+        let rnea_a = rnea::rnea(&mut g, model, &kin, &inertia, gravity_vec, &v, &a);
+        let inverse: Vec<Id> = (0..n).map(|i| g.sub(rnea_a[i], passive[i])).collect();
+
+        // Forward dynamics: M v̇ = τ + τ_p − bias.
+        let parent = model.coordinate_parents();
+        let factor = ltdl::factor(&mut g, &mass, &parent);
+        let rhs: Vec<Id> = (0..n)
+            .map(|i| {
+                let t = g.add(tau[i], passive[i]);
+                g.sub(t, bias[i])
+            })
+            .collect();
+        let forward = factor.solve(&mut g, &rhs);
+
+        // ∂v̇/∂x = −M⁻¹ ∂ID(q, v, a)/∂x evaluated at a = v̇: differentiate inverse
+        // dynamics with a held fixed (cheap: RNEA is linear-size), then substitute.
+        let subst: HashMap<Id, Id> = a.iter().copied().zip(forward.iter().copied()).collect();
+        let mut memo = HashMap::new();
+        let mut jac = |g: &mut Graph, kind: InputKind| -> Vec<Vec<Id>> {
+            let mut cols = Vec::with_capacity(n);
+            for k in 0..n {
+                let x = Input { kind, index: k as u16 };
+                let d: Vec<Id> = (0..n)
+                    .map(|i| {
+                        let di = g.diff(inverse[i], x);
+                        let s = g.substitute(di, &subst, &mut memo);
+                        g.neg(s)
+                    })
+                    .collect();
+                cols.push(factor.solve(g, &d));
+            }
+            // cols[k][i] = ∂v̇_i/∂x_k → rows
+            (0..n).map(|i| (0..n).map(|k| cols[k][i]).collect()).collect()
+        };
+        let jac_q = jac(&mut g, InputKind::Q);
+        let jac_v = jac(&mut g, InputKind::V);
+
+        // Energies: T = ½ vᵀ M v; U = −gravity · (first moment of everything) + springs.
+        let mut kinetic = g.zero();
+        for i in 0..n {
+            let mv = g.dot(&mass[i], &v);
+            let t = g.mul(v[i], mv);
+            kinetic = g.add(kinetic, t);
+        }
+        let half = g.constant(0.5);
+        kinetic = g.mul(half, kinetic);
+        let mut potential = g.zero();
+        if let Some(gv) = gravity_vec {
+            for (i, link) in model.links.iter().enumerate() {
+                if link.parent.is_none() {
+                    let world: Inertia = composite[i].to_parent(&mut g, &kin.xform[i]);
+                    let w = dot3(&mut g, gv, world.h);
+                    potential = g.sub(potential, w);
+                }
+            }
+        }
+        for s in &model.springs {
+            let k = s.k.lower(&mut g);
+            let rest = s.rest.lower(&mut g);
+            let d = g.sub(q[s.coordinate], rest);
+            let dd = g.mul(d, d);
+            let e = g.mul(k, dd);
+            let e = g.mul(half, e);
+            potential = g.add(potential, e);
+        }
+
+        Kernels {
+            graph: g,
+            dof: n,
+            mass,
+            christoffel,
+            coriolis,
+            gravity,
+            bias,
+            passive,
+            inverse,
+            forward,
+            jac_q,
+            jac_v,
+            kinetic,
+            potential,
+        }
+    }
+}
+
+/// `τ_p = −k (q − rest) − c v`, summed over the springs and dampers of each coordinate.
+fn passive_forces(g: &mut Graph, model: &Model, q: &[Id], v: &[Id]) -> Vec<Id> {
+    let mut out = vec![g.zero(); q.len()];
+    for s in &model.springs {
+        let k = s.k.lower(g);
+        let rest = s.rest.lower(g);
+        let d = g.sub(q[s.coordinate], rest);
+        let f = g.mul(k, d);
+        out[s.coordinate] = g.sub(out[s.coordinate], f);
+    }
+    for d in &model.dampers {
+        let c = d.c.lower(g);
+        let f = g.mul(c, v[d.coordinate]);
+        out[d.coordinate] = g.sub(out[d.coordinate], f);
+    }
+    out
+}

@@ -1,0 +1,66 @@
+//! Inverse dynamics by the recursive Newton–Euler algorithm (Featherstone 2008, §5.3,
+//! Table 5.1), on the DAG: `RNEA(q, v, a) = M a + C v + g`. With `v = a = 0` it is the
+//! generalised gravity force, with `a = 0` the bias force; the folding constructors drop
+//! every term a zero input kills.
+
+use super::kinematics::{Kinematics, project};
+use super::spatial::{Force, Inertia, Motion, v3_zero};
+use crate::model::Model;
+use crate::sym::{Graph, Id};
+
+/// `τ = M(q) a + C(q, v) v + g(q)` for symbolic `v`, `a` (one node per coordinate);
+/// gravity enters as a base acceleration `−gravity`.
+pub fn rnea(
+    g: &mut Graph,
+    model: &Model,
+    kin: &Kinematics,
+    inertia: &[Inertia],
+    gravity: Option<[Id; 3]>,
+    v: &[Id],
+    a: &[Id],
+) -> Vec<Id> {
+    let nl = model.links.len();
+    let base_acc = match gravity {
+        Some(gv) => Motion { w: v3_zero(g), v: gv.map(|c| g.neg(c)) },
+        None => Motion::zero(g),
+    };
+    let base_vel = Motion::zero(g);
+    let mut vel = Vec::with_capacity(nl);
+    let mut acc = Vec::with_capacity(nl);
+    let mut force: Vec<Force> = Vec::with_capacity(nl);
+    for (i, link) in model.links.iter().enumerate() {
+        let (vp, ap) = match link.parent {
+            Some(p) => (vel[p], acc[p]),
+            None => (base_vel, base_acc),
+        };
+        let x = &kin.xform[i];
+        let mut vi = x.apply_motion(g, vp);
+        let mut ai = x.apply_motion(g, ap);
+        if let (Some(c), Some(s)) = (link.coordinate, kin.subspace[i]) {
+            let vj = s.scale(g, v[c]);
+            vi = vi.add(g, vj);
+            let aj = s.scale(g, a[c]);
+            ai = ai.add(g, aj);
+            let cor = vi.cross_motion(g, vj);
+            ai = ai.add(g, cor);
+        }
+        let iv = inertia[i].apply(g, vi);
+        let ia = inertia[i].apply(g, ai);
+        let gyro = vi.cross_force(g, iv);
+        force.push(ia.add(g, gyro));
+        vel.push(vi);
+        acc.push(ai);
+    }
+    let z = g.zero();
+    let mut tau = vec![z; model.dof()];
+    for i in (0..nl).rev() {
+        if let (Some(c), Some(s)) = (model.links[i].coordinate, kin.subspace[i]) {
+            tau[c] = project(g, &s, force[i]);
+        }
+        if let Some(p) = model.links[i].parent {
+            let up = kin.xform[i].apply_force_t(g, force[i]);
+            force[p] = force[p].add(g, up);
+        }
+    }
+    tau
+}

@@ -1,0 +1,192 @@
+//! The validated, syn-free model of a scene: what the mechanics passes consume.
+//!
+//! Links are in topological order (a parent before its children) and coordinates are
+//! numbered in that order, so the parent of coordinate `i` has a smaller index — the
+//! property the sparse LTDL factorisation relies on.
+
+use proc_macro2::Ident;
+
+use crate::sym::{Graph, Id, Unary};
+
+/// Elementary functions an attribute expression may call.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Func {
+    Sqrt,
+    Sin,
+    Cos,
+    Exp,
+    Ln,
+}
+
+/// An expression over the struct's parameter fields.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PExpr {
+    Const(f64),
+    Param(u16),
+    Neg(Box<PExpr>),
+    Bin(char, Box<PExpr>, Box<PExpr>),
+    Call(Func, Box<PExpr>),
+}
+
+impl PExpr {
+    pub fn zero() -> PExpr {
+        PExpr::Const(0.0)
+    }
+
+    /// The value when it does not depend on parameters.
+    pub fn as_const(&self) -> Option<f64> {
+        match self {
+            PExpr::Const(c) => Some(*c),
+            PExpr::Param(_) => None,
+            PExpr::Neg(x) => x.as_const().map(|x| -x),
+            PExpr::Bin(op, a, b) => {
+                let (a, b) = (a.as_const()?, b.as_const()?);
+                Some(match op {
+                    '+' => a + b,
+                    '-' => a - b,
+                    '*' => a * b,
+                    _ => a / b,
+                })
+            }
+            PExpr::Call(f, x) => {
+                let x = x.as_const()?;
+                Some(match f {
+                    Func::Sqrt => x.sqrt(),
+                    Func::Sin => x.sin(),
+                    Func::Cos => x.cos(),
+                    Func::Exp => x.exp(),
+                    Func::Ln => x.ln(),
+                })
+            }
+        }
+    }
+
+    /// Adds the expression to the graph.
+    pub fn lower(&self, g: &mut Graph) -> Id {
+        match self {
+            PExpr::Const(c) => g.constant(*c),
+            PExpr::Param(i) => g.param(*i),
+            PExpr::Neg(x) => {
+                let x = x.lower(g);
+                g.neg(x)
+            }
+            PExpr::Bin(op, a, b) => {
+                let (a, b) = (a.lower(g), b.lower(g));
+                match op {
+                    '+' => g.add(a, b),
+                    '-' => g.sub(a, b),
+                    '*' => g.mul(a, b),
+                    _ => g.div(a, b),
+                }
+            }
+            PExpr::Call(f, x) => {
+                let x = x.lower(g);
+                let op = match f {
+                    Func::Sqrt => Unary::Sqrt,
+                    Func::Sin => Unary::Sin,
+                    Func::Cos => Unary::Cos,
+                    Func::Exp => Unary::Exp,
+                    Func::Ln => Unary::Ln,
+                };
+                g.unary(op, x)
+            }
+        }
+    }
+}
+
+pub type Vec3 = [PExpr; 3];
+pub type Mat3 = [[PExpr; 3]; 3];
+
+/// How a link moves relative to its parent; axes are unit vectors known at expansion.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum JointKind {
+    Revolute([f64; 3]),
+    Prismatic([f64; 3]),
+    Fixed,
+}
+
+/// A link and the joint attaching it to its parent (URDF frame convention: the link
+/// frame is `parent · Trans(origin) · Rot(rpy) · motion(q)`, `Rot = Rz(yaw) Ry(pitch) Rx(roll)`).
+#[derive(Clone, Debug)]
+pub struct Link {
+    pub name: String,
+    pub joint_name: String,
+    pub parent: Option<usize>,
+    pub kind: JointKind,
+    pub coordinate: Option<usize>,
+    pub origin: Vec3,
+    pub rpy: Vec3,
+    pub mass: PExpr,
+    pub com: Vec3,
+    /// Rotational inertia about the centre of mass, in the link frame.
+    pub inertia: Mat3,
+}
+
+/// A linear spring on a joint coordinate: `τ = −k (q − rest)`.
+#[derive(Clone, Debug)]
+pub struct Spring {
+    pub coordinate: usize,
+    pub k: PExpr,
+    pub rest: PExpr,
+}
+
+/// A viscous damper on a joint coordinate: `τ = −c q̇`.
+#[derive(Clone, Debug)]
+pub struct Damper {
+    pub coordinate: usize,
+    pub c: PExpr,
+}
+
+/// A validated scene.
+#[derive(Clone, Debug)]
+pub struct Model {
+    pub ident: Ident,
+    /// Parameter fields, in declaration order.
+    pub params: Vec<Ident>,
+    /// `None` when there is no gravity (no gravity code is emitted then).
+    pub gravity: Option<Vec3>,
+    pub links: Vec<Link>,
+    pub springs: Vec<Spring>,
+    pub dampers: Vec<Damper>,
+}
+
+impl Model {
+    /// Number of joint coordinates.
+    pub fn dof(&self) -> usize {
+        self.links.iter().filter(|l| l.coordinate.is_some()).count()
+    }
+
+    /// The links that carry the coordinates, by coordinate index.
+    pub fn coordinate_links(&self) -> Vec<usize> {
+        let mut out = vec![0; self.dof()];
+        for (i, l) in self.links.iter().enumerate() {
+            if let Some(c) = l.coordinate {
+                out[c] = i;
+            }
+        }
+        out
+    }
+
+    /// The nearest ancestor coordinate of each coordinate (`λ(i)` of the LTDL
+    /// factorisation), skipping fixed joints.
+    pub fn coordinate_parents(&self) -> Vec<Option<usize>> {
+        self.coordinate_links()
+            .into_iter()
+            .map(|li| {
+                let mut p = self.links[li].parent;
+                while let Some(pi) = p {
+                    if let Some(c) = self.links[pi].coordinate {
+                        return Some(c);
+                    }
+                    p = self.links[pi].parent;
+                }
+                None
+            })
+            .collect()
+    }
+
+    /// Joint names by coordinate.
+    pub fn joint_names(&self) -> Vec<String> {
+        self.coordinate_links().into_iter().map(|li| self.links[li].joint_name.clone()).collect()
+    }
+}

@@ -1,0 +1,541 @@
+//! Raw attributes → validated [`Model`], one `check_*` function per rule, every failure
+//! reported (spanned at the user's tokens) before giving up.
+
+use std::collections::HashMap;
+
+use syn::{Data, DeriveInput, Expr, Fields, Ident, Type};
+
+use crate::diag::Diagnostics;
+use crate::model::{Damper, JointKind, Link, Mat3, Model, PExpr, Spring, Vec3};
+use crate::parse::{self, Family, RawAttr, array, expr::lower, ident_of, strip};
+
+/// The most coordinates a scene may have (dependency masks are 64-bit).
+pub const MAX_DOF: usize = 64;
+
+struct Body {
+    name: Ident,
+    mass: Option<PExpr>,
+    com: Vec3,
+    inertia: Mat3,
+}
+
+struct Joint {
+    name: Ident,
+    kind: JointKind,
+    parent: Option<Ident>, // None = world
+    child: Ident,
+    origin: Vec3,
+    rpy: Vec3,
+}
+
+pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
+    let fields = check_struct_shape(input, diag);
+    let names: Vec<String> = fields.iter().map(|f| f.to_string()).collect();
+    let raws = parse::read_attrs(&input.attrs, diag);
+
+    let mut gravity = None;
+    let mut bodies = Vec::new();
+    let mut joints = Vec::new();
+    let mut element_attrs = Vec::new();
+    for mut raw in raws {
+        match raw.family {
+            Family::Mechanism => {
+                if let Some((_, g)) = raw.take("gravity", diag) {
+                    gravity = vec3(&g, "gravity", &names, diag);
+                }
+                raw.reject_rest(&["gravity"], diag);
+            }
+            Family::Body => bodies.extend(read_body(raw, &names, diag)),
+            Family::Joint => joints.extend(read_joint(raw, &names, diag)),
+            Family::Spring | Family::Damper => element_attrs.push(raw),
+        }
+    }
+    check_unique(bodies.iter().map(|b| &b.name), "body", diag);
+    check_unique(joints.iter().map(|j| &j.name), "joint", diag);
+    if bodies.is_empty() && joints.is_empty() {
+        diag.error_span(
+            input.ident.span(),
+            "a mechanism needs at least one `#[body(…)]` and one `#[joint(…)]`, e.g.\n\
+             #[body(link, mass = m, com = [l / 2.0, 0.0, 0.0], inertia = rod(m, l))]\n\
+             #[joint(hinge: revolute(z), parent = world, child = link)]",
+        );
+    }
+    let links = build_tree(&bodies, &joints, diag)?;
+    let springs_dampers = read_elements(element_attrs, &links, &names, diag);
+    let gravity = gravity.filter(|g: &Vec3| !g.iter().all(|c| c.as_const() == Some(0.0)));
+    if diag.has_errors() {
+        return None;
+    }
+    let (springs, dampers) = springs_dampers;
+    Some(Model { ident: input.ident.clone(), params: fields, gravity, links, springs, dampers })
+}
+
+/// Parameters are the fields of a plain struct, each an `f64`: the generated code reads
+/// them by name and does `f64` arithmetic on them.
+fn check_struct_shape(input: &DeriveInput, diag: &mut Diagnostics) -> Vec<Ident> {
+    if !input.generics.params.is_empty() {
+        diag.error_at(&input.generics, "a mechanism struct cannot be generic; its parameters are `f64` fields");
+    }
+    let fields = match &input.data {
+        Data::Struct(s) => match &s.fields {
+            Fields::Named(f) => &f.named,
+            Fields::Unit => return Vec::new(),
+            Fields::Unnamed(f) => {
+                diag.error_at(f, "parameters must be named fields, e.g. `struct Arm { m1: f64, l1: f64 }`");
+                return Vec::new();
+            }
+        },
+        _ => {
+            diag.error_span(
+                input.ident.span(),
+                "`Mechanism` can only be derived for a struct whose fields are the parameters",
+            );
+            return Vec::new();
+        }
+    };
+    let mut out = Vec::new();
+    for f in fields {
+        let ok = matches!(&f.ty, Type::Path(p) if p.qself.is_none() && p.path.is_ident("f64"));
+        if !ok {
+            diag.error_at(&f.ty, "parameter fields must be `f64` (the generated kernels compute in f64); change this type to `f64`");
+        }
+        out.extend(f.ident.clone());
+    }
+    out
+}
+
+/// Names must be unique within their family: attributes refer to bodies and joints by
+/// name, so a duplicate would make every reference ambiguous.
+fn check_unique<'a>(names: impl Iterator<Item = &'a Ident>, what: &str, diag: &mut Diagnostics) {
+    let mut seen: HashMap<String, &Ident> = HashMap::new();
+    for n in names {
+        if seen.insert(n.to_string(), n).is_some() {
+            diag.error_at(n, format_args!("a {what} named `{n}` is already declared; give each {what} its own name"));
+        }
+    }
+}
+
+fn vec3(e: &Expr, what: &str, names: &[String], diag: &mut Diagnostics) -> Option<Vec3> {
+    let items = array(e, 3, what, diag)?;
+    let v: Vec<Option<PExpr>> = items.into_iter().map(|x| lower(x, names, diag)).collect();
+    let [a, b, c] = <[Option<PExpr>; 3]>::try_from(v).ok()?;
+    Some([a?, b?, c?])
+}
+
+fn zero3() -> Vec3 {
+    [PExpr::zero(), PExpr::zero(), PExpr::zero()]
+}
+
+fn read_body(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Option<Body> {
+    let name = raw.name.clone()?;
+    if let Some(h) = &raw.head {
+        diag.error_at(h, "a body takes no `: kind`; write `#[body(name, mass = …, com = […], inertia = …)]`");
+    }
+    let mass = match raw.take("mass", diag) {
+        Some((_, e)) => lower(&e, names, diag).inspect(|m| check_mass(m, &e, diag)),
+        None => {
+            diag.error_at(&name, format_args!("body `{name}` has no mass; add `mass = <expression>`"));
+            None
+        }
+    };
+    let com = raw.take("com", diag).and_then(|(_, e)| vec3(&e, "com", names, diag)).unwrap_or_else(zero3);
+    let inertia = match raw.take("inertia", diag) {
+        Some((_, e)) => inertia(&e, names, diag)?,
+        None => [zero3(), zero3(), zero3()],
+    };
+    raw.reject_rest(&["mass", "com", "inertia"], diag);
+    Some(Body { name, mass, com, inertia })
+}
+
+/// A literal mass must be positive: a zero or negative mass makes M singular or
+/// indefinite and the dynamics meaningless.
+fn check_mass(m: &PExpr, at: &Expr, diag: &mut Diagnostics) {
+    if let Some(v) = m.as_const()
+        && !(v > 0.0 && v.is_finite())
+    {
+        diag.error_at(at, format_args!("mass must be positive and finite, found {v}"));
+    }
+}
+
+/// Inertia about the centre of mass: a shape function, `diag(…)`, a full 3×3 array, or
+/// `point`.
+fn inertia(e: &Expr, names: &[String], diag: &mut Diagnostics) -> Option<Mat3> {
+    const SHAPES: &str = "`rod(m, l)` (along x), `cylinder(m, r, h)` (along z), `cuboid(m, a, b, c)`, `sphere(m, r)`, `diag(ixx, iyy, izz)`, `[[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]` or `point`";
+    let num = |v: f64| PExpr::Const(v);
+    let mul = |a: PExpr, b: PExpr| PExpr::Bin('*', Box::new(a), Box::new(b));
+    let add = |a: PExpr, b: PExpr| PExpr::Bin('+', Box::new(a), Box::new(b));
+    let sq = |a: &PExpr| mul(a.clone(), a.clone());
+    let diag3 = |d: [PExpr; 3]| {
+        let [a, b, c] = d;
+        [[a, PExpr::zero(), PExpr::zero()], [PExpr::zero(), b, PExpr::zero()], [PExpr::zero(), PExpr::zero(), c]]
+    };
+    let m = match strip(e) {
+        Expr::Path(_) if ident_of(e).is_some_and(|i| i == "point") => diag3([PExpr::zero(), PExpr::zero(), PExpr::zero()]),
+        Expr::Call(c) => {
+            let name = ident_of(&c.func).map(|i| i.to_string()).unwrap_or_default();
+            let arity = match name.as_str() {
+                "rod" | "sphere" => 2,
+                "cylinder" | "diag" => 3,
+                "cuboid" => 4,
+                _ => {
+                    diag.error_at(&c.func, format_args!("unknown inertia shape; use one of {SHAPES}"));
+                    return None;
+                }
+            };
+            if c.args.len() != arity {
+                diag.error_at(
+                    e,
+                    format_args!("`{name}` takes {arity} arguments, found {}; use one of {SHAPES}", c.args.len()),
+                );
+                return None;
+            }
+            let args: Vec<PExpr> = c.args.iter().map(|a| lower(a, names, diag)).collect::<Option<_>>()?;
+            match name.as_str() {
+                "rod" => {
+                    let t = mul(mul(args[0].clone(), sq(&args[1])), num(1.0 / 12.0));
+                    diag3([PExpr::zero(), t.clone(), t])
+                }
+                "sphere" => {
+                    let t = mul(mul(args[0].clone(), sq(&args[1])), num(0.4));
+                    diag3([t.clone(), t.clone(), t])
+                }
+                "cylinder" => {
+                    let (m, r, h) = (&args[0], &args[1], &args[2]);
+                    let side = mul(m.clone(), add(mul(sq(r), num(0.25)), mul(sq(h), num(1.0 / 12.0))));
+                    diag3([side.clone(), side, mul(mul(m.clone(), sq(r)), num(0.5))])
+                }
+                "cuboid" => {
+                    let (m, a, b, c) = (&args[0], &args[1], &args[2], &args[3]);
+                    let k = mul(m.clone(), num(1.0 / 12.0));
+                    diag3([
+                        mul(k.clone(), add(sq(b), sq(c))),
+                        mul(k.clone(), add(sq(a), sq(c))),
+                        mul(k, add(sq(a), sq(b))),
+                    ])
+                }
+                _ => {
+                    let [a, b, c] = <[PExpr; 3]>::try_from(args).ok()?;
+                    diag3([a, b, c])
+                }
+            }
+        }
+        Expr::Array(_) => {
+            let rows = array(e, 3, "inertia", diag)?;
+            let mut m: Vec<Vec3> = Vec::new();
+            for r in rows {
+                m.push(vec3(r, "an inertia row", names, diag)?);
+            }
+            let [a, b, c] = <[Vec3; 3]>::try_from(m).ok()?;
+            [a, b, c]
+        }
+        _ => {
+            diag.error_at(e, format_args!("expected an inertia: {SHAPES}"));
+            return None;
+        }
+    };
+    check_inertia(&m, e, diag);
+    Some(m)
+}
+
+/// An inertia must be symmetric, and when its entries are literals, positive
+/// semi-definite and satisfy the triangle inequalities of a real body
+/// (`I_xx + I_yy ≥ I_zz` and cyclic); otherwise M can lose definiteness.
+fn check_inertia(m: &Mat3, at: &Expr, diag: &mut Diagnostics) {
+    for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+        if m[i][j] != m[j][i] {
+            diag.error_at(at, format_args!("inertia must be symmetric: entry ({i}, {j}) differs from ({j}, {i})"));
+            return;
+        }
+    }
+    let Some(v) = m.iter().map(|r| r.iter().map(PExpr::as_const).collect::<Option<Vec<f64>>>()).collect::<Option<Vec<_>>>() else {
+        return;
+    };
+    // Principal invariants of a symmetric 3×3 matrix are all ≥ 0 iff it is PSD
+    // (with the diagonal non-negative), up to round-off.
+    let tr = v[0][0] + v[1][1] + v[2][2];
+    let minors = v[0][0] * v[1][1] - v[0][1] * v[0][1] + v[0][0] * v[2][2] - v[0][2] * v[0][2] + v[1][1] * v[2][2]
+        - v[1][2] * v[1][2];
+    let det = v[0][0] * (v[1][1] * v[2][2] - v[1][2] * v[1][2]) - v[0][1] * (v[0][1] * v[2][2] - v[1][2] * v[0][2])
+        + v[0][2] * (v[0][1] * v[1][2] - v[1][1] * v[0][2]);
+    let eps = 1e-12 * tr.abs().max(1e-300);
+    let psd = v[0][0] >= 0.0 && v[1][1] >= 0.0 && v[2][2] >= 0.0 && minors >= -eps * tr && det >= -eps * tr * tr;
+    let (a, b, c) = (v[0][0], v[1][1], v[2][2]);
+    let triangle = a + b >= c - eps && b + c >= a - eps && a + c >= b - eps;
+    if !psd || !triangle {
+        diag.error_at(
+            at,
+            "this inertia is not that of a real body: it must be positive semi-definite with \
+             I_xx + I_yy ≥ I_zz (and cyclic); check signs and magnitudes",
+        );
+    }
+}
+
+fn read_joint(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Option<Joint> {
+    let name = raw.name.clone()?;
+    let kind = match &raw.head {
+        Some(h) => joint_kind(h, diag),
+        None => {
+            diag.error_at(
+                &name,
+                format_args!("joint `{name}` needs a kind: `{name}: revolute(z)`, `{name}: prismatic(x)` or `{name}: fixed`"),
+            );
+            None
+        }
+    };
+    let parent = match raw.take("parent", diag) {
+        Some((_, e)) => match ident_of(&e) {
+            Some(i) if i == "world" => Some(None),
+            Some(i) => Some(Some(i.clone())),
+            None => {
+                diag.error_at(&e, "`parent` must be a body name or `world`");
+                None
+            }
+        },
+        None => {
+            diag.error_at(&name, format_args!("joint `{name}` has no parent; add `parent = world` or `parent = <body>`"));
+            None
+        }
+    };
+    let child = match raw.take("child", diag) {
+        Some((_, e)) => match ident_of(&e) {
+            Some(i) if i == "world" => {
+                diag.error_at(&e, "`world` cannot be a child; a joint's child is one of the bodies");
+                None
+            }
+            Some(i) => Some(i.clone()),
+            None => {
+                diag.error_at(&e, "`child` must be a body name");
+                None
+            }
+        },
+        None => {
+            diag.error_at(&name, format_args!("joint `{name}` has no child; add `child = <body>`"));
+            None
+        }
+    };
+    let origin = raw.take("origin", diag).and_then(|(_, e)| vec3(&e, "origin", names, diag)).unwrap_or_else(zero3);
+    let rpy = raw.take("rpy", diag).and_then(|(_, e)| vec3(&e, "rpy", names, diag)).unwrap_or_else(zero3);
+    raw.reject_rest(&["parent", "child", "origin", "rpy"], diag);
+    Some(Joint { name, kind: kind?, parent: parent?, child: child?, origin, rpy })
+}
+
+fn joint_kind(h: &Expr, diag: &mut Diagnostics) -> Option<JointKind> {
+    const KINDS: &str = "`revolute(<axis>)`, `prismatic(<axis>)` or `fixed`";
+    if ident_of(h).is_some_and(|i| i == "fixed") {
+        return Some(JointKind::Fixed);
+    }
+    let Expr::Call(c) = strip(h) else {
+        diag.error_at(h, format_args!("unknown joint kind; expected {KINDS}"));
+        return None;
+    };
+    let name = ident_of(&c.func).map(|i| i.to_string()).unwrap_or_default();
+    if name != "revolute" && name != "prismatic" {
+        diag.error_at(&c.func, format_args!("unknown joint kind `{name}`; expected {KINDS}"));
+        return None;
+    }
+    if c.args.len() != 1 {
+        diag.error_at(h, format_args!("`{name}` takes one axis, e.g. `{name}(z)` or `{name}([0.0, 0.0, 1.0])`"));
+        return None;
+    }
+    let axis = axis(&c.args[0], diag)?;
+    Some(if name == "revolute" { JointKind::Revolute(axis) } else { JointKind::Prismatic(axis) })
+}
+
+/// An axis is `x`, `y`, `z` (optionally negated) or three numeric literals, normalised
+/// here; it must be known at expansion so the kernels fold its zeros away.
+fn axis(e: &Expr, diag: &mut Diagnostics) -> Option<[f64; 3]> {
+    const HELP: &str = "an axis is `x`, `y`, `z`, `-z`, … or three numbers `[0.0, 0.6, 0.8]`, not all zero";
+    let (neg, inner) = match strip(e) {
+        Expr::Unary(u) if matches!(u.op, syn::UnOp::Neg(_)) => (-1.0, &*u.expr),
+        _ => (1.0, e),
+    };
+    if let Some(i) = ident_of(inner) {
+        let a = match i.to_string().as_str() {
+            "x" => [1.0, 0.0, 0.0],
+            "y" => [0.0, 1.0, 0.0],
+            "z" => [0.0, 0.0, 1.0],
+            _ => {
+                diag.error_at(e, format_args!("unknown axis `{i}`; {HELP}"));
+                return None;
+            }
+        };
+        return Some(a.map(|c| c * neg));
+    }
+    let items = array(e, 3, "an axis", diag)?;
+    let v: Vec<f64> = items.iter().map(|x| lower(x, &[], &mut Diagnostics::new()).and_then(|p| p.as_const())).collect::<Option<_>>().or_else(|| {
+        diag.error_at(e, format_args!("axis entries must be numbers; {HELP}"));
+        None
+    })?;
+    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if !(n > 0.0 && n.is_finite()) {
+        diag.error_at(e, format_args!("this axis has zero length; {HELP}"));
+        return None;
+    }
+    Some([v[0] / n, v[1] / n, v[2] / n])
+}
+
+/// Bodies and joints must form one tree rooted at the world: every body is the child of
+/// exactly one joint, every parent exists, and following parents from any body reaches
+/// the world (no cycles).
+fn build_tree(bodies: &[Body], joints: &[Joint], diag: &mut Diagnostics) -> Option<Vec<Link>> {
+    let body_index: HashMap<String, usize> = bodies.iter().enumerate().map(|(i, b)| (b.name.to_string(), i)).collect();
+    let mut joint_of: Vec<Option<usize>> = vec![None; bodies.len()];
+    let mut ok = true;
+    for (ji, j) in joints.iter().enumerate() {
+        if let Some(p) = &j.parent
+            && !body_index.contains_key(&p.to_string())
+        {
+            diag.error_at(p, format_args!("no body named `{p}`; the parent must be `world` or a declared body ({})", list(bodies)));
+            ok = false;
+        }
+        match body_index.get(&j.child.to_string()) {
+            None => {
+                diag.error_at(&j.child, format_args!("no body named `{}`; declare it with `#[body({}, mass = …)]` or use one of: {}", j.child, j.child, list(bodies)));
+                ok = false;
+            }
+            Some(&b) => {
+                if j.parent.as_ref().is_some_and(|p| *p == j.child) {
+                    diag.error_at(&j.child, "a joint cannot connect a body to itself");
+                    ok = false;
+                } else if let Some(prev) = joint_of[b] {
+                    diag.error_at(
+                        &j.child,
+                        format_args!("body `{}` already hangs from joint `{}`; a body in a tree has exactly one parent joint", j.child, joints[prev].name),
+                    );
+                    ok = false;
+                } else {
+                    joint_of[b] = Some(ji);
+                }
+            }
+        }
+    }
+    if !ok {
+        return None;
+    }
+    for (b, body) in bodies.iter().enumerate() {
+        if joint_of[b].is_none() {
+            diag.error_at(&body.name, format_args!("body `{}` is not attached; add `#[joint(<name>: <kind>, parent = <body or world>, child = {})]`", body.name, body.name));
+            ok = false;
+        }
+    }
+    if !ok {
+        return None;
+    }
+    // Depth-first preorder from the world, children in declaration order.
+    let parent_body = |j: &Joint| j.parent.as_ref().map(|p| body_index[&p.to_string()]);
+    let mut order: Vec<usize> = Vec::new(); // body indices
+    let mut link_of_body: Vec<Option<usize>> = vec![None; bodies.len()];
+    let mut stack: Vec<(Option<usize>, usize)> = Vec::new();
+    let roots: Vec<usize> = joints.iter().filter(|j| j.parent.is_none()).map(|j| body_index[&j.child.to_string()]).collect();
+    for &r in roots.iter().rev() {
+        stack.push((None, r));
+    }
+    while let Some((_, b)) = stack.pop() {
+        link_of_body[b] = Some(order.len());
+        order.push(b);
+        let kids: Vec<usize> = joints.iter().filter(|j| parent_body(j) == Some(b)).map(|j| body_index[&j.child.to_string()]).collect();
+        for &k in kids.iter().rev() {
+            stack.push((Some(b), k));
+        }
+    }
+    for (b, body) in bodies.iter().enumerate() {
+        if link_of_body[b].is_none() {
+            let j = &joints[joint_of[b].unwrap_or(0)];
+            diag.error_at(
+                &body.name,
+                format_args!("body `{}` does not reach the world through its parents (joint `{}` closes a cycle or hangs from a detached body); a mechanism must be a tree rooted at `world`", body.name, j.name),
+            );
+            ok = false;
+        }
+    }
+    if !ok {
+        return None;
+    }
+    let mut coordinate = 0;
+    let mut links = Vec::new();
+    for &b in &order {
+        let j = &joints[joint_of[b]?];
+        let coord = match j.kind {
+            JointKind::Fixed => None,
+            _ => {
+                coordinate += 1;
+                Some(coordinate - 1)
+            }
+        };
+        let body = &bodies[b];
+        links.push(Link {
+            name: body.name.to_string(),
+            joint_name: j.name.to_string(),
+            parent: parent_body(j).and_then(|p| link_of_body[p]),
+            kind: j.kind,
+            coordinate: coord,
+            origin: j.origin.clone(),
+            rpy: j.rpy.clone(),
+            mass: body.mass.clone()?,
+            com: body.com.clone(),
+            inertia: body.inertia.clone(),
+        });
+    }
+    if coordinate == 0 {
+        diag.error_at(&joints[0].name, "a mechanism needs at least one revolute or prismatic joint");
+        return None;
+    }
+    if coordinate > MAX_DOF {
+        diag.error_at(&joints[0].name, format_args!("{coordinate} coordinates; at most {MAX_DOF} are supported"));
+        return None;
+    }
+    Some(links)
+}
+
+fn list(bodies: &[Body]) -> String {
+    bodies.iter().map(|b| format!("`{}`", b.name)).collect::<Vec<_>>().join(", ")
+}
+
+/// Springs and dampers act on the coordinate of a named joint, which must exist and
+/// move (a fixed joint has no coordinate).
+fn read_elements(raws: Vec<RawAttr>, links: &[Link], names: &[String], diag: &mut Diagnostics) -> (Vec<Spring>, Vec<Damper>) {
+    let mut springs = Vec::new();
+    let mut dampers = Vec::new();
+    for mut raw in raws {
+        let Some(joint) = raw.name.clone() else { continue };
+        let coord = match links.iter().find(|l| joint == l.joint_name) {
+            Some(l) => match l.coordinate {
+                Some(c) => Some(c),
+                None => {
+                    diag.error_at(&joint, format_args!("joint `{joint}` is fixed and has no coordinate for a spring or damper to act on"));
+                    None
+                }
+            },
+            None => {
+                let known: Vec<String> = links.iter().filter(|l| l.coordinate.is_some()).map(|l| format!("`{}`", l.joint_name)).collect();
+                diag.error_at(&joint, format_args!("no joint named `{joint}`; springs and dampers act on a joint's coordinate: one of {}", known.join(", ")));
+                None
+            }
+        };
+        let mut value = |key: &str, raw: &mut RawAttr, required: bool| -> Option<PExpr> {
+            match raw.take(key, diag) {
+                Some((_, e)) => lower(&e, names, diag),
+                None if required => {
+                    diag.error_at(&joint, format_args!("missing `{key} = <expression>`"));
+                    None
+                }
+                None => Some(PExpr::zero()),
+            }
+        };
+        if raw.family == Family::Spring {
+            let k = value("k", &mut raw, true);
+            let rest = value("rest", &mut raw, false);
+            raw.reject_rest(&["k", "rest"], diag);
+            if let (Some(coordinate), Some(k), Some(rest)) = (coord, k, rest) {
+                springs.push(Spring { coordinate, k, rest });
+            }
+        } else {
+            let c = value("c", &mut raw, true);
+            raw.reject_rest(&["c"], diag);
+            if let (Some(coordinate), Some(c)) = (coord, c) {
+                dampers.push(Damper { coordinate, c });
+            }
+        }
+    }
+    (springs, dampers)
+}

@@ -1,7 +1,45 @@
-//! Runtime of filippov.
+//! Runtime of filippov: what generated kernels implement, an independent numeric
+//! reference of the same physics, and the integrators that run them.
 //!
-//! * [`system`]: the [`Mechanism`](system::Mechanism) trait generated kernels implement.
-//! * [`numeric`]: an independent plain numeric implementation of the same physics
-//!   (RNEA, CRBA, exact mass-matrix derivatives) over a runtime [`numeric::Model`].
+//! * [`system`]: the [`Mechanism`] trait the derive implements.
+//! * [`numeric`]: plain numeric RNEA / CRBA / exact `∂M/∂q` over a runtime
+//!   [`numeric::Model`] — the cross-check and the baseline.
+//! * Integration, separated diffsol-style into the problem ([`OdeSystem`], [`Problem`],
+//!   the adapters [`MechanicalSystem`] and [`NumericSystem`]), the methods ([`Rk4`],
+//!   [`Dopri5`], [`Sdirk4`], tableaus in [`tableau`]), their configuration
+//!   ([`Options`], [`PiController`]) and the result ([`Trajectory`], [`Stats`],
+//!   [`SolveError`]).
+//!
+//! ```
+//! use filippov_runtime::{FnSystem, Method, Options, Problem, solve};
+//! // Harmonic oscillator x'' = −x.
+//! let osc = FnSystem::new(2, |_t, y: &[f64], dy: &mut [f64]| {
+//!     dy[0] = y[1];
+//!     dy[1] = -y[0];
+//! });
+//! let problem = Problem::new(0.0, 1.0, [1.0, 0.0]);
+//! let traj = solve(&osc, &problem, &Method::Dopri5(Options::tolerances(1e-9, 1e-12))).unwrap();
+//! let x = traj.at(0.5).unwrap()[0];
+//! assert!((x - 0.5f64.cos()).abs() < 1e-6);
+//! ```
+mod control;
+mod error;
+mod mechanical;
+mod method;
 pub mod numeric;
+mod options;
+mod problem;
+mod stats;
 pub mod system;
+mod trajectory;
+
+pub use control::PiController;
+pub use error::{ErrorKind, SolveError};
+pub use mechanical::{InputFn, MechanicalSystem, NumericInputFn, NumericSystem};
+pub use method::tableau;
+pub use method::{Dopri5, Method, Rk4, Sdirk4, solve};
+pub use options::Options;
+pub use problem::{FnSystem, OdeSystem, Problem};
+pub use stats::Stats;
+pub use system::{ForwardJacobian, Mechanism};
+pub use trajectory::{Interpolant, Trajectory};

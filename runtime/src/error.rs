@@ -1,0 +1,63 @@
+//! Why an integration stopped early. The trajectory up to the failure is always kept.
+
+use std::fmt;
+
+use crate::Trajectory;
+
+/// The reason an integration failed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ErrorKind {
+    /// The step size fell below `h_min` or the round-off limit at time `t`.
+    StepSizeUnderflow { t: f64, h: f64 },
+    /// The simplified Newton iteration kept failing at time `t`, even after step-size
+    /// reductions and a fresh Jacobian.
+    NewtonDivergence { t: f64 },
+    /// The right-hand side (or the new state) has a NaN or infinite `component` at `t`.
+    NonFinite { t: f64, component: usize },
+    /// `max_steps` step attempts were made; the last accepted time is `t`.
+    MaxSteps { t: f64 },
+    /// The problem or the options are invalid; nothing was integrated.
+    InvalidInput(String),
+}
+
+impl fmt::Display for ErrorKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ErrorKind::StepSizeUnderflow { t, h } => {
+                write!(f, "step size underflow at t = {t} (h = {h:e})")
+            }
+            ErrorKind::NewtonDivergence { t } => {
+                write!(
+                    f,
+                    "Newton iteration diverges at t = {t} despite step-size reductions"
+                )
+            }
+            ErrorKind::NonFinite { t, component } => {
+                write!(f, "non-finite value in component {component} at t = {t}")
+            }
+            ErrorKind::MaxSteps { t } => write!(f, "maximum number of steps reached at t = {t}"),
+            ErrorKind::InvalidInput(msg) => write!(f, "invalid input: {msg}"),
+        }
+    }
+}
+
+/// A failed integration: what went wrong, and everything computed before.
+#[derive(Clone, Debug)]
+pub struct SolveError {
+    pub kind: ErrorKind,
+    /// Accepted steps up to the failure (empty for [`ErrorKind::InvalidInput`]); boxed
+    /// to keep `Result<Trajectory, SolveError>` small.
+    pub trajectory: Box<Trajectory>,
+}
+
+impl fmt::Display for SolveError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} (after {} accepted steps)",
+            self.kind, self.trajectory.stats.steps
+        )
+    }
+}
+
+impl std::error::Error for SolveError {}

@@ -1,0 +1,286 @@
+//! Reference problems against closed forms, convergence orders, stiffness, failures.
+
+use super::*;
+use crate::FnSystem;
+
+fn oscillator() -> FnSystem<impl Fn(f64, &[f64], &mut [f64])> {
+    FnSystem::new(2, |_t, y: &[f64], dy: &mut [f64]| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+    })
+}
+
+fn oscillator_error(traj: &Trajectory) -> f64 {
+    let (t, y) = traj.last().unwrap();
+    ((y[0] - t.cos()).powi(2) + (y[1] + t.sin()).powi(2)).sqrt()
+}
+
+#[test]
+fn harmonic_oscillator_all_methods() {
+    let problem = Problem::new(0.0, 10.0, [1.0, 0.0]);
+    let tight = Options::tolerances(1e-10, 1e-12);
+    for (method, tol) in [
+        (Method::Rk4 { h: 0.01 }, 1e-8),
+        (Method::Dopri5(tight), 1e-8),
+        (Method::Sdirk4(tight), 1e-7),
+    ] {
+        let traj = solve(&oscillator(), &problem, &method).unwrap();
+        assert_eq!(traj.last().unwrap().0, 10.0);
+        let err = oscillator_error(&traj);
+        assert!(err < tol, "{method:?}: error {err:e}, {}", traj.stats);
+        // Dense output between the steps, for every method.
+        for t in [0.123, 3.3, 7.77] {
+            let y = traj.at(t).unwrap();
+            assert!((y[0] - t.cos()).abs() < 1e2 * tol, "{method:?} at {t}");
+        }
+    }
+}
+
+#[test]
+fn rk4_converges_with_order_four() {
+    let problem = Problem::new(0.0, 2.0, [1.0, 0.0]);
+    let err = |h: f64| oscillator_error(&Rk4::new(h).solve(&oscillator(), &problem).unwrap());
+    let (e1, e2) = (err(0.1), err(0.05));
+    let order = (e1 / e2).log2();
+    assert!((order - 4.0).abs() < 0.15, "measured order {order}");
+}
+
+#[test]
+fn dopri5_error_decreases_with_tolerance() {
+    let problem = Problem::new(0.0, 10.0, [1.0, 0.0]);
+    let mut previous = f64::INFINITY;
+    let mut steps = 0;
+    for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
+        let traj = Dopri5::new(Options::tolerances(tol, tol))
+            .solve(&oscillator(), &problem)
+            .unwrap();
+        let err = oscillator_error(&traj);
+        assert!(
+            err < previous / 5.0,
+            "tol {tol:e}: error {err:e} vs {previous:e}"
+        );
+        assert!(err < 100.0 * tol);
+        assert!(traj.stats.steps > steps);
+        previous = err;
+        steps = traj.stats.steps;
+        // FSAL: 6 new evaluations per attempt, plus the first f and the initial-step probe.
+        let s = traj.stats;
+        assert_eq!(s.rhs_evaluations, 6 * (s.steps + s.rejected_steps) + 2);
+    }
+}
+
+#[test]
+fn dopri5_dense_output_is_accurate_between_steps() {
+    let problem = Problem::new(0.0, 10.0, [1.0, 0.0]);
+    let traj = Dopri5::new(Options::tolerances(1e-9, 1e-12))
+        .solve(&oscillator(), &problem)
+        .unwrap();
+    assert_eq!(traj.interpolant(), Interpolant::Dopri5);
+    let worst = (0..1000)
+        .map(|i| {
+            let t = i as f64 * 0.01;
+            (traj.at(t).unwrap()[0] - t.cos()).abs()
+        })
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-7, "worst dense error {worst:e}");
+}
+
+/// Van der Pol `x'' − μ(1 − x²)x' + x = 0` with μ = 1000 (Hairer & Wanner II, §IV.1):
+/// from x = 2 it creeps along the slow manifold (period ≈ 1614), with a fast
+/// eigenvalue ≈ −μ(x² − 1).
+fn van_der_pol(mu: f64) -> FnSystem<impl Fn(f64, &[f64], &mut [f64])> {
+    FnSystem::new(2, move |_t, y: &[f64], dy: &mut [f64]| {
+        dy[0] = y[1];
+        dy[1] = mu * (1.0 - y[0] * y[0]) * y[1] - y[0];
+    })
+}
+
+#[test]
+fn sdirk4_solves_stiff_van_der_pol_in_far_fewer_steps_than_dopri5() {
+    let problem = Problem::new(0.0, 20.0, [2.0, 0.0]);
+    let options = Options {
+        max_steps: 1_000_000,
+        ..Options::tolerances(1e-6, 1e-6)
+    };
+    let stiff = Sdirk4::new(options)
+        .solve(&van_der_pol(1000.0), &problem)
+        .unwrap();
+    let explicit = Dopri5::new(options)
+        .solve(&van_der_pol(1000.0), &problem)
+        .unwrap();
+    let (ys, ye) = (stiff.last().unwrap().1, explicit.last().unwrap().1);
+    assert!((ys[0] - ye[0]).abs() < 1e-3, "{ys:?} vs {ye:?}");
+    let s = stiff.stats;
+    assert!(s.steps < 200, "SDIRK4: {s}");
+    assert!(
+        50 * s.steps < explicit.stats.steps,
+        "SDIRK4 {s}; DOPRI5 {}",
+        explicit.stats
+    );
+    // No analytic Jacobian: every Jacobian came from finite differences, with reuse.
+    assert_eq!(s.jacobian_evaluations, s.finite_difference_jacobians);
+    assert!(s.jacobian_evaluations <= s.steps + s.rejected_steps);
+    assert!(s.newton_iterations > 0 && s.lu_factorisations > 0);
+}
+
+/// A system with an analytic Jacobian: no finite differences are taken.
+struct LinearStiff;
+
+impl OdeSystem for LinearStiff {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) {
+        dy[0] = -1e4 * (y[0] - y[1].cos());
+        dy[1] = 1.0;
+    }
+    fn jacobian(&self, _t: f64, y: &[f64], jac: &mut nalgebra::DMatrix<f64>) -> bool {
+        jac[(0, 0)] = -1e4;
+        jac[(0, 1)] = -1e4 * y[1].sin();
+        jac[(1, 0)] = 0.0;
+        jac[(1, 1)] = 0.0;
+        true
+    }
+}
+
+#[test]
+fn sdirk4_uses_the_analytic_jacobian() {
+    let traj = Sdirk4::new(Options::tolerances(1e-6, 1e-8))
+        .solve(&LinearStiff, &Problem::new(0.0, 5.0, [0.0, 0.0]))
+        .unwrap();
+    let (t, y) = traj.last().unwrap();
+    // Slow manifold y0 ≈ cos(t) + 1e-4 sin(t).
+    assert!((y[0] - (t.cos() + 1e-4 * t.sin())).abs() < 1e-6);
+    assert_eq!(traj.stats.finite_difference_jacobians, 0);
+    assert!(traj.stats.jacobian_evaluations > 0);
+    // A Prothero–Robinson-type problem: the embedded estimate of an SDIRK (stage
+    // order 1) is only O(h²) in the stiff limit, so steps are smaller than on Van der
+    // Pol, yet far fewer than the ~15 000 an explicit method needs for stability.
+    assert!(traj.stats.steps < 1000, "{}", traj.stats);
+}
+
+#[test]
+fn nan_rhs_is_reported_with_the_trajectory_kept() {
+    let system = FnSystem::new(1, |t, y: &[f64], dy: &mut [f64]| {
+        dy[0] = if t > 0.5 { f64::NAN } else { -y[0] };
+    });
+    let problem = Problem::new(0.0, 1.0, [1.0]);
+    for method in [
+        Method::Rk4 { h: 0.01 },
+        Method::Dopri5(Options::default()),
+        Method::Sdirk4(Options::default()),
+    ] {
+        let err = solve(&system, &problem, &method).unwrap_err();
+        let ErrorKind::NonFinite { t, component } = err.kind else {
+            panic!("{method:?}: {err}");
+        };
+        assert!(t > 0.5 && component == 0, "{method:?}: {err}");
+        let (t_last, y_last) = err.trajectory.last().unwrap();
+        assert!(t_last <= 0.5 && t_last > 0.3, "{method:?}: last t {t_last}");
+        assert!(y_last[0].is_finite());
+        assert!(err.to_string().contains("non-finite"));
+    }
+}
+
+#[test]
+fn blow_up_gives_step_size_underflow() {
+    // y' = y², y(0) = 1 blows up at t = 1.
+    let system = FnSystem::new(1, |_t, y: &[f64], dy: &mut [f64]| dy[0] = y[0] * y[0]);
+    let problem = Problem::new(0.0, 2.0, [1.0]);
+    let options = Options {
+        h_min: 1e-6,
+        ..Options::default()
+    };
+    for method in [Method::Dopri5(options), Method::Sdirk4(options)] {
+        let err = solve(&system, &problem, &method).unwrap_err();
+        match err.kind {
+            ErrorKind::StepSizeUnderflow { t, h } => {
+                assert!(t > 0.99 && t < 1.0 && h < 1e-6, "{method:?}: {err}")
+            }
+            ErrorKind::NewtonDivergence { t } => {
+                assert!(matches!(method, Method::Sdirk4(_)) && t > 0.99 && t < 1.0)
+            }
+            _ => panic!("{method:?}: {err}"),
+        }
+        assert!(err.trajectory.len() > 10);
+    }
+}
+
+#[test]
+fn max_steps_is_reported() {
+    let options = Options {
+        max_steps: 5,
+        ..Options::default()
+    };
+    let err = Dopri5::new(options)
+        .solve(&oscillator(), &Problem::new(0.0, 100.0, [1.0, 0.0]))
+        .unwrap_err();
+    assert!(matches!(err.kind, ErrorKind::MaxSteps { .. }));
+    assert!(!err.trajectory.is_empty());
+}
+
+#[test]
+fn invalid_input_is_an_error_not_a_panic() {
+    let good = Problem::new(0.0, 1.0, [1.0, 0.0]);
+    let cases: Vec<(Problem, Method)> = vec![
+        (
+            good.clone(),
+            Method::Dopri5(Options::tolerances(-1e-6, 1e-9)),
+        ),
+        (good.clone(), Method::Sdirk4(Options::tolerances(0.0, 0.0))),
+        (
+            good.clone(),
+            Method::Dopri5(Options {
+                h0: Some(-1.0),
+                ..Options::default()
+            }),
+        ),
+        (
+            good.clone(),
+            Method::Dopri5(Options {
+                h_max: 0.0,
+                ..Options::default()
+            }),
+        ),
+        (good.clone(), Method::Rk4 { h: 0.0 }),
+        (good.clone(), Method::Rk4 { h: f64::NAN }),
+        (
+            Problem::new(1.0, 0.0, [1.0, 0.0]),
+            Method::Dopri5(Options::default()),
+        ),
+        (
+            Problem::new(0.0, 1.0, [1.0]),
+            Method::Sdirk4(Options::default()),
+        ),
+        (
+            Problem::new(0.0, 1.0, [1.0, f64::NAN]),
+            Method::Rk4 { h: 0.1 },
+        ),
+        (
+            Problem::new(0.0, f64::INFINITY, [1.0, 0.0]),
+            Method::Dopri5(Options::default()),
+        ),
+    ];
+    for (problem, method) in cases {
+        let err = solve(&oscillator(), &problem, &method).unwrap_err();
+        assert!(
+            matches!(err.kind, ErrorKind::InvalidInput(_)),
+            "{problem:?} {method:?}: {err}"
+        );
+        assert!(err.trajectory.is_empty());
+    }
+}
+
+#[test]
+fn empty_interval_returns_the_initial_point() {
+    let problem = Problem::new(1.0, 1.0, [1.0, 0.0]);
+    for method in [
+        Method::Rk4 { h: 0.1 },
+        Method::Dopri5(Options::default()),
+        Method::Sdirk4(Options::default()),
+    ] {
+        let traj = solve(&oscillator(), &problem, &method).unwrap();
+        assert_eq!(traj.len(), 1);
+        assert_eq!(traj.at(1.0).unwrap(), vec![1.0, 0.0]);
+    }
+}

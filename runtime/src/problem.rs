@@ -1,0 +1,92 @@
+//! What is integrated: a first-order system `ẏ = f(t, y)` and its initial-value problem.
+//!
+//! States are plain slices: the state of an `N`-dof mechanism has `2N` components, and
+//! `SVector<f64, {2 * N}>` is not expressible on stable Rust.
+
+use nalgebra::DMatrix;
+
+/// A first-order ODE system `ẏ = f(t, y)` of fixed dimension.
+pub trait OdeSystem {
+    /// Number of state components.
+    fn dim(&self) -> usize;
+
+    /// Writes `f(t, y)` into `dy` (both of length [`dim`](Self::dim)).
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]);
+
+    /// Writes `∂f/∂y (t, y)` into `jac` (`dim × dim`) and returns `true`, or returns
+    /// `false` when no analytic Jacobian is available; implicit methods then use forward
+    /// finite differences (counted in [`Stats`](crate::Stats)).
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) -> bool {
+        let _ = (t, y, jac);
+        false
+    }
+
+    /// Names of the state components, used as CSV column headers.
+    fn names(&self) -> Vec<String> {
+        (0..self.dim()).map(|i| format!("y{i}")).collect()
+    }
+}
+
+/// An [`OdeSystem`] from a closure `f(t, y, dy)`, for small problems and tests.
+pub struct FnSystem<F> {
+    dim: usize,
+    f: F,
+}
+
+impl<F: Fn(f64, &[f64], &mut [f64])> FnSystem<F> {
+    pub fn new(dim: usize, f: F) -> Self {
+        FnSystem { dim, f }
+    }
+}
+
+impl<F: Fn(f64, &[f64], &mut [f64])> OdeSystem for FnSystem<F> {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        (self.f)(t, y, dy)
+    }
+}
+
+/// An initial-value problem: integrate from `(t0, y0)` to `tf ≥ t0`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Problem {
+    pub t0: f64,
+    pub tf: f64,
+    pub y0: Vec<f64>,
+}
+
+impl Problem {
+    pub fn new(t0: f64, tf: f64, y0: impl Into<Vec<f64>>) -> Self {
+        Problem {
+            t0,
+            tf,
+            y0: y0.into(),
+        }
+    }
+
+    /// Checks the problem against the system: `t0`, `tf` finite, `tf ≥ t0`, `y0` of
+    /// the system's dimension and finite.
+    pub(crate) fn validate(&self, dim: usize) -> Result<(), String> {
+        if !self.t0.is_finite() || !self.tf.is_finite() {
+            return Err(format!(
+                "t0 = {} and tf = {} must be finite",
+                self.t0, self.tf
+            ));
+        }
+        if self.tf < self.t0 {
+            return Err(format!("tf = {} is before t0 = {}", self.tf, self.t0));
+        }
+        if self.y0.len() != dim {
+            return Err(format!(
+                "y0 has {} components but the system has dimension {dim}",
+                self.y0.len()
+            ));
+        }
+        if let Some(i) = self.y0.iter().position(|x| !x.is_finite()) {
+            return Err(format!("y0[{i}] = {} is not finite", self.y0[i]));
+        }
+        Ok(())
+    }
+}

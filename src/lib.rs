@@ -36,6 +36,11 @@
 //! Values are expressions over the struct's `f64` fields, numbers, `PI`, `+ - * /`,
 //! `sqrt`, `sin`, `cos`, `exp`, `ln` and `powi`.
 
+// Lets the crate's own scenes use the derive, whose output names `::filippov`.
+extern crate self as filippov;
+
+pub mod scenes;
+
 // The derive and the trait share a name, as serde's do: one lives in the macro
 // namespace, the other in the type namespace.
 pub use filippov_macros::Mechanism;

@@ -1,0 +1,13 @@
+//! Canonical multibody scenes (theory.md §4), declared with the derive exactly as a user
+//! would. Examples, tests, benchmarks and the report use these; their expansions are
+//! snapshot-tested.
+
+mod arm3;
+mod double_pendulum;
+mod panda;
+mod tree;
+
+pub use arm3::PlanarArm3;
+pub use double_pendulum::DoublePendulum;
+pub use panda::Panda;
+pub use tree::BranchedTree;

@@ -145,3 +145,161 @@ impl<F: Fn(f64, &DVector<f64>, &DVector<f64>) -> DVector<f64>> OdeSystem for Num
         names
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::numeric::test_models::double_pendulum;
+    use crate::system::ForwardJacobian;
+    use crate::{Dopri5, Options, Problem, Sdirk4};
+    use nalgebra::SMatrix;
+
+    /// A [`Mechanism`] implemented with the numeric reference, standing in for
+    /// generated code (S8 double pendulum: m1 = 1, l1 = 1, m2 = 0.5, l2 = 0.7).
+    struct Pendulum(Model);
+
+    fn d(x: &SVector<f64, 2>) -> DVector<f64> {
+        DVector::from_column_slice(x.as_slice())
+    }
+    fn s(x: &DVector<f64>) -> SVector<f64, 2> {
+        SVector::from_column_slice(x.as_slice())
+    }
+
+    impl Mechanism<2> for Pendulum {
+        const JOINTS: [&'static str; 2] = ["shoulder", "elbow"];
+        fn mass_matrix(&self, q: &SVector<f64, 2>) -> SMatrix<f64, 2, 2> {
+            SMatrix::from_column_slice(numeric::crba(&self.0, &d(q)).as_slice())
+        }
+        fn christoffel_symbols(&self, q: &SVector<f64, 2>) -> [SMatrix<f64, 2, 2>; 2] {
+            let c = numeric::christoffel_symbols(&self.0, &d(q));
+            [0, 1].map(|i| SMatrix::from_column_slice(c[i].as_slice()))
+        }
+        fn coriolis_matrix(&self, q: &SVector<f64, 2>, v: &SVector<f64, 2>) -> SMatrix<f64, 2, 2> {
+            SMatrix::from_column_slice(numeric::coriolis_matrix(&self.0, &d(q), &d(v)).as_slice())
+        }
+        fn gravity(&self, q: &SVector<f64, 2>) -> SVector<f64, 2> {
+            s(&numeric::gravity(&self.0, &d(q)))
+        }
+        fn bias(&self, q: &SVector<f64, 2>, v: &SVector<f64, 2>) -> SVector<f64, 2> {
+            s(&numeric::bias(&self.0, &d(q), &d(v)))
+        }
+        fn passive_forces(&self, q: &SVector<f64, 2>, v: &SVector<f64, 2>) -> SVector<f64, 2> {
+            s(&numeric::passive_forces(&self.0, &d(q), &d(v)))
+        }
+        fn inverse_dynamics(
+            &self,
+            q: &SVector<f64, 2>,
+            v: &SVector<f64, 2>,
+            a: &SVector<f64, 2>,
+        ) -> SVector<f64, 2> {
+            s(&numeric::inverse_dynamics(&self.0, &d(q), &d(v), &d(a)))
+        }
+        fn forward_dynamics(
+            &self,
+            q: &SVector<f64, 2>,
+            v: &SVector<f64, 2>,
+            tau: &SVector<f64, 2>,
+        ) -> SVector<f64, 2> {
+            s(&numeric::forward_dynamics(&self.0, &d(q), &d(v), &d(tau)))
+        }
+        /// Central differences (a stand-in for the symbolic Jacobian).
+        fn forward_dynamics_jacobian(
+            &self,
+            q: &SVector<f64, 2>,
+            v: &SVector<f64, 2>,
+            tau: &SVector<f64, 2>,
+        ) -> ForwardJacobian<2> {
+            let h = 1e-6;
+            let fd = |q: SVector<f64, 2>, v: SVector<f64, 2>| self.forward_dynamics(&q, &v, tau);
+            let e = |j: usize| SVector::<f64, 2>::from_fn(|i, _| if i == j { h } else { 0.0 });
+            ForwardJacobian {
+                acceleration: self.forward_dynamics(q, v, tau),
+                d_dq: SMatrix::from_columns(
+                    &[0, 1].map(|j| (fd(q + e(j), *v) - fd(q - e(j), *v)) / (2.0 * h)),
+                ),
+                d_dv: SMatrix::from_columns(
+                    &[0, 1].map(|j| (fd(*q, v + e(j)) - fd(*q, v - e(j))) / (2.0 * h)),
+                ),
+            }
+        }
+        fn kinetic_energy(&self, q: &SVector<f64, 2>, v: &SVector<f64, 2>) -> f64 {
+            numeric::kinetic_energy(&self.0, &d(q), &d(v))
+        }
+        fn potential_energy(&self, q: &SVector<f64, 2>) -> f64 {
+            numeric::potential_energy(&self.0, &d(q))
+        }
+        fn model(&self) -> Model {
+            self.0.clone()
+        }
+    }
+
+    fn energy(p: &Pendulum, y: &[f64]) -> f64 {
+        let q = SVector::from_column_slice(&y[..2]);
+        let v = SVector::from_column_slice(&y[2..]);
+        p.kinetic_energy(&q, &v) + p.potential_energy(&q)
+    }
+
+    #[test]
+    fn unforced_pendulum_conserves_energy_and_matches_numeric_system() {
+        let pendulum = Pendulum(double_pendulum(1.0, 1.0, 0.5, 0.7));
+        let system = MechanicalSystem::unforced(&pendulum);
+        assert_eq!(
+            system.names(),
+            ["q_shoulder", "q_elbow", "v_shoulder", "v_elbow"]
+        );
+        let problem = Problem::new(0.0, 5.0, [1.0, -0.5, 0.0, 0.3]);
+        let opts = Options::tolerances(1e-10, 1e-12);
+        let traj = Dopri5::new(opts).solve(&system, &problem).unwrap();
+        let e0 = energy(&pendulum, &problem.y0);
+        for i in 0..traj.len() {
+            assert!((energy(&pendulum, traj.state(i)) - e0).abs() < 1e-7);
+        }
+        let model = pendulum.model();
+        let baseline = Dopri5::new(opts)
+            .solve(&NumericSystem::unforced(&model), &problem)
+            .unwrap();
+        assert_eq!(baseline.names()[1], "q_lower");
+        let (a, b) = (traj.last().unwrap().1, baseline.last().unwrap().1);
+        assert!(a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-12));
+    }
+
+    #[test]
+    fn forced_jacobian_layout_and_stiff_solve_use_it() {
+        let pendulum = Pendulum(double_pendulum(1.0, 1.0, 0.5, 0.7));
+        let system = MechanicalSystem::new(
+            &pendulum,
+            |t, _q: &SVector<f64, 2>, _v: &SVector<f64, 2>| SVector::<f64, 2>::new(t.sin(), 0.0),
+        );
+        let y = [0.4, 0.2, -0.3, 0.8];
+        let mut jac = DMatrix::zeros(4, 4);
+        assert!(system.jacobian(0.3, &y, &mut jac));
+        // Against central differences of the rhs.
+        let h = 1e-6;
+        for j in 0..4 {
+            let (mut yp, mut ym) = (y, y);
+            yp[j] += h;
+            ym[j] -= h;
+            let (mut fp, mut fm) = ([0.0; 4], [0.0; 4]);
+            system.rhs(0.3, &yp, &mut fp);
+            system.rhs(0.3, &ym, &mut fm);
+            for i in 0..4 {
+                assert!(
+                    (jac[(i, j)] - (fp[i] - fm[i]) / (2.0 * h)).abs() < 1e-5,
+                    "({i}, {j})"
+                );
+            }
+        }
+        let traj = Sdirk4::new(Options::tolerances(1e-8, 1e-10))
+            .solve(&system, &Problem::new(0.0, 2.0, y))
+            .unwrap();
+        assert_eq!(traj.stats.finite_difference_jacobians, 0);
+        let reference = Dopri5::new(Options::tolerances(1e-11, 1e-13))
+            .solve(&system, &Problem::new(0.0, 2.0, y))
+            .unwrap();
+        let (a, b) = (traj.last().unwrap().1, reference.last().unwrap().1);
+        assert!(
+            a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-4),
+            "{a:?} vs {b:?}"
+        );
+    }
+}

@@ -29,31 +29,87 @@ fn check<S: Mechanism<N>, const N: usize>(sys: &S, seed: u64) {
 
         // Against the numeric implementation (≤ 1e-12 relative).
         let m = sys.mass_matrix(&q);
-        assert_close(m.as_slice(), numeric::crba(&model, &qd).as_slice(), 1e-12, 1e-12, "M vs CRBA");
+        assert_close(
+            m.as_slice(),
+            numeric::crba(&model, &qd).as_slice(),
+            1e-12,
+            1e-12,
+            "M vs CRBA",
+        );
         let c = sys.coriolis_matrix(&q, &v);
         let cn = numeric::coriolis_matrix(&model, &qd, &vd);
-        assert_close(c.as_slice(), cn.as_slice(), 1e-12, 1e-9, "C vs numeric Christoffel");
+        assert_close(
+            c.as_slice(),
+            cn.as_slice(),
+            1e-12,
+            1e-9,
+            "C vs numeric Christoffel",
+        );
         let g = sys.gravity(&q);
-        assert_close(g.as_slice(), numeric::gravity(&model, &qd).as_slice(), 1e-12, 1e-12, "g");
+        assert_close(
+            g.as_slice(),
+            numeric::gravity(&model, &qd).as_slice(),
+            1e-12,
+            1e-12,
+            "g",
+        );
         let b = sys.bias(&q, &v);
-        assert_close(b.as_slice(), numeric::bias(&model, &qd, &vd).as_slice(), 1e-12, 1e-12, "bias");
+        assert_close(
+            b.as_slice(),
+            numeric::bias(&model, &qd, &vd).as_slice(),
+            1e-12,
+            1e-12,
+            "bias",
+        );
         let id = sys.inverse_dynamics(&q, &v, &a);
         let idn = numeric::inverse_dynamics(&model, &qd, &vd, &dvec(&a));
-        assert_close(id.as_slice(), idn.as_slice(), 1e-12, 1e-12, "inverse dynamics");
+        assert_close(
+            id.as_slice(),
+            idn.as_slice(),
+            1e-12,
+            1e-12,
+            "inverse dynamics",
+        );
         let fd = sys.forward_dynamics(&q, &v, &tau);
         let fdn = numeric::forward_dynamics(&model, &qd, &vd, &dvec(&tau));
-        assert_close(fd.as_slice(), fdn.as_slice(), 1e-11, 1e-12, "forward dynamics");
+        assert_close(
+            fd.as_slice(),
+            fdn.as_slice(),
+            1e-11,
+            1e-12,
+            "forward dynamics",
+        );
         let p = sys.passive_forces(&q, &v);
-        assert_close(p.as_slice(), numeric::passive_forces(&model, &qd, &vd).as_slice(), 1e-14, 1e-14, "passive");
+        assert_close(
+            p.as_slice(),
+            numeric::passive_forces(&model, &qd, &vd).as_slice(),
+            1e-14,
+            1e-14,
+            "passive",
+        );
         let ke = sys.kinetic_energy(&q, &v);
-        assert_close(&[ke], &[numeric::kinetic_energy(&model, &qd, &vd)], 1e-12, 1e-12, "kinetic energy");
+        assert_close(
+            &[ke],
+            &[numeric::kinetic_energy(&model, &qd, &vd)],
+            1e-12,
+            1e-12,
+            "kinetic energy",
+        );
         let pe = sys.potential_energy(&q);
-        assert_close(&[pe], &[numeric::potential_energy(&model, &qd)], 1e-12, 1e-9, "potential energy");
+        assert_close(
+            &[pe],
+            &[numeric::potential_energy(&model, &qd)],
+            1e-12,
+            1e-9,
+            "potential energy",
+        );
 
         // Christoffel symbols assemble the Coriolis matrix.
         let gam = sys.christoffel_symbols(&q);
         for i in 0..N {
-            let row: Vec<f64> = (0..N).map(|j| (0..N).map(|k| gam[i][(j, k)] * v[k]).sum()).collect();
+            let row: Vec<f64> = (0..N)
+                .map(|j| (0..N).map(|k| gam[i][(j, k)] * v[k]).sum())
+                .collect();
             let crow: Vec<f64> = (0..N).map(|j| c[(i, j)]).collect();
             assert_close(&row, &crow, 1e-13, 1e-12, "Σ c_ijk v_k = C_ij");
         }
@@ -63,44 +119,92 @@ fn check<S: Mechanism<N>, const N: usize>(sys: &S, seed: u64) {
         assert!(m.cholesky().is_some(), "M must be positive definite");
 
         // C v + g = bias.
-        assert_close((c * v + g).as_slice(), b.as_slice(), 1e-12, 1e-12, "C v + g vs RNEA bias");
+        assert_close(
+            (c * v + g).as_slice(),
+            b.as_slice(),
+            1e-12,
+            1e-12,
+            "C v + g vs RNEA bias",
+        );
 
         // Ṁ − 2C skew-symmetric, Ṁ by central differences along v.
         let h = 1e-6;
         let mdot = (sys.mass_matrix(&(q + v * h)) - sys.mass_matrix(&(q - v * h))) / (2.0 * h);
         let s = mdot - c * 2.0;
         let skew = s + s.transpose();
-        assert!(skew.norm() <= 1e-6 * (1.0 + mdot.norm()), "Ṁ − 2C not skew: ‖S + Sᵀ‖ = {:.3e}", skew.norm());
+        assert!(
+            skew.norm() <= 1e-6 * (1.0 + mdot.norm()),
+            "Ṁ − 2C not skew: ‖S + Sᵀ‖ = {:.3e}",
+            skew.norm()
+        );
 
         // inverse ∘ forward = identity.
         let back = sys.inverse_dynamics(&q, &v, &fd);
-        assert_close(back.as_slice(), tau.as_slice(), 1e-10, 1e-10, "ID(FD(τ)) = τ");
+        assert_close(
+            back.as_slice(),
+            tau.as_slice(),
+            1e-10,
+            1e-10,
+            "ID(FD(τ)) = τ",
+        );
 
         // Symbolic Jacobian against central finite differences.
         let jac = sys.forward_dynamics_jacobian(&q, &v, &tau);
-        assert_close(jac.acceleration.as_slice(), fd.as_slice(), 1e-13, 1e-13, "Jacobian's acceleration");
+        assert_close(
+            jac.acceleration.as_slice(),
+            fd.as_slice(),
+            1e-13,
+            1e-13,
+            "Jacobian's acceleration",
+        );
         let eps = 1e-6;
         let mut dq = dmat(&jac.d_dq) * 0.0;
         let mut dv = dq.clone();
         for k in 0..N {
             let mut e = SVector::<f64, N>::zeros();
             e[k] = eps;
-            let col_q = (sys.forward_dynamics(&(q + e), &v, &tau) - sys.forward_dynamics(&(q - e), &v, &tau)) / (2.0 * eps);
-            let col_v = (sys.forward_dynamics(&q, &(v + e), &tau) - sys.forward_dynamics(&q, &(v - e), &tau)) / (2.0 * eps);
+            let col_q = (sys.forward_dynamics(&(q + e), &v, &tau)
+                - sys.forward_dynamics(&(q - e), &v, &tau))
+                / (2.0 * eps);
+            let col_v = (sys.forward_dynamics(&q, &(v + e), &tau)
+                - sys.forward_dynamics(&q, &(v - e), &tau))
+                / (2.0 * eps);
             dq.set_column(k, &dvec(&col_q));
             dv.set_column(k, &dvec(&col_v));
         }
-        assert_close(jac.d_dq.as_slice(), dq.as_slice(), 1e-6, 1.0, "∂v̇/∂q vs finite differences");
-        assert_close(jac.d_dv.as_slice(), dv.as_slice(), 1e-6, 1.0, "∂v̇/∂v vs finite differences");
+        assert_close(
+            jac.d_dq.as_slice(),
+            dq.as_slice(),
+            1e-6,
+            1.0,
+            "∂v̇/∂q vs finite differences",
+        );
+        assert_close(
+            jac.d_dv.as_slice(),
+            dv.as_slice(),
+            1e-6,
+            1.0,
+            "∂v̇/∂v vs finite differences",
+        );
 
         // Power balance: d(T + U)/dt = vᵀ (τ + τ_damping), by central differences along
         // the flow (q̇ = v, v̇ = FD).
-        let energy = |q: &SVector<f64, N>, v: &SVector<f64, N>| sys.kinetic_energy(q, v) + sys.potential_energy(q);
+        let energy = |q: &SVector<f64, N>, v: &SVector<f64, N>| {
+            sys.kinetic_energy(q, v) + sys.potential_energy(q)
+        };
         let dt = 1e-6;
-        let de = (energy(&(q + v * dt), &(v + fd * dt)) - energy(&(q - v * dt), &(v - fd * dt))) / (2.0 * dt);
-        let damping: f64 = model.dampers.iter().map(|d| -d.damping * v[d.coordinate] * v[d.coordinate]).sum();
+        let de = (energy(&(q + v * dt), &(v + fd * dt)) - energy(&(q - v * dt), &(v - fd * dt)))
+            / (2.0 * dt);
+        let damping: f64 = model
+            .dampers
+            .iter()
+            .map(|d| -d.damping * v[d.coordinate] * v[d.coordinate])
+            .sum();
         let power = v.dot(&tau) + damping;
-        assert!((de - power).abs() <= 1e-5 * (1.0 + power.abs()), "dE/dt = {de}, power = {power}");
+        assert!(
+            (de - power).abs() <= 1e-5 * (1.0 + power.abs()),
+            "dE/dt = {de}, power = {power}"
+        );
     }
 }
 
@@ -143,7 +247,13 @@ fn double_pendulum_closed_form() {
         let c = [h * v[1], -h * v[0], h * (v[0] + v[1]), 0.0]; // column-major
         let g1 = (m1 * lc1 + m2 * l1) * g * q[0].cos() + m2 * lc2 * g * (q[0] + q[1]).cos();
         let g2 = m2 * lc2 * g * (q[0] + q[1]).cos();
-        assert_close(p.mass_matrix(&q).as_slice(), &[m11, m12, m12, m22], 1e-14, 1e-14, "M");
+        assert_close(
+            p.mass_matrix(&q).as_slice(),
+            &[m11, m12, m12, m22],
+            1e-14,
+            1e-14,
+            "M",
+        );
         assert_close(p.coriolis_matrix(&q, &v).as_slice(), &c, 1e-14, 1e-14, "C");
         assert_close(p.gravity(&q).as_slice(), &[g1, g2], 1e-14, 1e-14, "g");
     }

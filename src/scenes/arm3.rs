@@ -25,6 +25,11 @@ pub struct PlanarArm3 {
 
 impl Default for PlanarArm3 {
     fn default() -> Self {
-        PlanarArm3 { m: 1.0, l: 0.5, k: 2.0, c: 0.1 }
+        PlanarArm3 {
+            m: 1.0,
+            l: 0.5,
+            k: 2.0,
+            c: 0.1,
+        }
     }
 }

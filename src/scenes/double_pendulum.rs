@@ -19,6 +19,12 @@ pub struct DoublePendulum {
 impl Default for DoublePendulum {
     /// The parameters of theory S8.
     fn default() -> Self {
-        DoublePendulum { m1: 1.0, l1: 1.0, m2: 0.5, l2: 0.7, g: 9.81 }
+        DoublePendulum {
+            m1: 1.0,
+            l1: 1.0,
+            m2: 0.5,
+            l2: 0.7,
+            g: 9.81,
+        }
     }
 }

@@ -24,6 +24,10 @@ pub struct BranchedTree {
 
 impl Default for BranchedTree {
     fn default() -> Self {
-        BranchedTree { m: 1.0, l: 0.4, k: 50.0 }
+        BranchedTree {
+            m: 1.0,
+            l: 0.4,
+            k: 50.0,
+        }
     }
 }

@@ -42,7 +42,12 @@ pub fn dmat<const N: usize>(m: &SMatrix<f64, N, N>) -> DMatrix<f64> {
 #[track_caller]
 pub fn assert_close(a: &[f64], b: &[f64], tol: f64, floor: f64, what: &str) {
     assert_eq!(a.len(), b.len(), "{what}: lengths differ");
-    let diff: f64 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt();
+    let diff: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (x - y) * (x - y))
+        .sum::<f64>()
+        .sqrt();
     let norm: f64 = b.iter().map(|y| y * y).sum::<f64>().sqrt();
     assert!(
         diff <= tol * norm.max(floor),

@@ -41,5 +41,10 @@ pub fn expand_with_stats(input: TokenStream) -> Result<Expansion, syn::Error> {
     let model = model.expect("a model when there are no errors");
     let kernels = mech::Kernels::build(&model);
     let (tokens, functions) = emit::mechanism_impl(&model, &kernels);
-    Ok(Expansion { tokens, dof: kernels.dof, graph_nodes: kernels.graph.len(), functions })
+    Ok(Expansion {
+        tokens,
+        dof: kernels.dof,
+        graph_nodes: kernels.graph.len(),
+        functions,
+    })
 }

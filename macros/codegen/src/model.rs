@@ -187,6 +187,9 @@ impl Model {
 
     /// Joint names by coordinate.
     pub fn joint_names(&self) -> Vec<String> {
-        self.coordinate_links().into_iter().map(|li| self.links[li].joint_name.clone()).collect()
+        self.coordinate_links()
+            .into_iter()
+            .map(|li| self.links[li].joint_name.clone())
+            .collect()
     }
 }

@@ -29,7 +29,7 @@ struct Joint {
 }
 
 pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
-    let fields = check_struct_shape(input, diag);
+    let fields = check_struct_shape(input, diag)?;
     let names: Vec<String> = fields.iter().map(|f| f.to_string()).collect();
     let raws = parse::read_attrs(&input.attrs, diag);
 
@@ -67,30 +67,43 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         return None;
     }
     let (springs, dampers) = springs_dampers;
-    Some(Model { ident: input.ident.clone(), params: fields, gravity, links, springs, dampers })
+    Some(Model {
+        ident: input.ident.clone(),
+        params: fields,
+        gravity,
+        links,
+        springs,
+        dampers,
+    })
 }
 
 /// Parameters are the fields of a plain struct, each an `f64`: the generated code reads
 /// them by name and does `f64` arithmetic on them.
-fn check_struct_shape(input: &DeriveInput, diag: &mut Diagnostics) -> Vec<Ident> {
+fn check_struct_shape(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Vec<Ident>> {
     if !input.generics.params.is_empty() {
-        diag.error_at(&input.generics, "a mechanism struct cannot be generic; its parameters are `f64` fields");
+        diag.error_at(
+            &input.generics,
+            "a mechanism struct cannot be generic; its parameters are `f64` fields",
+        );
     }
     let fields = match &input.data {
         Data::Struct(s) => match &s.fields {
             Fields::Named(f) => &f.named,
-            Fields::Unit => return Vec::new(),
+            Fields::Unit => return Some(Vec::new()),
             Fields::Unnamed(f) => {
-                diag.error_at(f, "parameters must be named fields, e.g. `struct Arm { m1: f64, l1: f64 }`");
-                return Vec::new();
+                diag.error_at(
+                    f,
+                    "parameters must be named fields, e.g. `struct Arm { m1: f64, l1: f64 }`",
+                );
+                return None;
             }
         },
         _ => {
             diag.error_span(
                 input.ident.span(),
-                "`Mechanism` can only be derived for a struct whose fields are the parameters",
+                "`Mechanism` can only be derived for a struct whose fields are the parameters, e.g. `struct Arm { m1: f64, l1: f64 }`",
             );
-            return Vec::new();
+            return None;
         }
     };
     let mut out = Vec::new();
@@ -101,7 +114,7 @@ fn check_struct_shape(input: &DeriveInput, diag: &mut Diagnostics) -> Vec<Ident>
         }
         out.extend(f.ident.clone());
     }
-    out
+    Some(out)
 }
 
 /// Names must be unique within their family: attributes refer to bodies and joints by
@@ -110,7 +123,12 @@ fn check_unique<'a>(names: impl Iterator<Item = &'a Ident>, what: &str, diag: &m
     let mut seen: HashMap<String, &Ident> = HashMap::new();
     for n in names {
         if seen.insert(n.to_string(), n).is_some() {
-            diag.error_at(n, format_args!("a {what} named `{n}` is already declared; give each {what} its own name"));
+            diag.error_at(
+                n,
+                format_args!(
+                    "a {what} named `{n}` is already declared; give each {what} its own name"
+                ),
+            );
         }
     }
 }
@@ -129,22 +147,36 @@ fn zero3() -> Vec3 {
 fn read_body(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Option<Body> {
     let name = raw.name.clone()?;
     if let Some(h) = &raw.head {
-        diag.error_at(h, "a body takes no `: kind`; write `#[body(name, mass = …, com = […], inertia = …)]`");
+        diag.error_at(
+            h,
+            "a body takes no `: kind`; write `#[body(name, mass = …, com = […], inertia = …)]`",
+        );
     }
     let mass = match raw.take("mass", diag) {
         Some((_, e)) => lower(&e, names, diag).inspect(|m| check_mass(m, &e, diag)),
         None => {
-            diag.error_at(&name, format_args!("body `{name}` has no mass; add `mass = <expression>`"));
+            diag.error_at(
+                &name,
+                format_args!("body `{name}` has no mass; add `mass = <expression>`"),
+            );
             None
         }
     };
-    let com = raw.take("com", diag).and_then(|(_, e)| vec3(&e, "com", names, diag)).unwrap_or_else(zero3);
+    let com = raw
+        .take("com", diag)
+        .and_then(|(_, e)| vec3(&e, "com", names, diag))
+        .unwrap_or_else(zero3);
     let inertia = match raw.take("inertia", diag) {
         Some((_, e)) => inertia(&e, names, diag)?,
         None => [zero3(), zero3(), zero3()],
     };
     raw.reject_rest(&["mass", "com", "inertia"], diag);
-    Some(Body { name, mass, com, inertia })
+    Some(Body {
+        name,
+        mass,
+        com,
+        inertia,
+    })
 }
 
 /// A literal mass must be positive: a zero or negative mass makes M singular or
@@ -153,7 +185,10 @@ fn check_mass(m: &PExpr, at: &Expr, diag: &mut Diagnostics) {
     if let Some(v) = m.as_const()
         && !(v > 0.0 && v.is_finite())
     {
-        diag.error_at(at, format_args!("mass must be positive and finite, found {v}"));
+        diag.error_at(
+            at,
+            format_args!("mass must be positive and finite, found {v}"),
+        );
     }
 }
 
@@ -167,10 +202,16 @@ fn inertia(e: &Expr, names: &[String], diag: &mut Diagnostics) -> Option<Mat3> {
     let sq = |a: &PExpr| mul(a.clone(), a.clone());
     let diag3 = |d: [PExpr; 3]| {
         let [a, b, c] = d;
-        [[a, PExpr::zero(), PExpr::zero()], [PExpr::zero(), b, PExpr::zero()], [PExpr::zero(), PExpr::zero(), c]]
+        [
+            [a, PExpr::zero(), PExpr::zero()],
+            [PExpr::zero(), b, PExpr::zero()],
+            [PExpr::zero(), PExpr::zero(), c],
+        ]
     };
     let m = match strip(e) {
-        Expr::Path(_) if ident_of(e).is_some_and(|i| i == "point") => diag3([PExpr::zero(), PExpr::zero(), PExpr::zero()]),
+        Expr::Path(_) if ident_of(e).is_some_and(|i| i == "point") => {
+            diag3([PExpr::zero(), PExpr::zero(), PExpr::zero()])
+        }
         Expr::Call(c) => {
             let name = ident_of(&c.func).map(|i| i.to_string()).unwrap_or_default();
             let arity = match name.as_str() {
@@ -178,18 +219,28 @@ fn inertia(e: &Expr, names: &[String], diag: &mut Diagnostics) -> Option<Mat3> {
                 "cylinder" | "diag" => 3,
                 "cuboid" => 4,
                 _ => {
-                    diag.error_at(&c.func, format_args!("unknown inertia shape; use one of {SHAPES}"));
+                    diag.error_at(
+                        &c.func,
+                        format_args!("unknown inertia shape; use one of {SHAPES}"),
+                    );
                     return None;
                 }
             };
             if c.args.len() != arity {
                 diag.error_at(
                     e,
-                    format_args!("`{name}` takes {arity} arguments, found {}; use one of {SHAPES}", c.args.len()),
+                    format_args!(
+                        "`{name}` takes {arity} arguments, found {}; use one of {SHAPES}",
+                        c.args.len()
+                    ),
                 );
                 return None;
             }
-            let args: Vec<PExpr> = c.args.iter().map(|a| lower(a, names, diag)).collect::<Option<_>>()?;
+            let args: Vec<PExpr> = c
+                .args
+                .iter()
+                .map(|a| lower(a, names, diag))
+                .collect::<Option<_>>()?;
             match name.as_str() {
                 "rod" => {
                     let t = mul(mul(args[0].clone(), sq(&args[1])), num(1.0 / 12.0));
@@ -201,7 +252,10 @@ fn inertia(e: &Expr, names: &[String], diag: &mut Diagnostics) -> Option<Mat3> {
                 }
                 "cylinder" => {
                     let (m, r, h) = (&args[0], &args[1], &args[2]);
-                    let side = mul(m.clone(), add(mul(sq(r), num(0.25)), mul(sq(h), num(1.0 / 12.0))));
+                    let side = mul(
+                        m.clone(),
+                        add(mul(sq(r), num(0.25)), mul(sq(h), num(1.0 / 12.0))),
+                    );
                     diag3([side.clone(), side, mul(mul(m.clone(), sq(r)), num(0.5))])
                 }
                 "cuboid" => {
@@ -243,22 +297,35 @@ fn inertia(e: &Expr, names: &[String], diag: &mut Diagnostics) -> Option<Mat3> {
 fn check_inertia(m: &Mat3, at: &Expr, diag: &mut Diagnostics) {
     for (i, j) in [(0, 1), (0, 2), (1, 2)] {
         if m[i][j] != m[j][i] {
-            diag.error_at(at, format_args!("inertia must be symmetric: entry ({i}, {j}) differs from ({j}, {i})"));
+            diag.error_at(
+                at,
+                format_args!("inertia must be symmetric: entry ({i}, {j}) differs from ({j}, {i})"),
+            );
             return;
         }
     }
-    let Some(v) = m.iter().map(|r| r.iter().map(PExpr::as_const).collect::<Option<Vec<f64>>>()).collect::<Option<Vec<_>>>() else {
+    let Some(v) = m
+        .iter()
+        .map(|r| r.iter().map(PExpr::as_const).collect::<Option<Vec<f64>>>())
+        .collect::<Option<Vec<_>>>()
+    else {
         return;
     };
     // Principal invariants of a symmetric 3×3 matrix are all ≥ 0 iff it is PSD
     // (with the diagonal non-negative), up to round-off.
     let tr = v[0][0] + v[1][1] + v[2][2];
-    let minors = v[0][0] * v[1][1] - v[0][1] * v[0][1] + v[0][0] * v[2][2] - v[0][2] * v[0][2] + v[1][1] * v[2][2]
+    let minors = v[0][0] * v[1][1] - v[0][1] * v[0][1] + v[0][0] * v[2][2] - v[0][2] * v[0][2]
+        + v[1][1] * v[2][2]
         - v[1][2] * v[1][2];
-    let det = v[0][0] * (v[1][1] * v[2][2] - v[1][2] * v[1][2]) - v[0][1] * (v[0][1] * v[2][2] - v[1][2] * v[0][2])
+    let det = v[0][0] * (v[1][1] * v[2][2] - v[1][2] * v[1][2])
+        - v[0][1] * (v[0][1] * v[2][2] - v[1][2] * v[0][2])
         + v[0][2] * (v[0][1] * v[1][2] - v[1][1] * v[0][2]);
     let eps = 1e-12 * tr.abs().max(1e-300);
-    let psd = v[0][0] >= 0.0 && v[1][1] >= 0.0 && v[2][2] >= 0.0 && minors >= -eps * tr && det >= -eps * tr * tr;
+    let psd = v[0][0] >= 0.0
+        && v[1][1] >= 0.0
+        && v[2][2] >= 0.0
+        && minors >= -eps * tr
+        && det >= -eps * tr * tr;
     let (a, b, c) = (v[0][0], v[1][1], v[2][2]);
     let triangle = a + b >= c - eps && b + c >= a - eps && a + c >= b - eps;
     if !psd || !triangle {
@@ -292,14 +359,22 @@ fn read_joint(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opt
             }
         },
         None => {
-            diag.error_at(&name, format_args!("joint `{name}` has no parent; add `parent = world` or `parent = <body>`"));
+            diag.error_at(
+                &name,
+                format_args!(
+                    "joint `{name}` has no parent; add `parent = world` or `parent = <body>`"
+                ),
+            );
             None
         }
     };
     let child = match raw.take("child", diag) {
         Some((_, e)) => match ident_of(&e) {
             Some(i) if i == "world" => {
-                diag.error_at(&e, "`world` cannot be a child; a joint's child is one of the bodies");
+                diag.error_at(
+                    &e,
+                    "`world` cannot be a child; a joint's child is one of the bodies",
+                );
                 None
             }
             Some(i) => Some(i.clone()),
@@ -309,14 +384,30 @@ fn read_joint(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opt
             }
         },
         None => {
-            diag.error_at(&name, format_args!("joint `{name}` has no child; add `child = <body>`"));
+            diag.error_at(
+                &name,
+                format_args!("joint `{name}` has no child; add `child = <body>`"),
+            );
             None
         }
     };
-    let origin = raw.take("origin", diag).and_then(|(_, e)| vec3(&e, "origin", names, diag)).unwrap_or_else(zero3);
-    let rpy = raw.take("rpy", diag).and_then(|(_, e)| vec3(&e, "rpy", names, diag)).unwrap_or_else(zero3);
+    let origin = raw
+        .take("origin", diag)
+        .and_then(|(_, e)| vec3(&e, "origin", names, diag))
+        .unwrap_or_else(zero3);
+    let rpy = raw
+        .take("rpy", diag)
+        .and_then(|(_, e)| vec3(&e, "rpy", names, diag))
+        .unwrap_or_else(zero3);
     raw.reject_rest(&["parent", "child", "origin", "rpy"], diag);
-    Some(Joint { name, kind: kind?, parent: parent?, child: child?, origin, rpy })
+    Some(Joint {
+        name,
+        kind: kind?,
+        parent: parent?,
+        child: child?,
+        origin,
+        rpy,
+    })
 }
 
 fn joint_kind(h: &Expr, diag: &mut Diagnostics) -> Option<JointKind> {
@@ -330,21 +421,32 @@ fn joint_kind(h: &Expr, diag: &mut Diagnostics) -> Option<JointKind> {
     };
     let name = ident_of(&c.func).map(|i| i.to_string()).unwrap_or_default();
     if name != "revolute" && name != "prismatic" {
-        diag.error_at(&c.func, format_args!("unknown joint kind `{name}`; expected {KINDS}"));
+        diag.error_at(
+            &c.func,
+            format_args!("unknown joint kind `{name}`; expected {KINDS}"),
+        );
         return None;
     }
     if c.args.len() != 1 {
-        diag.error_at(h, format_args!("`{name}` takes one axis, e.g. `{name}(z)` or `{name}([0.0, 0.0, 1.0])`"));
+        diag.error_at(
+            h,
+            format_args!("`{name}` takes one axis, e.g. `{name}(z)` or `{name}([0.0, 0.0, 1.0])`"),
+        );
         return None;
     }
     let axis = axis(&c.args[0], diag)?;
-    Some(if name == "revolute" { JointKind::Revolute(axis) } else { JointKind::Prismatic(axis) })
+    Some(if name == "revolute" {
+        JointKind::Revolute(axis)
+    } else {
+        JointKind::Prismatic(axis)
+    })
 }
 
 /// An axis is `x`, `y`, `z` (optionally negated) or three numeric literals, normalised
 /// here; it must be known at expansion so the kernels fold its zeros away.
 fn axis(e: &Expr, diag: &mut Diagnostics) -> Option<[f64; 3]> {
-    const HELP: &str = "an axis is `x`, `y`, `z`, `-z`, … or three numbers `[0.0, 0.6, 0.8]`, not all zero";
+    const HELP: &str =
+        "an axis is `x`, `y`, `z`, `-z`, … or three numbers `[0.0, 0.6, 0.8]`, not all zero";
     let (neg, inner) = match strip(e) {
         Expr::Unary(u) if matches!(u.op, syn::UnOp::Neg(_)) => (-1.0, &*u.expr),
         _ => (1.0, e),
@@ -362,10 +464,14 @@ fn axis(e: &Expr, diag: &mut Diagnostics) -> Option<[f64; 3]> {
         return Some(a.map(|c| c * neg));
     }
     let items = array(e, 3, "an axis", diag)?;
-    let v: Vec<f64> = items.iter().map(|x| lower(x, &[], &mut Diagnostics::new()).and_then(|p| p.as_const())).collect::<Option<_>>().or_else(|| {
-        diag.error_at(e, format_args!("axis entries must be numbers; {HELP}"));
-        None
-    })?;
+    let v: Vec<f64> = items
+        .iter()
+        .map(|x| lower(x, &[], &mut Diagnostics::new()).and_then(|p| p.as_const()))
+        .collect::<Option<_>>()
+        .or_else(|| {
+            diag.error_at(e, format_args!("axis entries must be numbers; {HELP}"));
+            None
+        })?;
     let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
     if !(n > 0.0 && n.is_finite()) {
         diag.error_at(e, format_args!("this axis has zero length; {HELP}"));
@@ -378,14 +484,30 @@ fn axis(e: &Expr, diag: &mut Diagnostics) -> Option<[f64; 3]> {
 /// exactly one joint, every parent exists, and following parents from any body reaches
 /// the world (no cycles).
 fn build_tree(bodies: &[Body], joints: &[Joint], diag: &mut Diagnostics) -> Option<Vec<Link>> {
-    let body_index: HashMap<String, usize> = bodies.iter().enumerate().map(|(i, b)| (b.name.to_string(), i)).collect();
+    if joints.is_empty() {
+        for b in bodies {
+            diag.error_at(&b.name, format_args!("body `{}` is not attached; add `#[joint(<name>: <kind>, parent = world, child = {})]`", b.name, b.name));
+        }
+        return None;
+    }
+    let body_index: HashMap<String, usize> = bodies
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (b.name.to_string(), i))
+        .collect();
     let mut joint_of: Vec<Option<usize>> = vec![None; bodies.len()];
     let mut ok = true;
     for (ji, j) in joints.iter().enumerate() {
         if let Some(p) = &j.parent
             && !body_index.contains_key(&p.to_string())
         {
-            diag.error_at(p, format_args!("no body named `{p}`; the parent must be `world` or a declared body ({})", list(bodies)));
+            diag.error_at(
+                p,
+                format_args!(
+                    "no body named `{p}`; the parent must be `world` or a declared body ({})",
+                    list(bodies)
+                ),
+            );
             ok = false;
         }
         match body_index.get(&j.child.to_string()) {
@@ -426,14 +548,22 @@ fn build_tree(bodies: &[Body], joints: &[Joint], diag: &mut Diagnostics) -> Opti
     let mut order: Vec<usize> = Vec::new(); // body indices
     let mut link_of_body: Vec<Option<usize>> = vec![None; bodies.len()];
     let mut stack: Vec<(Option<usize>, usize)> = Vec::new();
-    let roots: Vec<usize> = joints.iter().filter(|j| j.parent.is_none()).map(|j| body_index[&j.child.to_string()]).collect();
+    let roots: Vec<usize> = joints
+        .iter()
+        .filter(|j| j.parent.is_none())
+        .map(|j| body_index[&j.child.to_string()])
+        .collect();
     for &r in roots.iter().rev() {
         stack.push((None, r));
     }
     while let Some((_, b)) = stack.pop() {
         link_of_body[b] = Some(order.len());
         order.push(b);
-        let kids: Vec<usize> = joints.iter().filter(|j| parent_body(j) == Some(b)).map(|j| body_index[&j.child.to_string()]).collect();
+        let kids: Vec<usize> = joints
+            .iter()
+            .filter(|j| parent_body(j) == Some(b))
+            .map(|j| body_index[&j.child.to_string()])
+            .collect();
         for &k in kids.iter().rev() {
             stack.push((Some(b), k));
         }
@@ -477,27 +607,47 @@ fn build_tree(bodies: &[Body], joints: &[Joint], diag: &mut Diagnostics) -> Opti
         });
     }
     if coordinate == 0 {
-        diag.error_at(&joints[0].name, "a mechanism needs at least one revolute or prismatic joint");
+        diag.error_at(
+            &joints[0].name,
+            "a mechanism needs at least one revolute or prismatic joint",
+        );
         return None;
     }
     if coordinate > MAX_DOF {
-        diag.error_at(&joints[0].name, format_args!("{coordinate} coordinates; at most {MAX_DOF} are supported"));
+        diag.error_at(
+            &joints[0].name,
+            format_args!("{coordinate} coordinates; at most {MAX_DOF} are supported"),
+        );
         return None;
     }
     Some(links)
 }
 
 fn list(bodies: &[Body]) -> String {
-    bodies.iter().map(|b| format!("`{}`", b.name)).collect::<Vec<_>>().join(", ")
+    if bodies.is_empty() {
+        return "none is declared yet".to_string();
+    }
+    bodies
+        .iter()
+        .map(|b| format!("`{}`", b.name))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Springs and dampers act on the coordinate of a named joint, which must exist and
 /// move (a fixed joint has no coordinate).
-fn read_elements(raws: Vec<RawAttr>, links: &[Link], names: &[String], diag: &mut Diagnostics) -> (Vec<Spring>, Vec<Damper>) {
+fn read_elements(
+    raws: Vec<RawAttr>,
+    links: &[Link],
+    names: &[String],
+    diag: &mut Diagnostics,
+) -> (Vec<Spring>, Vec<Damper>) {
     let mut springs = Vec::new();
     let mut dampers = Vec::new();
     for mut raw in raws {
-        let Some(joint) = raw.name.clone() else { continue };
+        let Some(joint) = raw.name.clone() else {
+            continue;
+        };
         let coord = match links.iter().find(|l| joint == l.joint_name) {
             Some(l) => match l.coordinate {
                 Some(c) => Some(c),
@@ -507,7 +657,11 @@ fn read_elements(raws: Vec<RawAttr>, links: &[Link], names: &[String], diag: &mu
                 }
             },
             None => {
-                let known: Vec<String> = links.iter().filter(|l| l.coordinate.is_some()).map(|l| format!("`{}`", l.joint_name)).collect();
+                let known: Vec<String> = links
+                    .iter()
+                    .filter(|l| l.coordinate.is_some())
+                    .map(|l| format!("`{}`", l.joint_name))
+                    .collect();
                 diag.error_at(&joint, format_args!("no joint named `{joint}`; springs and dampers act on a joint's coordinate: one of {}", known.join(", ")));
                 None
             }
@@ -527,7 +681,11 @@ fn read_elements(raws: Vec<RawAttr>, links: &[Link], names: &[String], diag: &mu
             let rest = value("rest", &mut raw, false);
             raw.reject_rest(&["k", "rest"], diag);
             if let (Some(coordinate), Some(k), Some(rest)) = (coord, k, rest) {
-                springs.push(Spring { coordinate, k, rest });
+                springs.push(Spring {
+                    coordinate,
+                    k,
+                    rest,
+                });
             }
         } else {
             let c = value("c", &mut raw, true);

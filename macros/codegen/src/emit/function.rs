@@ -79,8 +79,9 @@ pub fn emit(
     }
     let is_leaf = |id: Id| matches!(g.node(id), Node::Const(_) | Node::Param(_) | Node::Input(_));
     let is_trig = |id: Id| matches!(g.node(id), Node::Unary(Unary::Sin | Unary::Cos, _));
-    let bound: Vec<bool> =
-        (0..g.len()).map(|i| reach[i] && !is_leaf(Id(i as u32)) && (uses[i] >= 2 || is_trig(Id(i as u32)))).collect();
+    let bound: Vec<bool> = (0..g.len())
+        .map(|i| reach[i] && !is_leaf(Id(i as u32)) && (uses[i] >= 2 || is_trig(Id(i as u32))))
+        .collect();
 
     // Items in topological order; sin and cos of one argument together.
     let mut items = Vec::new();
@@ -187,7 +188,14 @@ pub fn emit(
         }
     }
 
-    let r = Renderer { g, params, bound: &bound, names: &names, def_chunk: &def_chunk, slot: &slot };
+    let r = Renderer {
+        g,
+        params,
+        bound: &bound,
+        names: &names,
+        def_chunk: &def_chunk,
+        slot: &slot,
+    };
     let args: Vec<TokenStream> = sig
         .inputs
         .iter()
@@ -217,8 +225,13 @@ pub fn emit(
                     vec![id]
                 }
                 Item::SinCos(s, cs) => {
-                    let (ns, nc) = (names[s.index()].as_ref().expect("named"), names[cs.index()].as_ref().expect("named"));
-                    let Node::Unary(_, x) = g.node(s) else { unreachable!() };
+                    let (ns, nc) = (
+                        names[s.index()].as_ref().expect("named"),
+                        names[cs.index()].as_ref().expect("named"),
+                    );
+                    let Node::Unary(_, x) = g.node(s) else {
+                        unreachable!()
+                    };
                     let e = r.atom(x, c, &mut used);
                     body.extend(quote!(let (#ns, #nc) = #e.sin_cos();));
                     vec![s, cs]
@@ -252,7 +265,11 @@ pub fn emit(
             calls.extend(quote!(self.#hname(#(#arg_names,)* &mut t);));
         }
     }
-    let scratch = if nchunks > 1 { quote!(let mut t = [0.0f64; #nslots_lit];) } else { quote!() };
+    let scratch = if nchunks > 1 {
+        quote!(let mut t = [0.0f64; #nslots_lit];)
+    } else {
+        quote!()
+    };
     let (name, ret, doc) = (&sig.name, &sig.ret, &sig.doc);
     let method = quote! {
         #[doc = #doc]
@@ -264,7 +281,11 @@ pub fn emit(
             #main_body
         }
     };
-    Emitted { method, helpers, lets: items.len() }
+    Emitted {
+        method,
+        helpers,
+        lets: items.len(),
+    }
 }
 
 fn bind_inputs(used: &BTreeSet<(InputKind, u16)>) -> TokenStream {
@@ -294,7 +315,13 @@ const ATOM: u8 = 3;
 
 impl Renderer<'_> {
     /// The node as an operand needing at least precedence `min`.
-    fn operand(&self, id: Id, chunk: usize, min: u8, used: &mut BTreeSet<(InputKind, u16)>) -> TokenStream {
+    fn operand(
+        &self,
+        id: Id,
+        chunk: usize,
+        min: u8,
+        used: &mut BTreeSet<(InputKind, u16)>,
+    ) -> TokenStream {
         let (e, p) = self.render(id, chunk, used);
         if p >= min { e } else { quote!((#e)) }
     }
@@ -312,7 +339,12 @@ impl Renderer<'_> {
         self.render_node(id, chunk, used).0
     }
 
-    fn render(&self, id: Id, chunk: usize, used: &mut BTreeSet<(InputKind, u16)>) -> (TokenStream, u8) {
+    fn render(
+        &self,
+        id: Id,
+        chunk: usize,
+        used: &mut BTreeSet<(InputKind, u16)>,
+    ) -> (TokenStream, u8) {
         let i = id.index();
         if self.bound[i] {
             if self.def_chunk[i] == chunk {
@@ -325,16 +357,34 @@ impl Renderer<'_> {
         self.render_node(id, chunk, used)
     }
 
-    fn render_node(&self, id: Id, chunk: usize, used: &mut BTreeSet<(InputKind, u16)>) -> (TokenStream, u8) {
+    fn render_node(
+        &self,
+        id: Id,
+        chunk: usize,
+        used: &mut BTreeSet<(InputKind, u16)>,
+    ) -> (TokenStream, u8) {
         let g = self.g;
         match g.node(id) {
             Node::Const(bits) => {
                 let c = f64::from_bits(bits);
                 if !c.is_finite() {
-                    return (if c.is_nan() { quote!(f64::NAN) } else if c > 0.0 { quote!(f64::INFINITY) } else { quote!(f64::NEG_INFINITY) }, ATOM);
+                    return (
+                        if c.is_nan() {
+                            quote!(f64::NAN)
+                        } else if c > 0.0 {
+                            quote!(f64::INFINITY)
+                        } else {
+                            quote!(f64::NEG_INFINITY)
+                        },
+                        ATOM,
+                    );
                 }
                 let lit = Literal::f64_unsuffixed(c.abs());
-                if c < 0.0 { (quote!(-#lit), SUM) } else { (quote!(#lit), ATOM) }
+                if c < 0.0 {
+                    (quote!(-#lit), SUM)
+                } else {
+                    (quote!(#lit), ATOM)
+                }
             }
             Node::Param(p) => {
                 let f = &self.params[p as usize];

@@ -49,17 +49,42 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
     let mut methods = TokenStream::new();
     let mut helpers = TokenStream::new();
     let mut stats = Vec::new();
-    let mut add = |name: &'static str, inputs: Vec<InputKind>, ret: TokenStream, outs: Vec<Id>, asm: &dyn Fn(Vec<TokenStream>) -> TokenStream, doc: &str| {
-        let sig = Signature { name: format_ident!("{}", name), inputs, ret, doc: doc.to_string() };
+    let mut add = |name: &'static str,
+                   inputs: Vec<InputKind>,
+                   ret: TokenStream,
+                   outs: Vec<Id>,
+                   asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
+                   doc: &str| {
+        let sig = Signature {
+            name: format_ident!("{}", name),
+            inputs,
+            ret,
+            doc: doc.to_string(),
+        };
         let e = emit(g, params, n, &sig, &outs, asm);
-        stats.push(FnStats { name, ops: g.count_ops(&outs), lets: e.lets });
+        stats.push(FnStats {
+            name,
+            ops: g.count_ops(&outs),
+            lets: e.lets,
+        });
         methods.extend(e.method);
         helpers.extend(e.helpers);
     };
     let vasm = |o: Vec<TokenStream>| vector(o, n);
     let masm = |o: Vec<TokenStream>| matrix(o, n);
-    add("mass_matrix", vec![Q], mat_t.clone(), flat(&k.mass), &masm, " Mass matrix `M(q)` (composite-rigid-body algorithm, unrolled).");
-    let chris: Vec<Id> = k.christoffel.iter().flat_map(|ci| ci.iter().flatten().copied()).collect();
+    add(
+        "mass_matrix",
+        vec![Q],
+        mat_t.clone(),
+        flat(&k.mass),
+        &masm,
+        " Mass matrix `M(q)` (composite-rigid-body algorithm, unrolled).",
+    );
+    let chris: Vec<Id> = k
+        .christoffel
+        .iter()
+        .flat_map(|ci| ci.iter().flatten().copied())
+        .collect();
     add(
         "christoffel_symbols",
         vec![Q],
@@ -71,12 +96,54 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         },
         " Christoffel symbols of the first kind, `out[i][(j, k)] = c_ijk`.",
     );
-    add("coriolis_matrix", vec![Q, V], mat_t.clone(), flat(&k.coriolis), &masm, " Coriolis matrix `C_ij = Σ_k c_ijk v_k`.");
-    add("gravity", vec![Q], vec_t.clone(), k.gravity.clone(), &vasm, " Generalised gravity force `g(q)`.");
-    add("bias", vec![Q, V], vec_t.clone(), k.bias.clone(), &vasm, " Bias force `C(q, v) v + g(q)` (recursive Newton–Euler with zero acceleration).");
-    add("passive_forces", vec![Q, V], vec_t.clone(), k.passive.clone(), &vasm, " Spring and damper forces on the joint coordinates.");
-    add("inverse_dynamics", vec![Q, V, A], vec_t.clone(), k.inverse.clone(), &vasm, " Inverse dynamics `M a + C v + g − τ_p` (recursive Newton–Euler).");
-    add("forward_dynamics", vec![Q, V, Tau], vec_t.clone(), k.forward.clone(), &vasm, " Forward dynamics `M⁻¹ (τ + τ_p − C v − g)` by a sparse `LᵀDL` of `M`.");
+    add(
+        "coriolis_matrix",
+        vec![Q, V],
+        mat_t.clone(),
+        flat(&k.coriolis),
+        &masm,
+        " Coriolis matrix `C_ij = Σ_k c_ijk v_k`.",
+    );
+    add(
+        "gravity",
+        vec![Q],
+        vec_t.clone(),
+        k.gravity.clone(),
+        &vasm,
+        " Generalised gravity force `g(q)`.",
+    );
+    add(
+        "bias",
+        vec![Q, V],
+        vec_t.clone(),
+        k.bias.clone(),
+        &vasm,
+        " Bias force `C(q, v) v + g(q)` (recursive Newton–Euler with zero acceleration).",
+    );
+    add(
+        "passive_forces",
+        vec![Q, V],
+        vec_t.clone(),
+        k.passive.clone(),
+        &vasm,
+        " Spring and damper forces on the joint coordinates.",
+    );
+    add(
+        "inverse_dynamics",
+        vec![Q, V, A],
+        vec_t.clone(),
+        k.inverse.clone(),
+        &vasm,
+        " Inverse dynamics `M a + C v + g − τ_p` (recursive Newton–Euler).",
+    );
+    add(
+        "forward_dynamics",
+        vec![Q, V, Tau],
+        vec_t.clone(),
+        k.forward.clone(),
+        &vasm,
+        " Forward dynamics `M⁻¹ (τ + τ_p − C v − g)` by a sparse `LᵀDL` of `M`.",
+    );
     let mut jac_outs = k.forward.clone();
     jac_outs.extend(flat(&k.jac_q));
     jac_outs.extend(flat(&k.jac_v));
@@ -93,10 +160,28 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         },
         " Forward dynamics and its symbolic Jacobian with respect to `(q, v)`.",
     );
-    add("kinetic_energy", vec![Q, V], quote!(f64), vec![k.kinetic], &|mut o| o.remove(0), " Kinetic energy `½ vᵀ M v`.");
-    add("potential_energy", vec![Q], quote!(f64), vec![k.potential], &|mut o| o.remove(0), " Potential energy of gravity and springs.");
+    add(
+        "kinetic_energy",
+        vec![Q, V],
+        quote!(f64),
+        vec![k.kinetic],
+        &|mut o| o.remove(0),
+        " Kinetic energy `½ vᵀ M v`.",
+    );
+    add(
+        "potential_energy",
+        vec![Q],
+        quote!(f64),
+        vec![k.potential],
+        &|mut o| o.remove(0),
+        " Potential energy of gravity and springs.",
+    );
 
-    let names: Vec<Literal> = model.joint_names().iter().map(|s| Literal::string(s)).collect();
+    let names: Vec<Literal> = model
+        .joint_names()
+        .iter()
+        .map(|s| Literal::string(s))
+        .collect();
     let describe = describe::model_fn(model);
     let code = quote! {
         impl ::filippov::runtime::system::Mechanism<#n> for #ident {

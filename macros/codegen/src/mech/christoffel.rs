@@ -12,7 +12,10 @@ use crate::sym::{Graph, Id, Input, InputKind};
 
 pub fn christoffel_symbols(g: &mut Graph, m: &[Vec<Id>]) -> Vec<Vec<Vec<Id>>> {
     let n = m.len();
-    let q = |k: usize| Input { kind: InputKind::Q, index: k as u16 };
+    let q = |k: usize| Input {
+        kind: InputKind::Q,
+        index: k as u16,
+    };
     // dm[k][i][j] = ∂M_ij/∂q_k
     let mut dm = vec![vec![vec![g.zero(); n]; n]; n];
     for k in 0..n {
@@ -41,5 +44,7 @@ pub fn christoffel_symbols(g: &mut Graph, m: &[Vec<Id>]) -> Vec<Vec<Vec<Id>>> {
 }
 
 pub fn coriolis(g: &mut Graph, c: &[Vec<Vec<Id>>], v: &[Id]) -> Vec<Vec<Id>> {
-    c.iter().map(|ci| ci.iter().map(|cij| g.dot(cij, v)).collect()).collect()
+    c.iter()
+        .map(|ci| ci.iter().map(|cij| g.dot(cij, v)).collect())
+        .collect()
 }

@@ -28,7 +28,12 @@ pub fn link_inertias(g: &mut Graph, model: &Model) -> Vec<Inertia> {
 }
 
 /// Composite inertias: link `i` together with all its descendants, in `i`'s coordinates.
-pub fn composite_inertias(g: &mut Graph, model: &Model, kin: &Kinematics, inertia: &[Inertia]) -> Vec<Inertia> {
+pub fn composite_inertias(
+    g: &mut Graph,
+    model: &Model,
+    kin: &Kinematics,
+    inertia: &[Inertia],
+) -> Vec<Inertia> {
     let mut ic = inertia.to_vec();
     for i in (0..model.links.len()).rev() {
         if let Some(p) = model.links[i].parent {
@@ -40,12 +45,19 @@ pub fn composite_inertias(g: &mut Graph, model: &Model, kin: &Kinematics, inerti
 }
 
 /// `M(q)`, dense `n × n` (zeros as constant nodes), symmetric by construction.
-pub fn mass_matrix(g: &mut Graph, model: &Model, kin: &Kinematics, composite: &[Inertia]) -> Vec<Vec<Id>> {
+pub fn mass_matrix(
+    g: &mut Graph,
+    model: &Model,
+    kin: &Kinematics,
+    composite: &[Inertia],
+) -> Vec<Vec<Id>> {
     let n = model.dof();
     let z = g.zero();
     let mut m = vec![vec![z; n]; n];
     for (i, link) in model.links.iter().enumerate() {
-        let (Some(ci), Some(s)) = (link.coordinate, kin.subspace[i]) else { continue };
+        let (Some(ci), Some(s)) = (link.coordinate, kin.subspace[i]) else {
+            continue;
+        };
         let mut f = composite[i].apply(g, s);
         m[ci][ci] = project(g, &s, f);
         let mut j = i;

@@ -4,7 +4,9 @@
 //! the constant origin (translation, then roll-pitch-yaw), `X_J` the joint motion. Each
 //! revolute coordinate gets exactly one `sin`/`cos` pair.
 
-use super::spatial::{Motion, M3, V3, Xform, axis_rotation, identity, mat_mul, transpose, v3_const, v3_zero};
+use super::spatial::{
+    M3, Motion, V3, Xform, axis_rotation, identity, mat_mul, transpose, v3_const, v3_zero,
+};
 use crate::model::{JointKind, Model, PExpr};
 use crate::sym::{Graph, Id, InputKind};
 
@@ -23,7 +25,11 @@ fn lower3(g: &mut Graph, v: &[PExpr; 3]) -> V3 {
 /// `Rz(yaw) Ry(pitch) Rx(roll)`.
 fn rpy_rotation(g: &mut Graph, rpy: &[PExpr; 3]) -> M3 {
     let mut r = identity(g);
-    for (k, axis) in [(2, [0.0, 0.0, 1.0]), (1, [0.0, 1.0, 0.0]), (0, [1.0, 0.0, 0.0])] {
+    for (k, axis) in [
+        (2, [0.0, 0.0, 1.0]),
+        (1, [0.0, 1.0, 0.0]),
+        (0, [1.0, 0.0, 0.0]),
+    ] {
         let a = rpy[k].lower(g);
         let (s, c) = (g.sin(a), g.cos(a));
         let rk = axis_rotation(g, axis, s, c);

@@ -34,7 +34,11 @@ pub fn factor(g: &mut Graph, m: &[Vec<Id>], parent: &[Option<usize>]) -> Ltdl {
             h[k][i] = a;
         }
     }
-    Ltdl { l: h, d_inv, parent: parent.to_vec() }
+    Ltdl {
+        l: h,
+        d_inv,
+        parent: parent.to_vec(),
+    }
 }
 
 impl Ltdl {

@@ -3,13 +3,15 @@
 //! Where things are made:
 //! - joint transforms and motion subspaces: [`kinematics`];
 //! - mass matrix `M(q)`: [`crba`] (composite-rigid-body algorithm);
-//! - inverse dynamics, bias and gravity forces: [`rnea`] (recursive Newton–Euler);
+//! - inverse dynamics and bias forces: [`rnea`] (recursive Newton–Euler);
+//! - gravity forces: [`gravity`] (composite first moments);
 //! - Christoffel symbols and the Coriolis matrix: [`christoffel`] (derivatives of `M`);
 //! - forward dynamics: [`ltdl`] (sparse `LᵀDL` of `M`) applied to `τ + τ_p − bias`;
 //! - its Jacobian: `∂v̇/∂x = −M⁻¹ ∂ID/∂x` at `a = v̇` ([`Kernels::build`]).
 
 pub mod christoffel;
 pub mod crba;
+pub mod gravity;
 pub mod kinematics;
 pub mod ltdl;
 pub mod rnea;
@@ -49,7 +51,13 @@ impl Kernels {
         let a: Vec<Id> = (0..n).map(|i| g.input(InputKind::A, i)).collect();
         let tau: Vec<Id> = (0..n).map(|i| g.input(InputKind::Tau, i)).collect();
         let zeros = vec![g.zero(); n];
-        let gravity_vec = model.gravity.as_ref().map(|gv| [gv[0].lower(&mut g), gv[1].lower(&mut g), gv[2].lower(&mut g)]);
+        let gravity_vec = model.gravity.as_ref().map(|gv| {
+            [
+                gv[0].lower(&mut g),
+                gv[1].lower(&mut g),
+                gv[2].lower(&mut g),
+            ]
+        });
 
         let kin = kinematics::kinematics(&mut g, model);
         let inertia = crba::link_inertias(&mut g, model);
@@ -58,11 +66,19 @@ impl Kernels {
         let christoffel = christoffel::christoffel_symbols(&mut g, &mass);
         let coriolis = christoffel::coriolis(&mut g, &christoffel, &v);
 
-        let gravity = rnea::rnea(&mut g, model, &kin, &inertia, gravity_vec, &zeros, &zeros);
-        let bias = rnea::rnea(&mut g, model, &kin, &inertia, gravity_vec, &v, &zeros);
+        // RNEA without gravity plus gravity from composite first moments (see
+        // [`gravity`] for why gravity is not a base acceleration here).
+        let gravity = gravity::gravity_forces(&mut g, model, &kin, &composite, gravity_vec);
+        let coriolis_v = rnea::rnea(&mut g, model, &kin, &inertia, None, &v, &zeros);
+        let bias: Vec<Id> = (0..n).map(|i| g.add(coriolis_v[i], gravity[i])).collect();
         let passive = passive_forces(&mut g, model, &q, &v);
-        let rnea_a = rnea::rnea(&mut g, model, &kin, &inertia, gravity_vec, &v, &a);
-        let inverse: Vec<Id> = (0..n).map(|i| g.sub(rnea_a[i], passive[i])).collect();
+        let rnea_a = rnea::rnea(&mut g, model, &kin, &inertia, None, &v, &a);
+        let inverse: Vec<Id> = (0..n)
+            .map(|i| {
+                let t = g.add(rnea_a[i], gravity[i]);
+                g.sub(t, passive[i])
+            })
+            .collect();
 
         // Forward dynamics: M v̇ = τ + τ_p − bias.
         let parent = model.coordinate_parents();
@@ -82,7 +98,10 @@ impl Kernels {
         let mut jac = |g: &mut Graph, kind: InputKind| -> Vec<Vec<Id>> {
             let mut cols = Vec::with_capacity(n);
             for k in 0..n {
-                let x = Input { kind, index: k as u16 };
+                let x = Input {
+                    kind,
+                    index: k as u16,
+                };
                 let d: Vec<Id> = (0..n)
                     .map(|i| {
                         let di = g.diff(inverse[i], x);
@@ -93,7 +112,9 @@ impl Kernels {
                 cols.push(factor.solve(g, &d));
             }
             // cols[k][i] = ∂v̇_i/∂x_k → rows
-            (0..n).map(|i| (0..n).map(|k| cols[k][i]).collect()).collect()
+            (0..n)
+                .map(|i| (0..n).map(|k| cols[k][i]).collect())
+                .collect()
         };
         let jac_q = jac(&mut g, InputKind::Q);
         let jac_v = jac(&mut g, InputKind::V);

@@ -21,7 +21,10 @@ pub fn rnea(
 ) -> Vec<Id> {
     let nl = model.links.len();
     let base_acc = match gravity {
-        Some(gv) => Motion { w: v3_zero(g), v: gv.map(|c| g.neg(c)) },
+        Some(gv) => Motion {
+            w: v3_zero(g),
+            v: gv.map(|c| g.neg(c)),
+        },
         None => Motion::zero(g),
     };
     let base_vel = Motion::zero(g);

@@ -128,15 +128,24 @@ pub struct Force {
 
 impl Motion {
     pub fn zero(g: &mut Graph) -> Motion {
-        Motion { w: v3_zero(g), v: v3_zero(g) }
+        Motion {
+            w: v3_zero(g),
+            v: v3_zero(g),
+        }
     }
 
     pub fn add(self, g: &mut Graph, o: Motion) -> Motion {
-        Motion { w: add3(g, self.w, o.w), v: add3(g, self.v, o.v) }
+        Motion {
+            w: add3(g, self.w, o.w),
+            v: add3(g, self.v, o.v),
+        }
     }
 
     pub fn scale(self, g: &mut Graph, k: Id) -> Motion {
-        Motion { w: scale3(g, k, self.w), v: scale3(g, k, self.v) }
+        Motion {
+            w: scale3(g, k, self.w),
+            v: scale3(g, k, self.v),
+        }
     }
 
     /// `self ×ₘ m` (Featherstone eq. 2.31).
@@ -144,14 +153,20 @@ impl Motion {
         let w = cross(g, self.w, m.w);
         let a = cross(g, self.w, m.v);
         let b = cross(g, self.v, m.w);
-        Motion { w, v: add3(g, a, b) }
+        Motion {
+            w,
+            v: add3(g, a, b),
+        }
     }
 
     /// `self ×* f` (Featherstone eq. 2.32).
     pub fn cross_force(self, g: &mut Graph, f: Force) -> Force {
         let a = cross(g, self.w, f.n);
         let b = cross(g, self.v, f.f);
-        Force { n: add3(g, a, b), f: cross(g, self.w, f.f) }
+        Force {
+            n: add3(g, a, b),
+            f: cross(g, self.w, f.f),
+        }
     }
 
     /// `self · f`: power of a force on a motion.
@@ -164,11 +179,17 @@ impl Motion {
 
 impl Force {
     pub fn add(self, g: &mut Graph, o: Force) -> Force {
-        Force { n: add3(g, self.n, o.n), f: add3(g, self.f, o.f) }
+        Force {
+            n: add3(g, self.n, o.n),
+            f: add3(g, self.f, o.f),
+        }
     }
 
     pub fn sub(self, g: &mut Graph, o: Force) -> Force {
-        Force { n: sub3(g, self.n, o.n), f: sub3(g, self.f, o.f) }
+        Force {
+            n: sub3(g, self.n, o.n),
+            f: sub3(g, self.f, o.f),
+        }
     }
 }
 
@@ -186,7 +207,10 @@ impl Xform {
         let w = mat_vec(g, &self.e, m.w);
         let rw = cross(g, self.r, m.w);
         let d = sub3(g, m.v, rw);
-        Motion { w, v: mat_vec(g, &self.e, d) }
+        Motion {
+            w,
+            v: mat_vec(g, &self.e, d),
+        }
     }
 
     /// Force in child coordinates → parent coordinates (`Xᵀ f`): `(Eᵀ n + r × Eᵀ f, Eᵀ f)`.
@@ -194,7 +218,10 @@ impl Xform {
         let ff = mat_t_vec(g, &self.e, f.f);
         let nn = mat_t_vec(g, &self.e, f.n);
         let rf = cross(g, self.r, ff);
-        Force { n: add3(g, nn, rf), f: ff }
+        Force {
+            n: add3(g, nn, rf),
+            f: ff,
+        }
     }
 }
 
@@ -234,11 +261,18 @@ impl Inertia {
         let hv = cross(g, self.h, m.v);
         let mv = scale3(g, self.m, m.v);
         let hw = cross(g, self.h, m.w);
-        Force { n: add3(g, iw, hv), f: sub3(g, mv, hw) }
+        Force {
+            n: add3(g, iw, hv),
+            f: sub3(g, mv, hw),
+        }
     }
 
     pub fn add(&self, g: &mut Graph, o: &Inertia) -> Inertia {
-        Inertia { m: g.add(self.m, o.m), h: add3(g, self.h, o.h), ibar: mat_add(g, &self.ibar, &o.ibar) }
+        Inertia {
+            m: g.add(self.m, o.m),
+            h: add3(g, self.h, o.h),
+            ibar: mat_add(g, &self.ibar, &o.ibar),
+        }
     }
 
     /// This inertia (in child coordinates) expressed in parent coordinates, `Xᵀ I X`:
@@ -267,6 +301,10 @@ impl Inertia {
                 ibar[i][j] = t;
             }
         }
-        Inertia { m: self.m, h: hp, ibar }
+        Inertia {
+            m: self.m,
+            h: hp,
+            ibar,
+        }
     }
 }

@@ -20,8 +20,16 @@ const FUNCS: &[(&str, Func)] = &[
 pub fn lower(e: &Expr, fields: &[String], diag: &mut Diagnostics) -> Option<PExpr> {
     match strip(e) {
         Expr::Lit(l) => match &l.lit {
-            Lit::Float(f) => f.base10_parse::<f64>().map_err(|err| diag.push(err)).ok().map(PExpr::Const),
-            Lit::Int(i) => i.base10_parse::<f64>().map_err(|err| diag.push(err)).ok().map(PExpr::Const),
+            Lit::Float(f) => f
+                .base10_parse::<f64>()
+                .map_err(|err| diag.push(err))
+                .ok()
+                .map(PExpr::Const),
+            Lit::Int(i) => i
+                .base10_parse::<f64>()
+                .map_err(|err| diag.push(err))
+                .ok()
+                .map(PExpr::Const),
             _ => {
                 diag.error_at(e, "expected a number here, e.g. `1.0`");
                 None
@@ -29,7 +37,11 @@ pub fn lower(e: &Expr, fields: &[String], diag: &mut Diagnostics) -> Option<PExp
         },
         Expr::Path(p) if p.qself.is_none() => {
             let path = &p.path;
-            let last = path.segments.last().map(|s| s.ident.to_string()).unwrap_or_default();
+            let last = path
+                .segments
+                .last()
+                .map(|s| s.ident.to_string())
+                .unwrap_or_default();
             if last == "PI" {
                 return Some(PExpr::Const(std::f64::consts::PI));
             }
@@ -60,7 +72,13 @@ pub fn lower(e: &Expr, fields: &[String], diag: &mut Diagnostics) -> Option<PExp
                 if let Some(i) = fields.iter().position(|x| *x == name) {
                     return Some(PExpr::Param(i as u16));
                 }
-                diag.error_at(m, format_args!("no field `{name}` in this struct; fields are: {}", fields.join(", ")));
+                diag.error_at(
+                    m,
+                    format_args!(
+                        "no field `{name}` in this struct; fields are: {}",
+                        fields.join(", ")
+                    ),
+                );
                 return None;
             }
             diag.error_at(e, "expected a field name, e.g. `m1` or `self.m1`");
@@ -102,17 +120,28 @@ pub fn lower(e: &Expr, fields: &[String], diag: &mut Diagnostics) -> Option<PExp
         _ => {
             diag.error_at(
                 e,
-                format_args!("unsupported expression; use numbers, field names, `+ - * /`, `PI` and {}", func_list()),
+                format_args!(
+                    "unsupported expression; use numbers, field names, `+ - * /`, `PI` and {}",
+                    func_list()
+                ),
             );
             None
         }
     }
 }
 
-fn call(e: &Expr, name: Option<&str>, args: &[&Expr], fields: &[String], diag: &mut Diagnostics) -> Option<PExpr> {
+fn call(
+    e: &Expr,
+    name: Option<&str>,
+    args: &[&Expr],
+    fields: &[String],
+    diag: &mut Diagnostics,
+) -> Option<PExpr> {
     if name == Some("powi") {
         let n = match args.get(1).map(|a| strip(a)) {
-            Some(Expr::Lit(syn::ExprLit { lit: Lit::Int(i), .. })) => i.base10_parse::<u32>().ok(),
+            Some(Expr::Lit(syn::ExprLit {
+                lit: Lit::Int(i), ..
+            })) => i.base10_parse::<u32>().ok(),
             _ => None,
         };
         return match (args.len(), n) {
@@ -130,20 +159,39 @@ fn call(e: &Expr, name: Option<&str>, args: &[&Expr], fields: &[String], diag: &
             }
         };
     }
-    let Some(func) = FUNCS.iter().find(|(n, _)| Some(*n) == name).map(|(_, f)| *f) else {
+    let Some(func) = FUNCS
+        .iter()
+        .find(|(n, _)| Some(*n) == name)
+        .map(|(_, f)| *f)
+    else {
         diag.error_at(
             e,
-            format_args!("unknown function `{}`; expressions may call {} and `powi`", name.unwrap_or("?"), func_list()),
+            format_args!(
+                "unknown function `{}`; expressions may call {} and `powi`",
+                name.unwrap_or("?"),
+                func_list()
+            ),
         );
         return None;
     };
     if args.len() != 1 {
-        diag.error_at(e, format_args!("`{}` takes one argument, found {}", name.unwrap_or("?"), args.len()));
+        diag.error_at(
+            e,
+            format_args!(
+                "`{}` takes one argument, found {}",
+                name.unwrap_or("?"),
+                args.len()
+            ),
+        );
         return None;
     }
     lower(args[0], fields, diag).map(|x| PExpr::Call(func, Box::new(x)))
 }
 
 fn func_list() -> String {
-    FUNCS.iter().map(|(n, _)| format!("`{n}`")).collect::<Vec<_>>().join(", ")
+    FUNCS
+        .iter()
+        .map(|(n, _)| format!("`{n}`"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }

@@ -75,7 +75,10 @@ impl RawAttr {
         for (k, _) in &self.args {
             diag.error_at(
                 k,
-                format_args!("unknown key `{k}` here; expected one of: {}", known.join(", ")),
+                format_args!(
+                    "unknown key `{k}` here; expected one of: {}",
+                    known.join(", ")
+                ),
             );
         }
     }
@@ -85,7 +88,9 @@ impl RawAttr {
 pub fn read_attrs(attrs: &[syn::Attribute], diag: &mut Diagnostics) -> Vec<RawAttr> {
     let mut out = Vec::new();
     for attr in attrs {
-        let Some(family) = Family::of(attr.path()) else { continue };
+        let Some(family) = Family::of(attr.path()) else {
+            continue;
+        };
         let span = attr.span();
         let parser = |input: ParseStream| read_body(input, family, span);
         let parsed = match &attr.meta {
@@ -104,10 +109,19 @@ pub fn read_attrs(attrs: &[syn::Attribute], diag: &mut Diagnostics) -> Vec<RawAt
 }
 
 fn read_body(input: ParseStream, family: Family, span: Span) -> syn::Result<RawAttr> {
-    let mut raw = RawAttr { family, name: None, head: None, args: Vec::new(), span };
+    let mut raw = RawAttr {
+        family,
+        name: None,
+        head: None,
+        args: Vec::new(),
+        span,
+    };
     if family != Family::Mechanism {
         let name: Ident = input.parse().map_err(|e| {
-            syn::Error::new(e.span(), "expected the element's name first, e.g. `#[body(upper, mass = m1)]`")
+            syn::Error::new(
+                e.span(),
+                "expected the element's name first, e.g. `#[body(upper, mass = m1)]`",
+            )
         })?;
         raw.name = Some(name);
         if input.peek(Token![:]) {
@@ -117,36 +131,51 @@ fn read_body(input: ParseStream, family: Family, span: Span) -> syn::Result<RawA
         if input.is_empty() {
             return Ok(raw);
         }
-        input.parse::<Token![,]>()?;
+        input.parse::<Token![,]>().map_err(|e| {
+            syn::Error::new(e.span(), "expected `,` after the name, then `key = value` pairs, e.g. `#[body(link, mass = m)]`")
+        })?;
     }
     while !input.is_empty() {
         let key: Ident = input.parse()?;
-        input.parse::<Token![=]>().map_err(|e| {
-            syn::Error::new(e.span(), format_args!("expected `{key} = <value>`"))
-        })?;
+        input
+            .parse::<Token![=]>()
+            .map_err(|e| syn::Error::new(e.span(), format_args!("expected `{key} = <value>`")))?;
         let value: Expr = input.parse()?;
         raw.args.push((key, value));
         if input.is_empty() {
             break;
         }
-        input.parse::<Token![,]>()?;
+        input
+            .parse::<Token![,]>()
+            .map_err(|e| syn::Error::new(e.span(), "expected `,` between `key = value` pairs"))?;
     }
     Ok(raw)
 }
 
 /// The elements of an array expression `[a, b, c]` of exactly `n` entries.
-pub fn array<'a>(e: &'a Expr, n: usize, what: &str, diag: &mut Diagnostics) -> Option<Vec<&'a Expr>> {
+pub fn array<'a>(
+    e: &'a Expr,
+    n: usize,
+    what: &str,
+    diag: &mut Diagnostics,
+) -> Option<Vec<&'a Expr>> {
     match strip(e) {
         Expr::Array(a) if a.elems.len() == n => Some(a.elems.iter().collect()),
         Expr::Array(a) => {
             diag.error_at(
                 e,
-                format_args!("{what} needs {n} entries, found {}; write `[x, y, z]`", a.elems.len()),
+                format_args!(
+                    "{what} needs {n} entries, found {}; write `[x, y, z]`",
+                    a.elems.len()
+                ),
             );
             None
         }
         _ => {
-            diag.error_at(e, format_args!("{what} must be an array of {n} expressions, e.g. `[0.0, 0.0, l]`"));
+            diag.error_at(
+                e,
+                format_args!("{what} must be an array of {n} expressions, e.g. `[0.0, 0.0, l]`"),
+            );
             None
         }
     }

@@ -81,7 +81,10 @@ mod tests {
     use super::*;
 
     fn q(i: u16) -> Input {
-        Input { kind: InputKind::Q, index: i }
+        Input {
+            kind: InputKind::Q,
+            index: i,
+        }
     }
 
     #[test]

@@ -70,7 +70,11 @@ pub struct Deps {
 
 impl Deps {
     fn union(self, o: Deps) -> Deps {
-        Deps { q: self.q | o.q, v: self.v | o.v, other: self.other || o.other }
+        Deps {
+            q: self.q | o.q,
+            v: self.v | o.v,
+            other: self.other || o.other,
+        }
     }
 }
 
@@ -116,9 +120,18 @@ impl Graph {
         let deps = match node {
             Node::Const(_) | Node::Param(_) => Deps::default(),
             Node::Input(Input { kind, index }) => match kind {
-                InputKind::Q => Deps { q: 1 << index, ..Deps::default() },
-                InputKind::V => Deps { v: 1 << index, ..Deps::default() },
-                InputKind::A | InputKind::Tau => Deps { other: true, ..Deps::default() },
+                InputKind::Q => Deps {
+                    q: 1 << index,
+                    ..Deps::default()
+                },
+                InputKind::V => Deps {
+                    v: 1 << index,
+                    ..Deps::default()
+                },
+                InputKind::A | InputKind::Tau => Deps {
+                    other: true,
+                    ..Deps::default()
+                },
             },
             Node::Add(a, b) | Node::Mul(a, b) => self.deps(a).union(self.deps(b)),
             Node::Unary(_, a) => self.deps(a),
@@ -203,6 +216,11 @@ impl Graph {
         if let Some(k) = self.pythagorean(a, b) {
             return k;
         }
+        // x + x = 2 x
+        if a == b {
+            let two = self.constant(2.0);
+            return self.mul(two, a);
+        }
         let (a, b) = if a <= b { (a, b) } else { (b, a) };
         self.intern(Node::Add(a, b))
     }
@@ -251,8 +269,22 @@ impl Graph {
             let p = self.mul(a, k);
             return self.neg(p);
         }
+        // k₁ (k₂ x) = (k₁ k₂) x: constant factors merge.
+        for (k, other) in [(a, b), (b, a)] {
+            if let (Some(k1), Node::Mul(x, y)) = (self.as_const(k), self.node(other)) {
+                if let Some(k2) = self.as_const(x) {
+                    let kk = self.constant(k1 * k2);
+                    return self.mul(kk, y);
+                }
+                if let Some(k2) = self.as_const(y) {
+                    let kk = self.constant(k1 * k2);
+                    return self.mul(kk, x);
+                }
+            }
+        }
         // x · (1/x) = 1
-        if self.node(b) == Node::Unary(Unary::Recip, a) || self.node(a) == Node::Unary(Unary::Recip, b)
+        if self.node(b) == Node::Unary(Unary::Recip, a)
+            || self.node(a) == Node::Unary(Unary::Recip, b)
         {
             return self.one();
         }

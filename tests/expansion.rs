@@ -1,0 +1,62 @@
+//! Snapshots of what the derive emits for every canonical scene, pretty-printed, so a
+//! reader sees exactly the generated code and a change to it shows in review. The scene
+//! sources are read from `src/scenes/`, the same declarations the crate compiles.
+
+use std::path::Path;
+
+fn scene_structs(file: &str) -> Vec<(String, proc_macro2::TokenStream)> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("src/scenes")
+        .join(file);
+    let src = std::fs::read_to_string(&path).expect("scene source");
+    let parsed: syn::File = syn::parse_file(&src).expect("scene parses");
+    parsed
+        .items
+        .into_iter()
+        .filter_map(|item| match item {
+            syn::Item::Struct(s) if s.attrs.iter().any(|a| a.path().is_ident("derive")) => {
+                Some((s.ident.to_string(), quote::ToTokens::to_token_stream(&s)))
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+fn pretty(tokens: proc_macro2::TokenStream) -> String {
+    let file: syn::File = syn::parse2(tokens).expect("expansion is valid Rust");
+    prettyplease::unparse(&file)
+}
+
+fn snapshot(file: &str) {
+    for (name, tokens) in scene_structs(file) {
+        let exp = filippov_codegen::expand_with_stats(tokens).expect("scene expands");
+        let mut summary = String::new();
+        for f in &exp.functions {
+            summary.push_str(&format!(
+                "// {:<26} {:>5} lets; {}\n",
+                f.name, f.lets, f.ops
+            ));
+        }
+        insta::assert_snapshot!(name.clone(), format!("{summary}\n{}", pretty(exp.tokens)));
+    }
+}
+
+#[test]
+fn double_pendulum() {
+    snapshot("double_pendulum.rs");
+}
+
+#[test]
+fn planar_arm3() {
+    snapshot("arm3.rs");
+}
+
+#[test]
+fn branched_tree() {
+    snapshot("tree.rs");
+}
+
+#[test]
+fn panda() {
+    snapshot("panda.rs");
+}

@@ -1,0 +1,9 @@
+use filippov::Mechanism;
+
+#[derive(Mechanism)]
+#[mechanism(gravity = [0.0, -9.81])]
+#[body(link mass = m)]
+#[joint(hinge: revolute(z), parent = world, child = link)]
+struct Pendulum { m: f64 }
+
+fn main() {}

@@ -1,0 +1,8 @@
+use filippov::Mechanism;
+
+#[derive(Mechanism)]
+#[body(link, mass = -1.0)]
+#[joint(hinge: revolute(z), parent = world, child = link)]
+struct Pendulum { l: f64 }
+
+fn main() {}

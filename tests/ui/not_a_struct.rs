@@ -1,0 +1,6 @@
+use filippov::Mechanism;
+
+#[derive(Mechanism)]
+enum Pendulum { Light, Heavy }
+
+fn main() {}

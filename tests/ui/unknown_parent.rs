@@ -1,0 +1,8 @@
+use filippov::Mechanism;
+
+#[derive(Mechanism)]
+#[body(link, mass = m)]
+#[joint(hinge: revolute(z), parent = base, child = link)]
+struct Pendulum { m: f64 }
+
+fn main() {}

@@ -300,6 +300,36 @@ mod tests {
         }
     }
 
+    /// Why SDIRK4 needs many steps on Prothero–Robinson problems `y' = λ(y − φ(t))`
+    /// with `hλ ≪ −1`. Writing the estimate as `dᵀZ` with `Z = hAK` the stage
+    /// increments and `dᵀ = (b − b̂)ᵀA⁻¹`: in the stiff limit `Z_i ≈ φ(t₀ + c_i h) − φ(t₀)`,
+    /// so the estimate is `dᵀc h φ' + dᵀc² h²φ''/2 + …`. Here `dᵀc = 0` but `dᵀc² = −1/3`,
+    /// and the order-3 conditions on `e = b − b̂` have rank 4 on these 5 stages, so every
+    /// order-3 embedded formula gives a multiple of this same `d`: the O(h²) stiff-limit
+    /// estimate (divided by `1 − hγλ` by the filter) belongs to the method, not to the code.
+    #[test]
+    fn sdirk4_error_estimate_is_unique_and_order_reduced_when_stiff() {
+        use nalgebra::{DMatrix, DVector};
+        let s = SDIRK4.stages();
+        let a = DMatrix::from_fn(s, s, |i, j| SDIRK4.a(i, j));
+        let c = DVector::from_column_slice(SDIRK4.c);
+        let c2 = c.component_mul(&c);
+        let e = DVector::from_vec(SDIRK4.error_weights());
+        let d = a.transpose().lu().solve(&e).unwrap();
+        assert!(d.dot(&c).abs() < 1e-13);
+        assert!((d.dot(&c2) + 1.0 / 3.0).abs() < 1e-13, "{}", d.dot(&c2));
+        // Rows: eᵀ𝟙 = 0, eᵀc = 0, eᵀc² = 0, eᵀAc = 0.
+        let ac = &a * &c;
+        let conditions = DMatrix::from_fn(4, s, |k, j| match k {
+            0 => 1.0,
+            1 => c[j],
+            2 => c2[j],
+            _ => ac[j],
+        });
+        assert_eq!(conditions.rank(1e-12), 4);
+        assert!((&conditions * &e).norm() < 1e-13);
+    }
+
     /// The continuous extension has order 4 for every θ: its weights `b_i(θ)`, read off
     /// by linearity, satisfy the θ-scaled conditions up to order 4.
     #[test]

@@ -42,7 +42,9 @@ fn main() {
     );
 
     let mut curves: Vec<Series> = Vec::new();
-    let methods: [(&str, fn(f64) -> Method, Vec<f64>); 3] = [
+    /// A method's name, how to build it from its tolerance or step, and the sweep.
+    type Sweep = (&'static str, fn(f64) -> Method, Vec<f64>);
+    let methods: [Sweep; 3] = [
         (
             "DOPRI5",
             |t| Method::Dopri5(Options::tolerances(t, t * 1e-2)),

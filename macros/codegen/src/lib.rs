@@ -5,6 +5,9 @@
 //! (errors accumulated in [`diag`]) → [`mech`]anics on the symbolic DAG of [`sym`] →
 //! [`emit`] straight-line Rust.
 
+// Index loops read like the formulas they implement (M_ij, c_ijk, …).
+#![allow(clippy::needless_range_loop)]
+
 pub mod diag;
 pub mod emit;
 pub mod mech;

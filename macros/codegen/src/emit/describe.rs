@@ -106,6 +106,7 @@ pub fn model_fn(model: &Model) -> TokenStream {
         quote!(::filippov::runtime::numeric::Damper { coordinate: #i, damping: #c })
     });
     quote! {
+        #[allow(clippy::all)]
         fn model(&self) -> ::filippov::runtime::numeric::Model {
             ::filippov::runtime::numeric::Model {
                 gravity: #gravity,

@@ -36,8 +36,14 @@ macro_rules! scene_benches {
             fn forward_dynamics_numeric(b: Bencher) {
                 let m = <$ty>::default().model();
                 let (q, v, tau) = state::<$n>();
-                let (q, v, tau) = (DVector::from_column_slice(q.as_slice()), DVector::from_column_slice(v.as_slice()), DVector::from_column_slice(tau.as_slice()));
-                b.bench(|| numeric::forward_dynamics(&m, black_box(&q), black_box(&v), black_box(&tau)));
+                let (q, v, tau) = (
+                    DVector::from_column_slice(q.as_slice()),
+                    DVector::from_column_slice(v.as_slice()),
+                    DVector::from_column_slice(tau.as_slice()),
+                );
+                b.bench(|| {
+                    numeric::forward_dynamics(&m, black_box(&q), black_box(&v), black_box(&tau))
+                });
             }
 
             #[divan::bench]
@@ -66,7 +72,10 @@ macro_rules! scene_benches {
             fn coriolis_matrix_numeric(b: Bencher) {
                 let m = <$ty>::default().model();
                 let (q, v, _) = state::<$n>();
-                let (q, v) = (DVector::from_column_slice(q.as_slice()), DVector::from_column_slice(v.as_slice()));
+                let (q, v) = (
+                    DVector::from_column_slice(q.as_slice()),
+                    DVector::from_column_slice(v.as_slice()),
+                );
                 b.bench(|| numeric::coriolis_matrix(&m, black_box(&q), black_box(&v)));
             }
 
@@ -89,7 +98,9 @@ macro_rules! scene_benches {
             fn forward_dynamics_jacobian_generated(b: Bencher) {
                 let s = <$ty>::default();
                 let (q, v, tau) = state::<$n>();
-                b.bench(|| s.forward_dynamics_jacobian(black_box(&q), black_box(&v), black_box(&tau)));
+                b.bench(|| {
+                    s.forward_dynamics_jacobian(black_box(&q), black_box(&v), black_box(&tau))
+                });
             }
         }
     };

@@ -23,7 +23,9 @@
 //! ```
 //!
 //! ## Attributes
-//! - `#[mechanism(gravity = [gx, gy, gz])]` — optional; no gravity code without it.
+//! - `#[mechanism(gravity = [gx, gy, gz], inputs = [joint, …])]` — both optional; no
+//!   gravity code without gravity; `inputs` names the actuated joints and adds
+//!   `INPUTS` and `input_forces(u)` (the map `τ = B u`).
 //! - `#[body(name, mass = m, com = [x, y, z], inertia = …)]` — inertia about the centre
 //!   of mass in the link frame: `rod(m, l)` (along x), `cylinder(m, r, h)` (along z),
 //!   `cuboid(m, a, b, c)`, `sphere(m, r)`, `diag(ixx, iyy, izz)`, a symmetric 3×3 array,

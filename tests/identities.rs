@@ -258,3 +258,12 @@ fn double_pendulum_closed_form() {
         assert_close(p.gravity(&q).as_slice(), &[g1, g2], 1e-14, 1e-14, "g");
     }
 }
+
+/// `inputs = [...]` maps an input vector onto the actuated coordinates only.
+#[test]
+fn input_map_places_inputs_on_actuated_joints() {
+    assert_eq!(BranchedTree::INPUTS, [0, 2]);
+    let tau = BranchedTree::input_forces(&SVector::<f64, 2>::new(1.5, -2.0));
+    assert_eq!(tau, SVector::<f64, 4>::new(1.5, 0.0, -2.0, 0.0));
+    assert_eq!(Panda::INPUTS, [0, 1, 2, 3, 4, 5, 6]);
+}

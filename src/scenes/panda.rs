@@ -6,7 +6,7 @@ use crate::Mechanism;
 /// parameters using penalty-based optimization", IEEE RA-L 4(4), 2019.
 /// Inertias are about the centres of mass, in the link frames.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(gravity = [0.0, 0.0, -g])]
+#[mechanism(gravity = [0.0, 0.0, -g], inputs = [j1, j2, j3, j4, j5, j6, j7])]
 #[body(link1, mass = 4.970684, com = [0.003875, 0.002081, -0.04762],
     inertia = [[0.70337, -0.000139, 0.006772], [-0.000139, 0.70661, 0.019169], [0.006772, 0.019169, 0.009117]])]
 #[joint(j1: revolute(z), parent = world, child = link1, origin = [0.0, 0.0, 0.333])]

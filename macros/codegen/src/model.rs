@@ -148,6 +148,8 @@ pub struct Model {
     pub links: Vec<Link>,
     pub springs: Vec<Spring>,
     pub dampers: Vec<Damper>,
+    /// Actuated coordinates, in the order of the input vector `u`.
+    pub inputs: Vec<usize>,
 }
 
 impl Model {

@@ -34,6 +34,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let raws = parse::read_attrs(&input.attrs, diag);
 
     let mut gravity = None;
+    let mut inputs_expr = None;
     let mut bodies = Vec::new();
     let mut joints = Vec::new();
     let mut element_attrs = Vec::new();
@@ -43,7 +44,8 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
                 if let Some((_, g)) = raw.take("gravity", diag) {
                     gravity = vec3(&g, "gravity", &names, diag);
                 }
-                raw.reject_rest(&["gravity"], diag);
+                inputs_expr = raw.take("inputs", diag).map(|(_, e)| e);
+                raw.reject_rest(&["gravity", "inputs"], diag);
             }
             Family::Body => bodies.extend(read_body(raw, &names, diag)),
             Family::Joint => joints.extend(read_joint(raw, &names, diag)),
@@ -62,6 +64,10 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     }
     let links = build_tree(&bodies, &joints, diag)?;
     let springs_dampers = read_elements(element_attrs, &links, &names, diag);
+    let inputs = match &inputs_expr {
+        Some(e) => read_inputs(e, &links, diag),
+        None => Vec::new(),
+    };
     let gravity = gravity.filter(|g: &Vec3| !g.iter().all(|c| c.as_const() == Some(0.0)));
     if diag.has_errors() {
         return None;
@@ -74,6 +80,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         links,
         springs,
         dampers,
+        inputs,
     })
 }
 
@@ -696,4 +703,52 @@ fn read_elements(
         }
     }
     (springs, dampers)
+}
+
+/// `inputs = [joint, …]` names the actuated coordinates: each must be a moving joint,
+/// named once.
+fn read_inputs(e: &Expr, links: &[Link], diag: &mut Diagnostics) -> Vec<usize> {
+    let Expr::Array(a) = strip(e) else {
+        diag.error_at(
+            e,
+            "`inputs` is a list of joint names, e.g. `inputs = [shoulder, elbow]`",
+        );
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for item in &a.elems {
+        let Some(id) = ident_of(item) else {
+            diag.error_at(item, "expected a joint name");
+            continue;
+        };
+        match links
+            .iter()
+            .find(|l| *id == l.joint_name)
+            .map(|l| l.coordinate)
+        {
+            Some(Some(c)) if out.contains(&c) => {
+                diag.error_at(id, format_args!("joint `{id}` is listed twice"))
+            }
+            Some(Some(c)) => out.push(c),
+            Some(None) => diag.error_at(
+                id,
+                format_args!("joint `{id}` is fixed and cannot be actuated"),
+            ),
+            None => {
+                let known: Vec<String> = links
+                    .iter()
+                    .filter(|l| l.coordinate.is_some())
+                    .map(|l| format!("`{}`", l.joint_name))
+                    .collect();
+                diag.error_at(
+                    id,
+                    format_args!(
+                        "no joint named `{id}`; inputs are joints: {}",
+                        known.join(", ")
+                    ),
+                )
+            }
+        }
+    }
+    out
 }

@@ -183,6 +183,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         .map(|s| Literal::string(s))
         .collect();
     let describe = describe::model_fn(model);
+    let inputs = inputs_items(model, n);
     let code = quote! {
         impl ::filippov::runtime::system::Mechanism<#n> for #ident {
             const JOINTS: [&'static str; #n] = [#(#names),*];
@@ -192,8 +193,34 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         impl #ident {
             /// Number of degrees of freedom.
             pub const DOF: usize = #n;
+            #inputs
             #helpers
         }
     };
     (code, stats)
+}
+
+/// The actuated coordinates and the map `u ↦ τ` (zero on passive joints); nothing when
+/// the scene declares no inputs.
+fn inputs_items(model: &Model, n: usize) -> TokenStream {
+    if model.inputs.is_empty() {
+        return TokenStream::new();
+    }
+    let k = model.inputs.len();
+    let idx = &model.inputs;
+    let entries: Vec<TokenStream> = (0..n)
+        .map(|c| match model.inputs.iter().position(|&i| i == c) {
+            Some(j) => quote!(u[#j]),
+            None => quote!(0.0),
+        })
+        .collect();
+    quote! {
+        /// The actuated coordinates, in the order of the input vector `u`.
+        pub const INPUTS: [usize; #k] = [#(#idx),*];
+        /// Generalised forces `τ = B u` of an input vector (zero on passive joints).
+        #[inline]
+        pub fn input_forces(u: &::filippov::nalgebra::SVector<f64, #k>) -> ::filippov::nalgebra::SVector<f64, #n> {
+            ::filippov::nalgebra::SVector::<f64, #n>::from([#(#entries),*])
+        }
+    }
 }

@@ -26,6 +26,7 @@ mod control;
 mod error;
 mod mechanical;
 mod method;
+pub mod nonsmooth;
 pub mod numeric;
 mod options;
 mod problem;

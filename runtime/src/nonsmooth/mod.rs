@@ -14,5 +14,7 @@
 //! [`NonSmooth::inverse_mass_matrix`] at their coordinates.
 
 mod element;
+mod problem;
 
 pub use element::*;
+pub use problem::*;

@@ -1,0 +1,57 @@
+//! A non-smooth initial value problem and the choice of integrator.
+
+use nalgebra::SVector;
+
+use crate::options::Options;
+
+/// `q(t0) = q0`, `v(t0) = v0` on `[t0, tf]`. Where the initial state leaves an element's
+/// force undetermined (a stuck friction element: any `|f| ≤ f_crit` holds it), the force
+/// the thesis starts with may be given in `forces0` (one entry per element, `None` =
+/// determined by consistent initialisation).
+#[derive(Clone, Debug, PartialEq)]
+pub struct NonSmoothProblem<const N: usize> {
+    pub t0: f64,
+    pub tf: f64,
+    pub q0: SVector<f64, N>,
+    pub v0: SVector<f64, N>,
+    pub forces0: Vec<Option<f64>>,
+}
+
+impl<const N: usize> NonSmoothProblem<N> {
+    pub fn new(t0: f64, tf: f64, q0: SVector<f64, N>, v0: SVector<f64, N>) -> Self {
+        NonSmoothProblem { t0, tf, q0, v0, forces0: Vec::new() }
+    }
+
+    /// With initial element forces (see the type's documentation).
+    pub fn with_forces(mut self, forces0: Vec<Option<f64>>) -> Self {
+        self.forces0 = forces0;
+        self
+    }
+}
+
+/// The smooth method the event-driven integrator uses between switches.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SmoothMethod {
+    Dopri5,
+    Sdirk4,
+}
+
+/// How to integrate a non-smooth problem.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NonSmoothMethod {
+    /// Event-driven: adaptive high order between switches, switches located on dense
+    /// output, exact mode transitions; accumulating events hand over to time-stepping.
+    EventDriven { method: SmoothMethod, options: Options },
+    /// Implicit (Moreau-type) θ-method time-stepping with fixed step `h`: each step
+    /// intersects the discrete momentum line with the constitutive graphs. First order,
+    /// robust, never chatters.
+    TimeStepping { h: f64, theta: f64 },
+}
+
+impl Default for NonSmoothMethod {
+    /// Event-driven with DOPRI5 at `rtol = 1e-8`, `atol = 1e-10`: exact switch times and
+    /// sticking, high order between events.
+    fn default() -> Self {
+        NonSmoothMethod::EventDriven { method: SmoothMethod::Dopri5, options: Options::tolerances(1e-8, 1e-10) }
+    }
+}

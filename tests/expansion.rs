@@ -60,3 +60,8 @@ fn branched_tree() {
 fn panda() {
     snapshot("panda.rs");
 }
+
+#[test]
+fn lumped_scenes() {
+    snapshot("lumped.rs");
+}

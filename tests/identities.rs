@@ -267,3 +267,172 @@ fn input_map_places_inputs_on_actuated_joints() {
     assert_eq!(tau, SVector::<f64, 4>::new(1.5, 0.0, -2.0, 0.0));
     assert_eq!(Panda::INPUTS, [0, 1, 2, 3, 4, 5, 6]);
 }
+
+mod nonsmooth {
+    use super::*;
+    use filippov::runtime::nonsmooth::{ElementKind, Law, NonSmooth, Selection, Side, StopKind};
+    use filippov::scenes::{
+        BinghamOscillator, BouncingBall, CoulombOscillator, CubicBingham,
+        NonMonotoneMaxDissipation, NonMonotoneNoJumps, SupportedStop,
+    };
+
+    fn inverse_mass_is_inverse<S: NonSmooth<N>, const N: usize>(sys: &S) {
+        let mut rng = Rng::new(11);
+        for _ in 0..STATES {
+            let q: SVector<f64, N> = rng.vector(3.0);
+            let prod = sys.inverse_mass_matrix(&q) * sys.mass_matrix(&q);
+            let eye = filippov::nalgebra::SMatrix::<f64, N, N>::identity();
+            assert_close(prod.as_slice(), eye.as_slice(), 1e-12, 1.0, "M⁻¹ M = 1");
+        }
+    }
+
+    #[test]
+    fn lumped_scenes_are_described_with_their_parameters() {
+        let s1 = BinghamOscillator {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 0.1,
+            eta: 0.2,
+        };
+        check(&s1, 21);
+        inverse_mass_is_inverse(&s1);
+        assert_eq!(BinghamOscillator::ELEMENTS, 1);
+        let e = s1.element(0);
+        assert_eq!(e.coordinate, 0);
+        assert_eq!(
+            e.kind,
+            ElementKind::DashPot {
+                law: Law::BinghamLinear { eta: 0.2 },
+                f_crit: 0.1
+            }
+        );
+
+        let c = CoulombOscillator {
+            m: 2.0,
+            k: 3.0,
+            f_crit: 0.5,
+        };
+        assert_eq!(
+            c.element(0).kind,
+            ElementKind::DashPot {
+                law: Law::Coulomb,
+                f_crit: 0.5
+            }
+        );
+        assert_eq!(c.mass_matrix(&SVector::<f64, 1>::new(0.3))[(0, 0)], 2.0);
+
+        let s7 = SupportedStop {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 0.1,
+            eta: 0.2,
+            l: 0.5,
+            k_support: 100.0,
+        };
+        assert_eq!(SupportedStop::ELEMENTS, 2);
+        assert_eq!(
+            s7.element(1).kind,
+            ElementKind::Stop {
+                side: Side::Upper,
+                position: 0.5,
+                kind: StopKind::SpringBacked { stiffness: 100.0 }
+            }
+        );
+        let ball = BouncingBall {
+            m: 1.0,
+            g: 9.81,
+            e: 0.5,
+        };
+        assert_eq!(
+            ball.element(0).kind,
+            ElementKind::Stop {
+                side: Side::Lower,
+                position: 0.0,
+                kind: StopKind::Rigid { restitution: 0.5 }
+            }
+        );
+        check(&ball, 22);
+    }
+
+    /// The user laws: values against the thesis's formulas (independent evaluation here),
+    /// odd extension, and the symbolic derivative against central differences.
+    #[test]
+    fn user_laws_and_their_derivatives() {
+        let cubic = CubicBingham {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 1.0,
+            gamma: 1.0,
+        };
+        assert_eq!(
+            cubic.element(0).kind,
+            ElementKind::DashPot {
+                law: Law::BinghamMonotone,
+                f_crit: 1.0
+            }
+        );
+        let nm1 = NonMonotoneNoJumps {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 1.0,
+        };
+        let nm2 = NonMonotoneMaxDissipation {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 1.0,
+        };
+        assert_eq!(
+            nm1.element(0).kind,
+            ElementKind::DashPot {
+                law: Law::BinghamNonMonotone {
+                    selection: Selection::NoVelocityJumps
+                },
+                f_crit: 1.0
+            }
+        );
+        assert_eq!(
+            nm2.element(0).kind,
+            ElementKind::DashPot {
+                law: Law::BinghamNonMonotone {
+                    selection: Selection::MaximalDissipation
+                },
+                f_crit: 1.0
+            }
+        );
+        let cubic_ref = |f: f64| f * f * (f - f.signum());
+        let nm_ref = |f: f64| (1.0 + 0.1 * (f * f - 4.0) * (f * f - 9.0)) * (f - f.signum());
+        for f in [-3.7, -2.2, -1.5, 1.2, 1.69072, 2.49909, 3.1] {
+            let h = 1e-6;
+            for (law, reference) in [
+                (&|f| cubic.law(0, f), &cubic_ref as &dyn Fn(f64) -> f64),
+                (&|f| nm1.law(0, f), &nm_ref),
+            ]
+                as [(&dyn Fn(f64) -> (f64, f64), &dyn Fn(f64) -> f64); 2]
+            {
+                let (v, dv) = law(f);
+                assert!(
+                    (v - reference(f)).abs() < 1e-12 * (1.0 + v.abs()),
+                    "φ({f}) = {v}, expected {}",
+                    reference(f)
+                );
+                let fd = (reference(f + h) - reference(f - h)) / (2.0 * h);
+                assert!(
+                    (dv - fd).abs() < 1e-6 * (1.0 + fd.abs()),
+                    "φ'({f}) = {dv}, finite differences {fd}"
+                );
+            }
+        }
+        // theory §3: the non-monotone law has a local maximum 1.17493 at f = 1.69072 and a
+        // local minimum 0.57187 at f = 2.49909.
+        let (vmax, dmax) = nm2.law(0, 1.69072);
+        let (vmin, dmin) = nm2.law(0, 2.49909);
+        assert!(
+            (vmax - 1.17493).abs() < 1e-5 && dmax.abs() < 1e-4,
+            "{vmax} {dmax}"
+        );
+        assert!(
+            (vmin - 0.57187).abs() < 1e-5 && dmin.abs() < 1e-4,
+            "{vmin} {dmin}"
+        );
+    }
+}

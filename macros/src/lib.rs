@@ -4,7 +4,10 @@ use proc_macro::TokenStream;
 
 /// Generates a specialised, fully unrolled simulator for a rigid multibody tree. See the
 /// `filippov` crate documentation for the attributes.
-#[proc_macro_derive(Mechanism, attributes(mechanism, body, joint, spring, damper))]
+#[proc_macro_derive(
+    Mechanism,
+    attributes(mechanism, body, joint, spring, damper, friction, bingham, stop)
+)]
 pub fn derive_mechanism(input: TokenStream) -> TokenStream {
     match filippov_codegen::expand(input.into()) {
         Ok(ts) => ts.into(),

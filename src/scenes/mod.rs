@@ -4,10 +4,15 @@
 
 mod arm3;
 mod double_pendulum;
+mod lumped;
 mod panda;
 mod tree;
 
 pub use arm3::PlanarArm3;
 pub use double_pendulum::DoublePendulum;
+pub use lumped::{
+    BinghamOscillator, BouncingBall, CoulombOscillator, CubicBingham, NonMonotoneMaxDissipation,
+    NonMonotoneNoJumps, SupportedStop,
+};
 pub use panda::Panda;
 pub use tree::BranchedTree;

@@ -12,6 +12,7 @@ pub mod diag;
 pub mod emit;
 pub mod mech;
 pub mod model;
+pub mod nonsmooth;
 pub mod parse;
 pub mod sym;
 pub mod validate;

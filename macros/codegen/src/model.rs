@@ -23,6 +23,8 @@ pub enum Func {
 pub enum PExpr {
     Const(f64),
     Param(u16),
+    /// The free variable of a constitutive law (the force `f` in `v = φ(f)`).
+    Var,
     Neg(Box<PExpr>),
     Bin(char, Box<PExpr>, Box<PExpr>),
     Call(Func, Box<PExpr>),
@@ -37,7 +39,7 @@ impl PExpr {
     pub fn as_const(&self) -> Option<f64> {
         match self {
             PExpr::Const(c) => Some(*c),
-            PExpr::Param(_) => None,
+            PExpr::Param(_) | PExpr::Var => None,
             PExpr::Neg(x) => x.as_const().map(|x| -x),
             PExpr::Bin(op, a, b) => {
                 let (a, b) = (a.as_const()?, b.as_const()?);
@@ -66,6 +68,8 @@ impl PExpr {
         match self {
             PExpr::Const(c) => g.constant(*c),
             PExpr::Param(i) => g.param(*i),
+            // A law is lowered into a graph of its own, with `f` as the one input.
+            PExpr::Var => g.input(crate::sym::InputKind::Q, 0),
             PExpr::Neg(x) => {
                 let x = x.lower(g);
                 g.neg(x)
@@ -150,6 +154,58 @@ pub struct Model {
     pub dampers: Vec<Damper>,
     /// Actuated coordinates, in the order of the input vector `u`.
     pub inputs: Vec<usize>,
+    /// Non-smooth elements (dash-pots, friction, stops).
+    pub elements: Vec<Element>,
+}
+
+/// Which velocity a non-monotone law's branch takes where several forces fit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Selection {
+    NoVelocityJumps,
+    MaximalDissipation,
+}
+
+/// The slip law of a dash-pot element outside its dead zone.
+#[derive(Clone, Debug)]
+pub enum Law {
+    Coulomb,
+    BinghamLinear {
+        eta: PExpr,
+    },
+    /// `v = φ(f)` for `f > f_crit` (odd extension), `φ` an expression in [`PExpr::Var`].
+    User {
+        phi: PExpr,
+        selection: Option<Selection>,
+    },
+}
+
+/// What a stop is made of.
+#[derive(Clone, Debug)]
+pub enum StopKind {
+    Rigid { restitution: PExpr },
+    SpringBacked { stiffness: PExpr },
+}
+
+#[derive(Clone, Debug)]
+pub enum ElementKind {
+    DashPot {
+        law: Law,
+        f_crit: PExpr,
+    },
+    /// `upper`: the coordinate stays at or below `position`.
+    Stop {
+        upper: bool,
+        position: PExpr,
+        kind: StopKind,
+    },
+}
+
+/// A non-smooth element on a joint coordinate.
+#[derive(Clone, Debug)]
+pub struct Element {
+    pub name: String,
+    pub coordinate: usize,
+    pub kind: ElementKind,
 }
 
 impl Model {

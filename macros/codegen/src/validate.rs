@@ -38,6 +38,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let mut bodies = Vec::new();
     let mut joints = Vec::new();
     let mut element_attrs = Vec::new();
+    let mut nonsmooth_attrs = Vec::new();
     for mut raw in raws {
         match raw.family {
             Family::Mechanism => {
@@ -50,6 +51,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
             Family::Body => bodies.extend(read_body(raw, &names, diag)),
             Family::Joint => joints.extend(read_joint(raw, &names, diag)),
             Family::Spring | Family::Damper => element_attrs.push(raw),
+            Family::Friction | Family::Bingham | Family::Stop => nonsmooth_attrs.push(raw),
         }
     }
     check_unique(bodies.iter().map(|b| &b.name), "body", diag);
@@ -64,6 +66,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     }
     let links = build_tree(&bodies, &joints, diag)?;
     let springs_dampers = read_elements(element_attrs, &links, &names, diag);
+    let elements = crate::nonsmooth::read(nonsmooth_attrs, &links, &names, diag);
     let inputs = match &inputs_expr {
         Some(e) => read_inputs(e, &links, diag),
         None => Vec::new(),
@@ -81,6 +84,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         springs,
         dampers,
         inputs,
+        elements,
     })
 }
 

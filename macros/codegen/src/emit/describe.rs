@@ -7,7 +7,7 @@ use quote::quote;
 
 use crate::model::{Func, JointKind, Model, PExpr};
 
-fn expr(e: &PExpr, params: &[proc_macro2::Ident]) -> TokenStream {
+pub fn expr(e: &PExpr, params: &[proc_macro2::Ident]) -> TokenStream {
     match e {
         PExpr::Const(c) => {
             let l = Literal::f64_suffixed(*c);
@@ -17,6 +17,7 @@ fn expr(e: &PExpr, params: &[proc_macro2::Ident]) -> TokenStream {
             let f = &params[*i as usize];
             quote!(self.#f)
         }
+        PExpr::Var => quote!(f),
         PExpr::Neg(x) => {
             let x = expr(x, params);
             quote!((-#x))

@@ -5,6 +5,7 @@
 pub mod describe;
 pub mod fallback;
 pub mod function;
+pub mod nonsmooth;
 
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
@@ -27,7 +28,7 @@ fn vector(outs: Vec<TokenStream>, n: usize) -> TokenStream {
 }
 
 /// Column-major assembly of a row-major list of entries.
-fn matrix(outs: Vec<TokenStream>, n: usize) -> TokenStream {
+pub(crate) fn matrix(outs: Vec<TokenStream>, n: usize) -> TokenStream {
     let cols: Vec<TokenStream> = (0..n)
         .map(|j| {
             let col: Vec<&TokenStream> = (0..n).map(|i| &outs[i * n + j]).collect();
@@ -184,12 +185,15 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         .collect();
     let describe = describe::model_fn(model);
     let inputs = inputs_items(model, n);
+    let (nonsmooth, ns_helpers) = nonsmooth::nonsmooth_impl(model, k, &mut stats);
+    helpers.extend(ns_helpers);
     let code = quote! {
         impl ::filippov::runtime::system::Mechanism<#n> for #ident {
             const JOINTS: [&'static str; #n] = [#(#names),*];
             #methods
             #describe
         }
+        #nonsmooth
         impl #ident {
             /// Number of degrees of freedom.
             pub const DOF: usize = #n;

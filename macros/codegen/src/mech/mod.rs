@@ -40,6 +40,9 @@ pub struct Kernels {
     pub jac_v: Vec<Vec<Id>>,
     pub kinetic: Id,
     pub potential: Id,
+    /// `M⁻¹` (row-major), built only for scenes with non-smooth elements (their Delassus
+    /// operator is its submatrix).
+    pub inverse_mass: Option<Vec<Vec<Id>>>,
 }
 
 impl Kernels {
@@ -90,6 +93,19 @@ impl Kernels {
             })
             .collect();
         let forward = factor.solve(&mut g, &rhs);
+        let inverse_mass = (!model.elements.is_empty()).then(|| {
+            let cols: Vec<Vec<Id>> = (0..n)
+                .map(|k| {
+                    let e: Vec<Id> = (0..n)
+                        .map(|i| g.constant(if i == k { 1.0 } else { 0.0 }))
+                        .collect();
+                    factor.solve(&mut g, &e)
+                })
+                .collect();
+            (0..n)
+                .map(|i| (0..n).map(|k| cols[k][i]).collect())
+                .collect()
+        });
 
         // ∂v̇/∂x = −M⁻¹ ∂ID(q, v, a)/∂x evaluated at a = v̇: differentiate inverse
         // dynamics with a held fixed (cheap: RNEA is linear-size), then substitute.
@@ -163,6 +179,7 @@ impl Kernels {
             jac_v,
             kinetic,
             potential,
+            inverse_mass,
         }
     }
 }

@@ -22,15 +22,21 @@ pub enum Family {
     Joint,
     Spring,
     Damper,
+    Friction,
+    Bingham,
+    Stop,
 }
 
 impl Family {
-    pub const ALL: [(&'static str, Family); 5] = [
+    pub const ALL: [(&'static str, Family); 8] = [
         ("mechanism", Family::Mechanism),
         ("body", Family::Body),
         ("joint", Family::Joint),
         ("spring", Family::Spring),
         ("damper", Family::Damper),
+        ("friction", Family::Friction),
+        ("bingham", Family::Bingham),
+        ("stop", Family::Stop),
     ];
 
     fn of(path: &syn::Path) -> Option<Family> {

@@ -1,0 +1,172 @@
+//! `impl NonSmooth<N>`: the elements with their parameters, the user laws `v = φ(f)`
+//! with their symbolic derivatives, and `M⁻¹` — emitted only for scenes that declare
+//! elements, and for each element only what its kind needs.
+
+use proc_macro2::{Literal, TokenStream};
+use quote::{format_ident, quote};
+
+use super::describe::expr;
+use super::function::{Signature, emit};
+use super::{FnStats, matrix};
+use crate::mech::Kernels;
+use crate::model::{ElementKind, Law, Model, Selection, StopKind};
+use crate::sym::{Graph, Input, InputKind};
+
+const RT: &str = "::filippov::runtime::nonsmooth";
+
+pub fn nonsmooth_impl(
+    model: &Model,
+    k: &Kernels,
+    stats: &mut Vec<FnStats>,
+) -> (TokenStream, TokenStream) {
+    let Some(inv) = &k.inverse_mass else {
+        return (TokenStream::new(), TokenStream::new());
+    };
+    let rt: TokenStream = RT.parse().expect("path");
+    let n = k.dof;
+    let ident = &model.ident;
+    let p = &model.params;
+    let mut helpers = TokenStream::new();
+    let mut arms = Vec::new();
+    let mut law_arms = Vec::new();
+    for (i, el) in model.elements.iter().enumerate() {
+        let name = Literal::string(&el.name);
+        let c = el.coordinate;
+        let kind = match &el.kind {
+            ElementKind::DashPot { law, f_crit } => {
+                let fc = expr(f_crit, p);
+                let law = match law {
+                    Law::Coulomb => quote!(#rt::Law::Coulomb),
+                    Law::BinghamLinear { eta } => {
+                        let eta = expr(eta, p);
+                        quote!(#rt::Law::BinghamLinear { eta: #eta })
+                    }
+                    Law::User { phi, selection } => {
+                        // φ and dφ/df on f ≥ 0 as straight-line code; odd extension below.
+                        let mut g = Graph::new();
+                        let v = phi.lower(&mut g);
+                        let dv = g.diff(
+                            v,
+                            Input {
+                                kind: InputKind::Q,
+                                index: 0,
+                            },
+                        );
+                        let hname = format_ident!("__law_{}", i);
+                        let sig = Signature {
+                            name: hname.clone(),
+                            inputs: vec![InputKind::Q],
+                            ret: quote!((f64, f64)),
+                            doc: format!(
+                                " `(φ(f), dφ/df)` of element `{}` for `f = q[0] ≥ 0`.",
+                                el.name
+                            ),
+                        };
+                        let e = emit(&g, p, 1, &sig, &[v, dv], &|o: Vec<TokenStream>| {
+                            let (a, b) = (&o[0], &o[1]);
+                            quote!((#a, #b))
+                        });
+                        stats.push(FnStats {
+                            name: "law",
+                            ops: g.count_ops(&[v, dv]),
+                            lets: e.lets,
+                        });
+                        let method = e.method;
+                        helpers.extend(quote!(#[doc(hidden)] #method));
+                        helpers.extend(e.helpers);
+                        law_arms.push(quote! {
+                            #i => {
+                                let (phi, dphi) = self.#hname(&::filippov::nalgebra::SVector::<f64, 1>::new(f.abs()));
+                                (phi.copysign(f), dphi)
+                            }
+                        });
+                        match selection {
+                            None => quote!(#rt::Law::BinghamMonotone),
+                            Some(Selection::NoVelocityJumps) => {
+                                quote!(#rt::Law::BinghamNonMonotone { selection: #rt::Selection::NoVelocityJumps })
+                            }
+                            Some(Selection::MaximalDissipation) => {
+                                quote!(#rt::Law::BinghamNonMonotone { selection: #rt::Selection::MaximalDissipation })
+                            }
+                        }
+                    }
+                };
+                quote!(#rt::ElementKind::DashPot { law: #law, f_crit: #fc })
+            }
+            ElementKind::Stop {
+                upper,
+                position,
+                kind,
+            } => {
+                let side = if *upper {
+                    quote!(#rt::Side::Upper)
+                } else {
+                    quote!(#rt::Side::Lower)
+                };
+                let pos = expr(position, p);
+                let kind = match kind {
+                    StopKind::Rigid { restitution } => {
+                        let r = expr(restitution, p);
+                        quote!(#rt::StopKind::Rigid { restitution: #r })
+                    }
+                    StopKind::SpringBacked { stiffness } => {
+                        let k = expr(stiffness, p);
+                        quote!(#rt::StopKind::SpringBacked { stiffness: #k })
+                    }
+                };
+                quote!(#rt::ElementKind::Stop { side: #side, position: #pos, kind: #kind })
+            }
+        };
+        arms.push(quote!(#i => #rt::Element { name: #name, coordinate: #c, kind: #kind },));
+    }
+    let count = model.elements.len();
+    let inv_flat: Vec<_> = inv.iter().flatten().copied().collect();
+    let sig = Signature {
+        name: format_ident!("inverse_mass_matrix"),
+        inputs: vec![InputKind::Q],
+        ret: quote!(::filippov::nalgebra::SMatrix<f64, #n, #n>),
+        doc: " `M(q)⁻¹` by the sparse `LᵀDL` factorisation (its submatrix at the elements' coordinates is their Delassus operator).".into(),
+    };
+    let e = emit(&k.graph, p, n, &sig, &inv_flat, &|o| matrix(o, n));
+    stats.push(FnStats {
+        name: "inverse_mass_matrix",
+        ops: k.graph.count_ops(&inv_flat),
+        lets: e.lets,
+    });
+    helpers.extend(e.helpers);
+    let inv_method = e.method;
+    let law_fn = if law_arms.is_empty() {
+        quote! {
+            #[inline]
+            fn law(&self, element: usize, f: f64) -> (f64, f64) {
+                (0.0, 0.0)
+            }
+        }
+    } else {
+        quote! {
+            #[inline]
+            fn law(&self, element: usize, f: f64) -> (f64, f64) {
+                match element {
+                    #(#law_arms)*
+                    _ => (0.0, 0.0),
+                }
+            }
+        }
+    };
+    let imp = quote! {
+        impl #rt::NonSmooth<#n> for #ident {
+            const ELEMENTS: usize = #count;
+            #[allow(clippy::all)]
+            fn element(&self, element: usize) -> #rt::Element {
+                match element {
+                    #(#arms)*
+                    _ => panic!("element index {} out of range: this mechanism has {} elements", element, #count),
+                }
+            }
+            #[allow(unused_variables)]
+            #law_fn
+            #inv_method
+        }
+    };
+    (imp, helpers)
+}

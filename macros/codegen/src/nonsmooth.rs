@@ -1,0 +1,280 @@
+//! Non-smooth elements (`#[friction]`, `#[bingham]`, `#[stop]`) → validated
+//! [`Element`]s, one `check_*` per rule; and their lowering for emission.
+//!
+//! ```text
+//! #[friction(joint, f_crit = …)]                                 Coulomb
+//! #[bingham(joint, f_crit = …, eta = …)]                         linear Bingham
+//! #[bingham(joint, f_crit = …, law = <φ in f>)]                  monotone user law v = φ(f)
+//! #[bingham(joint, f_crit = …, law = …, select = no_jumps | max_dissipation)]  non-monotone
+//! #[stop(joint, max = L | min = L, restitution = e)]            rigid stop
+//! #[stop(joint, max = L | min = L, k_support = k)]              spring-backed stop
+//! ```
+
+use syn::Expr;
+
+use crate::diag::Diagnostics;
+use crate::model::{Element, ElementKind, Law, Link, PExpr, Selection, StopKind};
+use crate::parse::{Family, RawAttr, expr::lower, ident_of};
+
+/// The name of the law variable in `law = …` expressions.
+const LAW_VAR: &str = "f";
+
+pub fn read(
+    raws: Vec<RawAttr>,
+    links: &[Link],
+    names: &[String],
+    diag: &mut Diagnostics,
+) -> Vec<Element> {
+    let mut out: Vec<Element> = Vec::new();
+    for mut raw in raws {
+        let Some(joint) = raw.name.clone() else {
+            continue;
+        };
+        let coordinate = match links.iter().find(|l| joint == l.joint_name) {
+            Some(l) => {
+                match l.coordinate {
+                    Some(c) => Some(c),
+                    None => {
+                        diag.error_at(&joint, format_args!("joint `{joint}` is fixed; a non-smooth element needs a moving joint"));
+                        None
+                    }
+                }
+            }
+            None => {
+                let known: Vec<String> = links
+                    .iter()
+                    .filter(|l| l.coordinate.is_some())
+                    .map(|l| format!("`{}`", l.joint_name))
+                    .collect();
+                diag.error_at(
+                    &joint,
+                    format_args!(
+                        "no joint named `{joint}`; elements act on a joint's coordinate: one of {}",
+                        known.join(", ")
+                    ),
+                );
+                None
+            }
+        };
+        let (family, kind) = match raw.family {
+            Family::Friction => ("friction", read_friction(&mut raw, &joint, names, diag)),
+            Family::Bingham => ("bingham", read_bingham(&mut raw, &joint, names, diag)),
+            _ => ("stop", read_stop(&mut raw, &joint, names, diag)),
+        };
+        let name = format!("{family}_{joint}");
+        if out.iter().any(|e| e.name == name) {
+            diag.error_at(
+                &joint,
+                format_args!(
+                    "joint `{joint}` already has a `{family}` element; one per joint and kind"
+                ),
+            );
+            continue;
+        }
+        if let (Some(coordinate), Some(kind)) = (coordinate, kind) {
+            out.push(Element {
+                name,
+                coordinate,
+                kind,
+            });
+        }
+    }
+    out
+}
+
+fn required(
+    raw: &mut RawAttr,
+    key: &str,
+    joint: &syn::Ident,
+    names: &[String],
+    diag: &mut Diagnostics,
+) -> Option<(Expr, PExpr)> {
+    match raw.take(key, diag) {
+        Some((_, e)) => lower(&e, names, diag).map(|p| (e, p)),
+        None => {
+            diag.error_at(joint, format_args!("missing `{key} = <expression>`"));
+            None
+        }
+    }
+}
+
+/// A literal critical force must be non-negative: it is the half-width of the dead zone.
+fn check_f_crit(e: &Expr, p: &PExpr, diag: &mut Diagnostics) {
+    if let Some(v) = p.as_const()
+        && !(v >= 0.0 && v.is_finite())
+    {
+        diag.error_at(
+            e,
+            format_args!("`f_crit` is the half-width of the dead zone and must be ≥ 0, found {v}"),
+        );
+    }
+}
+
+fn read_friction(
+    raw: &mut RawAttr,
+    joint: &syn::Ident,
+    names: &[String],
+    diag: &mut Diagnostics,
+) -> Option<ElementKind> {
+    let f_crit = required(raw, "f_crit", joint, names, diag);
+    raw.reject_rest(&["f_crit"], diag);
+    let (e, f_crit) = f_crit?;
+    check_f_crit(&e, &f_crit, diag);
+    Some(ElementKind::DashPot {
+        law: Law::Coulomb,
+        f_crit,
+    })
+}
+
+fn read_bingham(
+    raw: &mut RawAttr,
+    joint: &syn::Ident,
+    names: &[String],
+    diag: &mut Diagnostics,
+) -> Option<ElementKind> {
+    let f_crit = required(raw, "f_crit", joint, names, diag);
+    let eta = raw.take("eta", diag);
+    let law = raw.take("law", diag);
+    let select = raw.take("select", diag);
+    raw.reject_rest(&["f_crit", "eta", "law", "select"], diag);
+    let (fe, f_crit) = f_crit?;
+    check_f_crit(&fe, &f_crit, diag);
+    let mut select_ok = true;
+    let selection = match &select {
+        None => None,
+        Some((_, e)) => match ident_of(e).map(|i| i.to_string()).as_deref() {
+            Some("no_jumps") => Some(Selection::NoVelocityJumps),
+            Some("max_dissipation") => Some(Selection::MaximalDissipation),
+            _ => {
+                diag.error_at(e, "`select` is `no_jumps` (approach 1: stay on the branch) or `max_dissipation` (approach 2: outer branch)");
+                select_ok = false;
+                None
+            }
+        },
+    };
+    let law = match (eta, law) {
+        (Some((_, e)), None) => {
+            if let Some((k, _)) = &select {
+                diag.error_at(k, "`select` applies to a non-monotone `law = …`; a linear Bingham law is monotone");
+            }
+            Law::BinghamLinear {
+                eta: lower(&e, names, diag)?,
+            }
+        }
+        (None, Some((_, e))) => {
+            let phi = lower_law(&e, names, diag)?;
+            Law::User { phi, selection }
+        }
+        (Some((k, _)), Some(_)) => {
+            diag.error_at(
+                k,
+                "give either `eta = …` (linear Bingham) or `law = …` (v = φ(f)), not both",
+            );
+            return None;
+        }
+        (None, None) => {
+            diag.error_at(joint, "a Bingham dash-pot needs `eta = <viscosity>` or `law = <velocity as a function of the force f>`; for Coulomb friction use `#[friction(joint, f_crit = …)]`");
+            return None;
+        }
+    };
+    select_ok.then_some(ElementKind::DashPot { law, f_crit })
+}
+
+/// `law = …` is an expression in the force `f` (and the fields).
+fn lower_law(e: &Expr, names: &[String], diag: &mut Diagnostics) -> Option<PExpr> {
+    if names.iter().any(|n| n == LAW_VAR) {
+        diag.error_at(
+            e,
+            "a field named `f` would shadow the law's force variable `f`; rename the field",
+        );
+        return None;
+    }
+    let mut with_var = names.to_vec();
+    with_var.push(LAW_VAR.to_string());
+    let var = (with_var.len() - 1) as u16;
+    lower(e, &with_var, diag).map(|p| replace_var(p, var))
+}
+
+fn replace_var(p: PExpr, var: u16) -> PExpr {
+    match p {
+        PExpr::Param(i) if i == var => PExpr::Var,
+        PExpr::Neg(x) => PExpr::Neg(Box::new(replace_var(*x, var))),
+        PExpr::Bin(op, a, b) => PExpr::Bin(
+            op,
+            Box::new(replace_var(*a, var)),
+            Box::new(replace_var(*b, var)),
+        ),
+        PExpr::Call(f, x) => PExpr::Call(f, Box::new(replace_var(*x, var))),
+        other => other,
+    }
+}
+
+fn read_stop(
+    raw: &mut RawAttr,
+    joint: &syn::Ident,
+    names: &[String],
+    diag: &mut Diagnostics,
+) -> Option<ElementKind> {
+    let max = raw.take("max", diag);
+    let min = raw.take("min", diag);
+    let restitution = raw.take("restitution", diag);
+    let k_support = raw.take("k_support", diag);
+    raw.reject_rest(&["max", "min", "restitution", "k_support"], diag);
+    let (upper, pos) = match (max, min) {
+        (Some((_, e)), None) => (true, e),
+        (None, Some((_, e))) => (false, e),
+        (Some((k, _)), Some(_)) => {
+            diag.error_at(k, "a stop bounds one side: give `max = L` (q ≤ L) or `min = L` (q ≥ L); declare two stops for both");
+            return None;
+        }
+        (None, None) => {
+            diag.error_at(
+                joint,
+                "a stop needs `max = L` (the coordinate stays ≤ L) or `min = L` (≥ L)",
+            );
+            return None;
+        }
+    };
+    let position = lower(&pos, names, diag)?;
+    let kind = match (restitution, k_support) {
+        (Some((_, e)), None) => {
+            let r = lower(&e, names, diag)?;
+            if let Some(v) = r.as_const()
+                && !(0.0..=1.0).contains(&v)
+            {
+                diag.error_at(
+                    &e,
+                    format_args!(
+                        "a restitution coefficient lies in [0, 1] (0 plastic, 1 elastic), found {v}"
+                    ),
+                );
+            }
+            StopKind::Rigid { restitution: r }
+        }
+        (None, Some((_, e))) => {
+            let k = lower(&e, names, diag)?;
+            if let Some(v) = k.as_const()
+                && !(v > 0.0 && v.is_finite())
+            {
+                diag.error_at(
+                    &e,
+                    format_args!("`k_support` is a stiffness and must be positive, found {v}"),
+                );
+            }
+            StopKind::SpringBacked { stiffness: k }
+        }
+        (Some((k, _)), Some(_)) => {
+            diag.error_at(k, "give either `restitution = e` (rigid stop) or `k_support = k` (spring-backed stop), not both");
+            return None;
+        }
+        (None, None) => {
+            diag.error_at(joint, "a stop needs `restitution = e` (rigid, Newton's impact law) or `k_support = k` (massless support on a spring)");
+            return None;
+        }
+    };
+    Some(ElementKind::Stop {
+        upper,
+        position,
+        kind,
+    })
+}

@@ -1,0 +1,99 @@
+//! The thesis's lumped systems (theory.md §3–4, scenes S1–S7): a mass on one prismatic
+//! joint `x`, a linear spring to the wall, and a non-smooth element in parallel. External
+//! forces `F(t)` are given at run time as the input.
+
+use crate::Mechanism;
+
+/// S1: linear Bingham dash-pot (`v = (f − sgn(f) f_crit)/η` outside the dead zone).
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[body(block, mass = m)]
+#[joint(x: prismatic(x), parent = world, child = block)]
+#[spring(x, k = k)]
+#[bingham(x, f_crit = f_crit, eta = eta)]
+pub struct BinghamOscillator {
+    pub m: f64,
+    pub k: f64,
+    pub f_crit: f64,
+    pub eta: f64,
+}
+
+/// S2, S3: Bingham dash-pot with the cubic law of thesis eq. 4.7b,
+/// `v = γ f² (f − sgn(f) f_crit)`.
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[body(block, mass = m)]
+#[joint(x: prismatic(x), parent = world, child = block)]
+#[spring(x, k = k)]
+#[bingham(x, f_crit = f_crit, law = gamma * f * f * (f - f_crit))]
+pub struct CubicBingham {
+    pub m: f64,
+    pub k: f64,
+    pub f_crit: f64,
+    pub gamma: f64,
+}
+
+/// S4, approach 1: the non-monotone law of thesis eq. 4.9b,
+/// `v = (1 + 0.1 (f² − 4)(f² − 9)) (f − sgn(f) f_crit)`, without velocity jumps.
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[body(block, mass = m)]
+#[joint(x: prismatic(x), parent = world, child = block)]
+#[spring(x, k = k)]
+#[bingham(x, f_crit = f_crit, law = (1.0 + 0.1 * (f * f - 4.0) * (f * f - 9.0)) * (f - f_crit), select = no_jumps)]
+pub struct NonMonotoneNoJumps {
+    pub m: f64,
+    pub k: f64,
+    pub f_crit: f64,
+}
+
+/// S4, approach 2: the same law with maximal dissipation.
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[body(block, mass = m)]
+#[joint(x: prismatic(x), parent = world, child = block)]
+#[spring(x, k = k)]
+#[bingham(x, f_crit = f_crit, law = (1.0 + 0.1 * (f * f - 4.0) * (f * f - 9.0)) * (f - f_crit), select = max_dissipation)]
+pub struct NonMonotoneMaxDissipation {
+    pub m: f64,
+    pub k: f64,
+    pub f_crit: f64,
+}
+
+/// S5, S6: Coulomb friction.
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[body(block, mass = m)]
+#[joint(x: prismatic(x), parent = world, child = block)]
+#[spring(x, k = k)]
+#[friction(x, f_crit = f_crit)]
+pub struct CoulombOscillator {
+    pub m: f64,
+    pub k: f64,
+    pub f_crit: f64,
+}
+
+/// S7: linear Bingham dash-pot and a stop at `x = l` backed by a massless support on a
+/// spring `k_support`.
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[body(block, mass = m)]
+#[joint(x: prismatic(x), parent = world, child = block)]
+#[spring(x, k = k)]
+#[bingham(x, f_crit = f_crit, eta = eta)]
+#[stop(x, max = l, k_support = k_support)]
+pub struct SupportedStop {
+    pub m: f64,
+    pub k: f64,
+    pub f_crit: f64,
+    pub eta: f64,
+    pub l: f64,
+    pub k_support: f64,
+}
+
+/// A mass falling onto a rigid floor at `x = 0` with Newton restitution `e` (Zeno
+/// bouncing under gravity along −x).
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(gravity = [-g, 0.0, 0.0])]
+#[body(ball, mass = m)]
+#[joint(x: prismatic(x), parent = world, child = ball)]
+#[stop(x, min = 0.0, restitution = e)]
+pub struct BouncingBall {
+    pub m: f64,
+    pub g: f64,
+    pub e: f64,
+}

@@ -18,3 +18,4 @@ mod problem;
 
 pub use element::*;
 pub use problem::*;
+pub mod law;

@@ -1,0 +1,1115 @@
+//! Constitutive graphs of the non-smooth elements, and the scalar problem every implicit
+//! step reduces to: intersect a straight line with one element's graph.
+//!
+//! An element's constitutive relation is a *graph* in the `(f, v)` plane (theory.md §3):
+//! the force `f` it carries against the velocity `v` of its coordinate.
+//!
+//! * Bingham dash-pots: `v = Φ(f)`, with `Φ = 0` in the dead zone `|f| ≤ f_crit` (stick)
+//!   and the slip law `φ` outside it — a function of the force, monotone or not.
+//! * Coulomb friction: `|f| ≤ f_crit` at `v = 0`, `f = f_crit sgn v` otherwise — neither a
+//!   function of `v` nor of `f`, but a maximal monotone graph.
+//! * Stops, in the gap coordinate `g = σ (q − position)` (`σ = +1` for [`Side::Lower`],
+//!   `−1` for [`Side::Upper`]) with contact force `λ ≥ 0` pushing the coordinate back into
+//!   its admissible side, i.e. element force `f = −σ λ` under the sign convention of
+//!   [`crate::nonsmooth`].
+//!
+//! Implicit time-stepping (Moreau 1988; Jean 1999, *The non-smooth contact dynamics
+//! method*, CMAME 177; Acary & Brogliato 2008, *Numerical Methods for Nonsmooth Dynamical
+//! Systems*, ch. 10; the thesis's Fig. 18) writes the discrete momentum balance of one
+//! element, all other forces frozen, as a straight [`Line`] `v = v_free − w f` with
+//! `w > 0` (step × Delassus entry). [`Graph::on_line`] returns its intersection with the
+//! element's graph. For a monotone graph the intersection exists and is unique for every
+//! `w > 0`; for a non-monotone law the [`Selection`] rule picks one:
+//!
+//! * Approach 2 ([`Selection::MaximalDissipation`]): the intersection with the
+//!   *maximal-dissipation graph* `ψ(f) = inf_{g ≥ f} φ(g)` (for `f > f_crit`, odd
+//!   extension): at each velocity the largest force, with the jumps of `f` at the local
+//!   minima filled by vertical segments at `v = v_min` (plateau mode, theory.md §3). `ψ`
+//!   is monotone, so the intersection is unique; on a plateau the velocity is exactly
+//!   `±v_min`.
+//! * Approach 1 ([`Selection::NoVelocityJumps`]): stay on the current branch. The state
+//!   is the previous force `f_prev`: starting at `f_prev`, the force moves in the
+//!   direction that closes the gap between line and graph, to the *first* intersection.
+//!   While the branch exists the force changes continuously; where it ends at a fold, the
+//!   force jumps to the next branch (hysteresis).
+//!
+//! Non-monotone laws are assumed monotone beyond their folds: the folds (local extrema of
+//! `φ`) are located once, by a sign scan of `φ'` on `f_crit < f ≤ FOLD_SCAN · (f_crit + 1)`
+//! refined by bisection ([`Graph::folds`]).
+
+use std::fmt;
+
+use super::{Element, ElementKind, Law, NonSmooth, Selection, Side, StopKind};
+
+/// Non-monotone laws are scanned for folds on `f_crit < f ≤ FOLD_SCAN · (f_crit + 1)`.
+pub const FOLD_SCAN: f64 = 16.0;
+/// Grid cells of the fold scan.
+const FOLD_CELLS: usize = 4096;
+/// Iteration cap of every scalar root finder (bisection halves the bracket each time).
+const MAX_ITER: usize = 200;
+
+/// The discrete momentum balance of one element: `v = v_free − w f`, `w > 0`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Line {
+    pub v_free: f64,
+    pub w: f64,
+}
+
+/// What one step knows about the element's coordinate at its start `t_n`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepState {
+    /// Coordinate value `q_c(t_n)` (stops: the gap).
+    pub q: f64,
+    /// Coordinate velocity `v_c(t_n)` (rigid stops: the pre-impact velocity).
+    pub v: f64,
+    /// Step size (spring-backed stops: penetration at `q + h v_{n+1}`).
+    pub h: f64,
+    /// The element's force at `t_n` (approach 1: the current branch).
+    pub force: f64,
+}
+
+/// Which part of the graph a point lies on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Dash-pot in its dead zone: `v = 0` exactly, `|f| ≤ f_crit`.
+    Stick,
+    /// Dash-pot slipping on its slip law.
+    Slip,
+    /// Non-monotone law, approach 2: constant speed `|v| = v_min` on a filled jump.
+    Plateau,
+    /// Stop without contact force.
+    Open,
+    /// Stop carrying a contact force.
+    Contact,
+}
+
+/// A point `(v, f)` on an element's graph.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Point {
+    pub v: f64,
+    pub f: f64,
+    pub mode: Mode,
+}
+
+/// A local extremum of a non-monotone slip law on `f > f_crit`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fold {
+    pub force: f64,
+    pub velocity: f64,
+    /// `true` at a local minimum of `φ`, `false` at a local maximum.
+    pub minimum: bool,
+}
+
+/// Why a graph could not be built or evaluated.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LawError {
+    /// The element's parameters are invalid (message names the element).
+    InvalidElement(String),
+    /// The law or the line produced a NaN or an infinity.
+    NonFinite,
+    /// A root finder hit its iteration cap (the law is not of the documented kind).
+    NoConvergence,
+}
+
+impl fmt::Display for LawError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LawError::InvalidElement(msg) => write!(f, "{msg}"),
+            LawError::NonFinite => write!(f, "non-finite value in a constitutive law"),
+            LawError::NoConvergence => write!(f, "constitutive-law root finder did not converge"),
+        }
+    }
+}
+
+/// One element's constitutive graph: the element, validated, and for non-monotone laws
+/// its folds (located once).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Graph {
+    pub index: usize,
+    pub element: Element,
+    folds: Vec<Fold>,
+}
+
+impl Graph {
+    /// Element `e` of `system`, validated: `f_crit ≥ 0`, `η > 0`, restitution in `[0, 1]`,
+    /// support stiffness `> 0`, everything finite.
+    pub fn new<S: NonSmooth<N>, const N: usize>(system: &S, e: usize) -> Result<Self, LawError> {
+        let element = system.element(e);
+        check(&element)?;
+        let mut graph = Graph {
+            index: e,
+            element,
+            folds: Vec::new(),
+        };
+        if let ElementKind::DashPot {
+            law: Law::BinghamNonMonotone { .. },
+            f_crit,
+        } = element.kind
+        {
+            graph.folds = find_folds(system, e, f_crit)?;
+        }
+        Ok(graph)
+    }
+
+    /// Local extrema of a non-monotone slip law on `f > f_crit`, by increasing force
+    /// (empty for every other element). The negative side mirrors them (odd law).
+    pub fn folds(&self) -> &[Fold] {
+        &self.folds
+    }
+
+    /// Dash-pots: the velocity of a force, `v = Φ(f)` (`0` in the dead zone). `None` for
+    /// Coulomb friction (not a function of the force) and for stops.
+    pub fn velocity_of_force<S: NonSmooth<N>, const N: usize>(
+        &self,
+        system: &S,
+        f: f64,
+    ) -> Option<f64> {
+        match self.element.kind {
+            ElementKind::DashPot {
+                law: Law::Coulomb, ..
+            }
+            | ElementKind::Stop { .. } => None,
+            ElementKind::DashPot { law, f_crit } => Some(phi(system, self.index, law, f_crit, f)),
+        }
+    }
+
+    /// Dash-pots: the force of a slip velocity `v ≠ 0` (`None` for `v = 0`, where any
+    /// `|f| ≤ f_crit` fits, and for stops). Monotone laws: the unique force, by
+    /// safeguarded Newton on `Φ(f) = v`. Non-monotone laws: approach 2 the force of the
+    /// maximal-dissipation graph; approach 1 the first force met from `previous` in the
+    /// direction of `v − Φ(previous)`.
+    pub fn force_of_velocity<S: NonSmooth<N>, const N: usize>(
+        &self,
+        system: &S,
+        v: f64,
+        previous: f64,
+    ) -> Result<Option<f64>, LawError> {
+        let ElementKind::DashPot { law, f_crit } = self.element.kind else {
+            return Ok(None);
+        };
+        if !v.is_finite() || !previous.is_finite() {
+            return Err(LawError::NonFinite);
+        }
+        if v == 0.0 {
+            return Ok(None);
+        }
+        let s = v.signum();
+        Ok(Some(match law {
+            Law::Coulomb => s * f_crit,
+            Law::BinghamLinear { eta } => s * (f_crit + eta * v.abs()),
+            Law::BinghamMonotone => {
+                let hi = upper_bound(|x| side_phi(system, self.index, s, x) - v.abs(), f_crit)?;
+                s * newton_bisect(system, self.index, s, 0.0, v.abs(), f_crit, hi)?
+            }
+            Law::BinghamNonMonotone {
+                selection: Selection::MaximalDissipation,
+            } => {
+                let psi = |x: f64| self.psi(system, s, f_crit, x) - v.abs();
+                let hi = upper_bound(psi, f_crit)?;
+                s * bisect(psi, f_crit, hi)?
+            }
+            Law::BinghamNonMonotone {
+                selection: Selection::NoVelocityJumps,
+            } => {
+                let g = |f: f64| phi(system, self.index, law, f_crit, f) - v;
+                self.first_root(g, f_crit, previous)?
+            }
+        }))
+    }
+
+    /// The intersection of `line` with the graph (see the module documentation), given
+    /// what the step knows at its start. Stuck dash-pots and rigid stops in contact
+    /// return their velocity exactly (`0.0`, `−e·min(u_n, 0)` in the gap direction), set
+    /// rather than computed.
+    pub fn on_line<S: NonSmooth<N>, const N: usize>(
+        &self,
+        system: &S,
+        line: Line,
+        state: &StepState,
+    ) -> Result<Point, LawError> {
+        let Line { v_free, w } = line;
+        if !(v_free.is_finite() && w.is_finite() && w > 0.0) {
+            return Err(LawError::NonFinite);
+        }
+        match self.element.kind {
+            ElementKind::DashPot { law, f_crit } => {
+                self.dashpot_on_line(system, law, f_crit, line, state.force)
+            }
+            ElementKind::Stop {
+                side,
+                position,
+                kind,
+            } => {
+                let sigma = if side == Side::Lower { 1.0 } else { -1.0 };
+                let gap = sigma * (state.q - position);
+                let u_free = sigma * v_free;
+                let open = Point {
+                    v: v_free,
+                    f: 0.0,
+                    mode: Mode::Open,
+                };
+                match kind {
+                    StopKind::Rigid { restitution } => {
+                        // Moreau's velocity-level rule with Newton restitution, active set
+                        // from the gap predicted half a step ahead (Acary & Brogliato 2008,
+                        // §10.1): 0 ≤ u + e·min(u_n, 0) ⊥ λ ≥ 0.
+                        let u_n = sigma * state.v;
+                        let active = gap + 0.5 * state.h * u_n <= 0.0;
+                        let target = -restitution * u_n.min(0.0);
+                        if !active || u_free >= target {
+                            return Ok(open);
+                        }
+                        let lambda = (target - u_free) / w;
+                        Ok(Point {
+                            v: sigma * target,
+                            f: -sigma * lambda,
+                            mode: Mode::Contact,
+                        })
+                    }
+                    StopKind::SpringBacked { stiffness } => {
+                        // λ = k (−g_n − h u)₊ with u = u_free + w λ: implicit in the
+                        // penetration at the end of the step, so any k is stable.
+                        let pen = -gap - state.h * u_free;
+                        if pen <= 0.0 {
+                            return Ok(open);
+                        }
+                        let lambda = stiffness * pen / (1.0 + stiffness * state.h * w);
+                        Ok(Point {
+                            v: sigma * (u_free + w * lambda),
+                            f: -sigma * lambda,
+                            mode: Mode::Contact,
+                        })
+                    }
+                }
+            }
+        }
+    }
+
+    fn dashpot_on_line<S: NonSmooth<N>, const N: usize>(
+        &self,
+        system: &S,
+        law: Law,
+        f_crit: f64,
+        line: Line,
+        previous: f64,
+    ) -> Result<Point, LawError> {
+        let Line { v_free, w } = line;
+        let e = self.index;
+        let slip = |f: f64| Point {
+            v: v_free - w * f,
+            f,
+            mode: Mode::Slip,
+        };
+        if let Law::BinghamNonMonotone {
+            selection: Selection::NoVelocityJumps,
+        } = law
+        {
+            if !previous.is_finite() {
+                return Err(LawError::NonFinite);
+            }
+            let f = self.first_root(
+                |f| phi(system, e, law, f_crit, f) + w * f - v_free,
+                f_crit,
+                previous,
+            )?;
+            return Ok(if f.abs() <= f_crit {
+                Point {
+                    v: 0.0,
+                    f,
+                    mode: Mode::Stick,
+                }
+            } else {
+                slip(f)
+            });
+        }
+        // Monotone graphs (and approach 2's monotone envelope): stick iff the line meets
+        // the dead zone's vertical segment.
+        if v_free.abs() <= w * f_crit {
+            return Ok(Point {
+                v: 0.0,
+                f: v_free / w,
+                mode: Mode::Stick,
+            });
+        }
+        let s = v_free.signum();
+        let a = v_free.abs();
+        Ok(match law {
+            Law::Coulomb => slip(s * f_crit),
+            // a − w x = (x − f_crit)/η.
+            Law::BinghamLinear { eta } => slip(s * (a + f_crit / eta) / (w + 1.0 / eta)),
+            // φ(x) + w x = a on [f_crit, a/w]: φ ≥ 0 there, so a/w brackets the root.
+            Law::BinghamMonotone => slip(s * newton_bisect(system, e, s, w, a, f_crit, a / w)?),
+            Law::BinghamNonMonotone { .. } => {
+                let x = bisect(
+                    |x| self.psi(system, s, f_crit, x) + w * x - a,
+                    f_crit,
+                    a / w,
+                )?;
+                // On a plateau (ψ < φ) the velocity is exactly the local minimum.
+                match self.plateau_below(system, s, f_crit, x) {
+                    Some(v_min) => Point {
+                        v: s * v_min,
+                        f: s * (a - v_min) / w,
+                        mode: Mode::Plateau,
+                    },
+                    None => slip(s * x),
+                }
+            }
+        })
+    }
+
+    /// `ψ(x) = inf_{y ≥ x} φ₊(y)` on the side `s` (`x ≥ f_crit`): the smaller of `φ₊(x)`
+    /// and the local minima beyond `x` (φ increases beyond its last fold).
+    fn psi<S: NonSmooth<N>, const N: usize>(&self, system: &S, s: f64, f_crit: f64, x: f64) -> f64 {
+        let here = if x <= f_crit {
+            0.0
+        } else {
+            side_phi(system, self.index, s, x)
+        };
+        self.folds
+            .iter()
+            .filter(|fold| fold.minimum && fold.force > x)
+            .fold(here, |m, fold| m.min(fold.velocity))
+    }
+
+    /// The plateau velocity if `x` lies on a filled jump of approach 2's graph.
+    fn plateau_below<S: NonSmooth<N>, const N: usize>(
+        &self,
+        system: &S,
+        s: f64,
+        f_crit: f64,
+        x: f64,
+    ) -> Option<f64> {
+        let here = side_phi(system, self.index, s, x.max(f_crit));
+        self.folds
+            .iter()
+            .filter(|fold| fold.minimum && fold.force > x && fold.velocity < here)
+            .map(|fold| fold.velocity)
+            .reduce(f64::min)
+    }
+
+    /// Approach 1: the first root of the continuous `g` met from `start`, moving in the
+    /// direction `−sgn g(start)`. The scan visits the breakpoints `±f_crit`, `±folds`;
+    /// between breakpoints it uses 64 cells on decreasing pieces of `φ` (where `g` need
+    /// not be monotone) and one cell on increasing ones; beyond the last breakpoint the
+    /// bracket is found by doubling. The root is refined by bisection.
+    fn first_root(&self, g: impl Fn(f64) -> f64, f_crit: f64, start: f64) -> Result<f64, LawError> {
+        let g0 = g(start);
+        if !g0.is_finite() {
+            return Err(LawError::NonFinite);
+        }
+        if g0 == 0.0 {
+            return Ok(start);
+        }
+        let d = -g0.signum();
+        // Breakpoints strictly beyond `start` in direction d, in order.
+        let mut marks: Vec<f64> = std::iter::once(f_crit)
+            .chain(self.folds.iter().map(|fold| fold.force))
+            .flat_map(|x| [x, -x])
+            .filter(|&x| (x - start) * d > 0.0)
+            .collect();
+        marks.sort_by(|a, b| (d * a).total_cmp(&(d * b)));
+        marks.dedup();
+        let decreasing = |a: f64, b: f64| {
+            let mid = 0.5 * (a.abs() + b.abs());
+            let mut inside = self.folds.iter().filter(|fold| fold.force < mid);
+            // φ decreases between a maximum and the following minimum.
+            inside.next_back().is_some_and(|fold| !fold.minimum) && mid > f_crit
+        };
+        let mut a = start;
+        for &b in &marks {
+            let cells = if decreasing(a, b) { 64 } else { 1 };
+            let mut lo = a;
+            for k in 1..=cells {
+                let hi = a + (b - a) * k as f64 / cells as f64;
+                let gh = g(hi);
+                if !gh.is_finite() {
+                    return Err(LawError::NonFinite);
+                }
+                if gh * d >= 0.0 {
+                    return bisect(&g, lo, hi);
+                }
+                lo = hi;
+            }
+            a = b;
+        }
+        // Beyond all breakpoints: φ is monotone there; double the step until g changes sign.
+        let mut step = (a.abs() + f_crit + 1.0) * d;
+        for _ in 0..MAX_ITER {
+            let b = a + step;
+            let gb = g(b);
+            if !gb.is_finite() {
+                return Err(LawError::NonFinite);
+            }
+            if gb * d >= 0.0 {
+                return bisect(&g, a, b);
+            }
+            a = b;
+            step *= 2.0;
+        }
+        Err(LawError::NoConvergence)
+    }
+}
+
+/// Parameter checks with messages naming the element and what would be right.
+fn check(el: &Element) -> Result<(), LawError> {
+    let bad = |what: String| {
+        Err(LawError::InvalidElement(format!(
+            "element `{}`: {what}",
+            el.name
+        )))
+    };
+    match el.kind {
+        ElementKind::DashPot { law, f_crit } => {
+            if !(f_crit.is_finite() && f_crit >= 0.0) {
+                return bad(format!(
+                    "critical force f_crit = {f_crit} must be finite and ≥ 0"
+                ));
+            }
+            if let Law::BinghamLinear { eta } = law
+                && !(eta.is_finite() && eta > 0.0)
+            {
+                return bad(format!(
+                    "viscosity η = {eta} must be finite and > 0 (η → 0 is Coulomb)"
+                ));
+            }
+        }
+        ElementKind::Stop { position, kind, .. } => {
+            if !position.is_finite() {
+                return bad(format!("stop position {position} must be finite"));
+            }
+            match kind {
+                StopKind::Rigid { restitution } if !(0.0..=1.0).contains(&restitution) => {
+                    return bad(format!("restitution e = {restitution} must lie in [0, 1]"));
+                }
+                StopKind::SpringBacked { stiffness }
+                    if !(stiffness.is_finite() && stiffness > 0.0) =>
+                {
+                    return bad(format!(
+                        "support stiffness {stiffness} must be finite and > 0 (use a rigid stop for ∞)"
+                    ));
+                }
+                _ => {}
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `Φ(f)`: 0 in the dead zone, the slip law outside (Bingham laws; Coulomb gives 0).
+fn phi<S: NonSmooth<N>, const N: usize>(
+    system: &S,
+    e: usize,
+    law: Law,
+    f_crit: f64,
+    f: f64,
+) -> f64 {
+    if f.abs() <= f_crit {
+        return 0.0;
+    }
+    match law {
+        Law::Coulomb => 0.0,
+        Law::BinghamLinear { eta } => (f - f.signum() * f_crit) / eta,
+        Law::BinghamMonotone | Law::BinghamNonMonotone { .. } => system.law(e, f).0,
+    }
+}
+
+/// The user slip law on side `s` as a function of `x = |f| > f_crit`: `s φ(s x)`.
+fn side_phi<S: NonSmooth<N>, const N: usize>(system: &S, e: usize, s: f64, x: f64) -> f64 {
+    s * system.law(e, s * x).0
+}
+
+/// Root of `s φ(s x) + w x = a` on `[lo, hi]` (increasing, sign change): Newton with the
+/// law's derivative, kept inside a shrinking bracket, bisection when Newton leaves it.
+fn newton_bisect<S: NonSmooth<N>, const N: usize>(
+    system: &S,
+    e: usize,
+    s: f64,
+    w: f64,
+    a: f64,
+    mut lo: f64,
+    mut hi: f64,
+) -> Result<f64, LawError> {
+    let mut x = 0.5 * (lo + hi);
+    for _ in 0..MAX_ITER {
+        let (p, dp) = system.law(e, s * x);
+        let (g, dg) = (s * p + w * x - a, dp + w);
+        if !(g.is_finite() && dg.is_finite()) {
+            return Err(LawError::NonFinite);
+        }
+        if g == 0.0 {
+            return Ok(x);
+        }
+        if g < 0.0 {
+            lo = x
+        } else {
+            hi = x
+        }
+        let newton = x - g / dg;
+        let next = if dg > 0.0 && newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if (next - x).abs() <= 4.0 * f64::EPSILON * x.abs()
+            || hi - lo <= 4.0 * f64::EPSILON * hi.abs()
+        {
+            return Ok(next);
+        }
+        x = next;
+    }
+    Err(LawError::NoConvergence)
+}
+
+/// Bisection of a continuous `g` with a sign change on `[a, b]` (either order), to
+/// round-off.
+fn bisect(g: impl Fn(f64) -> f64, a: f64, b: f64) -> Result<f64, LawError> {
+    let (mut lo, mut hi) = (a, b);
+    let glo = g(lo);
+    if glo == 0.0 {
+        return Ok(lo);
+    }
+    for _ in 0..MAX_ITER {
+        let mid = 0.5 * (lo + hi);
+        if mid == lo || mid == hi {
+            return Ok(mid);
+        }
+        let gm = g(mid);
+        if !gm.is_finite() {
+            return Err(LawError::NonFinite);
+        }
+        if gm == 0.0 {
+            return Ok(mid);
+        }
+        if (gm > 0.0) == (glo > 0.0) {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    Ok(0.5 * (lo + hi))
+}
+
+/// Smallest `f_crit · 2^k`-type point where an eventually increasing `g` is ≥ 0.
+fn upper_bound(g: impl Fn(f64) -> f64, f_crit: f64) -> Result<f64, LawError> {
+    let mut x = 2.0 * f_crit + 1.0;
+    for _ in 0..MAX_ITER {
+        let gx = g(x);
+        if !gx.is_finite() {
+            return Err(LawError::NonFinite);
+        }
+        if gx >= 0.0 {
+            return Ok(x);
+        }
+        x *= 2.0;
+    }
+    Err(LawError::NoConvergence)
+}
+
+/// Local extrema of `φ` on `f_crit < f ≤ FOLD_SCAN (f_crit + 1)`: sign changes of `φ'`
+/// on a uniform grid, refined by bisection on `φ'`.
+fn find_folds<S: NonSmooth<N>, const N: usize>(
+    system: &S,
+    e: usize,
+    f_crit: f64,
+) -> Result<Vec<Fold>, LawError> {
+    let top = FOLD_SCAN * (f_crit + 1.0);
+    let dphi = |x: f64| system.law(e, x).1;
+    let grid = |k: usize| f_crit + (top - f_crit) * k as f64 / FOLD_CELLS as f64;
+    let mut folds = Vec::new();
+    // The last grid point with a nonzero slope, and that slope.
+    let (mut x0, mut d0) = (grid(1), dphi(grid(1)));
+    for k in 2..=FOLD_CELLS {
+        let x1 = grid(k);
+        let d1 = dphi(x1);
+        if !(d0.is_finite() && d1.is_finite()) {
+            return Err(LawError::NonFinite);
+        }
+        if d1 == 0.0 {
+            continue;
+        }
+        if d0 != 0.0 && (d0 > 0.0) != (d1 > 0.0) {
+            let x = bisect(dphi, x0, x1)?;
+            folds.push(Fold {
+                force: x,
+                velocity: system.law(e, x).0,
+                minimum: d0 < 0.0,
+            });
+        }
+        (x0, d0) = (x1, d1);
+    }
+    Ok(folds)
+}
+
+/// Hand-built test mechanisms: a chain of prismatic x-links (coordinates relative to the
+/// parent, so `M_ij = Σ_{l ≥ max(i,j)} m_l`), linear springs to the rest position 0,
+/// elements given as data, one user slip law for all Bingham user elements.
+#[cfg(test)]
+pub(crate) mod test_systems {
+    use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+
+    use crate::nonsmooth::{Element, NonSmooth};
+    use crate::numeric::{JointKind, Link, Model, Spring};
+    use crate::system::{ForwardJacobian, Mechanism};
+
+    pub struct Chain<const N: usize, const E: usize> {
+        pub masses: [f64; N],
+        pub springs: [f64; N],
+        pub elements: [Element; E],
+        pub law: fn(f64) -> (f64, f64),
+    }
+
+    /// Cubic Bingham law 4.7b (γ = 1, f_crit = 1): v = f² (f − sgn f).
+    pub fn cubic(f: f64) -> (f64, f64) {
+        (f * f * (f - f.signum()), 3.0 * f * f - 2.0 * f.abs())
+    }
+
+    /// Non-monotone law 4.9b (f_crit = 1): v = (1 + 0.1 (f² − 4)(f² − 9)) (f − sgn f).
+    pub fn non_monotone(f: f64) -> (f64, f64) {
+        let a = 1.0 + 0.1 * (f * f - 4.0) * (f * f - 9.0);
+        let da = 0.1 * (2.0 * f * (f * f - 9.0) + 2.0 * f * (f * f - 4.0));
+        (a * (f - f.signum()), da * (f - f.signum()) + a)
+    }
+
+    impl<const N: usize, const E: usize> Chain<N, E> {
+        fn m(&self) -> SMatrix<f64, N, N> {
+            SMatrix::from_fn(|i, j| self.masses[i.max(j)..].iter().sum())
+        }
+        fn k(&self) -> SMatrix<f64, N, N> {
+            SMatrix::from_diagonal(&SVector::from(self.springs))
+        }
+    }
+
+    impl<const N: usize, const E: usize> Mechanism<N> for Chain<N, E> {
+        const JOINTS: [&'static str; N] = [""; N];
+        fn mass_matrix(&self, _q: &SVector<f64, N>) -> SMatrix<f64, N, N> {
+            self.m()
+        }
+        fn christoffel_symbols(&self, _q: &SVector<f64, N>) -> [SMatrix<f64, N, N>; N] {
+            [SMatrix::zeros(); N]
+        }
+        fn coriolis_matrix(
+            &self,
+            _q: &SVector<f64, N>,
+            _v: &SVector<f64, N>,
+        ) -> SMatrix<f64, N, N> {
+            SMatrix::zeros()
+        }
+        fn gravity(&self, _q: &SVector<f64, N>) -> SVector<f64, N> {
+            SVector::zeros()
+        }
+        fn bias(&self, _q: &SVector<f64, N>, _v: &SVector<f64, N>) -> SVector<f64, N> {
+            SVector::zeros()
+        }
+        fn passive_forces(&self, q: &SVector<f64, N>, _v: &SVector<f64, N>) -> SVector<f64, N> {
+            -self.k() * q
+        }
+        fn inverse_dynamics(
+            &self,
+            q: &SVector<f64, N>,
+            _v: &SVector<f64, N>,
+            a: &SVector<f64, N>,
+        ) -> SVector<f64, N> {
+            self.m() * a + self.k() * q
+        }
+        fn forward_dynamics(
+            &self,
+            q: &SVector<f64, N>,
+            _v: &SVector<f64, N>,
+            tau: &SVector<f64, N>,
+        ) -> SVector<f64, N> {
+            self.inverse_mass_matrix(q) * (tau - self.k() * q)
+        }
+        fn forward_dynamics_jacobian(
+            &self,
+            q: &SVector<f64, N>,
+            v: &SVector<f64, N>,
+            tau: &SVector<f64, N>,
+        ) -> ForwardJacobian<N> {
+            ForwardJacobian {
+                acceleration: self.forward_dynamics(q, v, tau),
+                d_dq: -self.inverse_mass_matrix(q) * self.k(),
+                d_dv: SMatrix::zeros(),
+            }
+        }
+        fn kinetic_energy(&self, _q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64 {
+            0.5 * v.dot(&(self.m() * v))
+        }
+        fn potential_energy(&self, q: &SVector<f64, N>) -> f64 {
+            0.5 * q.dot(&(self.k() * q))
+        }
+        fn model(&self) -> Model {
+            Model {
+                gravity: Vector3::zeros(),
+                links: (0..N)
+                    .map(|i| Link {
+                        name: format!("body{i}"),
+                        parent: i.checked_sub(1),
+                        joint: JointKind::Prismatic { axis: Vector3::x() },
+                        coordinate: Some(i),
+                        origin_xyz: Vector3::zeros(),
+                        origin_rpy: Vector3::zeros(),
+                        mass: self.masses[i],
+                        com: Vector3::zeros(),
+                        inertia: Matrix3::zeros(),
+                    })
+                    .collect(),
+                springs: (0..N)
+                    .map(|i| Spring {
+                        coordinate: i,
+                        stiffness: self.springs[i],
+                        rest: 0.0,
+                    })
+                    .collect(),
+                dampers: vec![],
+            }
+        }
+    }
+
+    impl<const N: usize, const E: usize> NonSmooth<N> for Chain<N, E> {
+        const ELEMENTS: usize = E;
+        fn element(&self, e: usize) -> Element {
+            self.elements[e]
+        }
+        fn law(&self, _e: usize, f: f64) -> (f64, f64) {
+            (self.law)(f)
+        }
+        fn inverse_mass_matrix(&self, _q: &SVector<f64, N>) -> SMatrix<f64, N, N> {
+            self.m().try_inverse().expect("masses are positive")
+        }
+    }
+
+    /// One mass `m` on a spring `k` with the given elements.
+    pub fn oscillator<const E: usize>(
+        m: f64,
+        k: f64,
+        elements: [Element; E],
+        law: fn(f64) -> (f64, f64),
+    ) -> Chain<1, E> {
+        Chain {
+            masses: [m],
+            springs: [k],
+            elements,
+            law,
+        }
+    }
+
+    pub fn dashpot(
+        name: &'static str,
+        coordinate: usize,
+        law: crate::nonsmooth::Law,
+        f_crit: f64,
+    ) -> Element {
+        Element {
+            name,
+            coordinate,
+            kind: crate::nonsmooth::ElementKind::DashPot { law, f_crit },
+        }
+    }
+
+    pub fn stop(
+        name: &'static str,
+        coordinate: usize,
+        side: crate::nonsmooth::Side,
+        position: f64,
+        kind: crate::nonsmooth::StopKind,
+    ) -> Element {
+        Element {
+            name,
+            coordinate,
+            kind: crate::nonsmooth::ElementKind::Stop {
+                side,
+                position,
+                kind,
+            },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::test_systems::*;
+    use super::*;
+
+    fn graph(law: Law, f_crit: f64, lawfn: fn(f64) -> (f64, f64)) -> (Chain<1, 1>, Graph) {
+        let sys = oscillator(1.0, 1.0, [dashpot("d", 0, law, f_crit)], lawfn);
+        let g = Graph::new(&sys, 0).unwrap();
+        (sys, g)
+    }
+
+    fn state(force: f64) -> StepState {
+        StepState {
+            q: 0.0,
+            v: 0.0,
+            h: 0.01,
+            force,
+        }
+    }
+
+    #[test]
+    fn monotone_graphs_meet_a_line_once_and_stick_exactly() {
+        let (sys, g) = graph(Law::Coulomb, 0.5, cubic);
+        let p = g
+            .on_line(
+                &sys,
+                Line {
+                    v_free: 0.004,
+                    w: 0.01,
+                },
+                &state(0.0),
+            )
+            .unwrap();
+        assert_eq!((p.v, p.mode), (0.0, Mode::Stick));
+        assert!((p.f - 0.4).abs() < 1e-15);
+        let p = g
+            .on_line(
+                &sys,
+                Line {
+                    v_free: -0.1,
+                    w: 0.01,
+                },
+                &state(0.0),
+            )
+            .unwrap();
+        assert_eq!((p.f, p.mode), (-0.5, Mode::Slip));
+        assert!((p.v - (-0.095)).abs() < 1e-15);
+        // Linear Bingham: v = (f − f_c)/η and v = v_free − w f.
+        let (sys, g) = graph(Law::BinghamLinear { eta: 0.2 }, 0.1, cubic);
+        let p = g
+            .on_line(
+                &sys,
+                Line {
+                    v_free: 1.0,
+                    w: 0.05,
+                },
+                &state(0.0),
+            )
+            .unwrap();
+        assert!(
+            (p.v - (p.f - 0.1) / 0.2).abs() < 1e-14 && (p.v - (1.0 - 0.05 * p.f)).abs() < 1e-14
+        );
+        // Cubic user law, both signs; force of velocity inverts velocity of force.
+        let (sys, g) = graph(Law::BinghamMonotone, 1.0, cubic);
+        for vf in [0.3, -0.3, 2.0, -50.0] {
+            let p = g
+                .on_line(
+                    &sys,
+                    Line {
+                        v_free: vf,
+                        w: 0.01,
+                    },
+                    &state(0.0),
+                )
+                .unwrap();
+            assert_eq!(p.mode, Mode::Slip);
+            assert!((cubic(p.f).0 - p.v).abs() < 1e-13 * (1.0 + p.v.abs()));
+            assert!((vf - 0.01 * p.f - p.v).abs() < 1e-13 * (1.0 + p.v.abs()));
+            let f = g.force_of_velocity(&sys, p.v, 0.0).unwrap().unwrap();
+            assert!((f - p.f).abs() < 1e-12 * p.f.abs());
+        }
+        assert_eq!(g.force_of_velocity(&sys, 0.0, 0.3).unwrap(), None);
+        assert_eq!(g.velocity_of_force(&sys, 0.7), Some(0.0));
+    }
+
+    #[test]
+    fn non_monotone_law_folds_and_both_selections() {
+        let (sys, g) = graph(
+            Law::BinghamNonMonotone {
+                selection: Selection::MaximalDissipation,
+            },
+            1.0,
+            non_monotone,
+        );
+        // theory.md §3: maximum 1.17493 at 1.69072, minimum 0.57187 at 2.49909.
+        let folds = g.folds();
+        assert_eq!(folds.len(), 2);
+        assert!(
+            !folds[0].minimum
+                && (folds[0].force - 1.69072).abs() < 1e-5
+                && (folds[0].velocity - 1.17493).abs() < 1e-5
+        );
+        assert!(
+            folds[1].minimum
+                && (folds[1].force - 2.49909).abs() < 1e-5
+                && (folds[1].velocity - 0.57187).abs() < 1e-5
+        );
+        let v_min = folds[1].velocity;
+        // Approach 2: v = 0.8 has three forces; the outer one is taken.
+        let f = g.force_of_velocity(&sys, -0.8, 0.0).unwrap().unwrap();
+        assert!(f < -2.5 && (non_monotone(f).0 + 0.8).abs() < 1e-12);
+        // A line passing just below the local minimum lands on the plateau, exactly.
+        let w = 1e-3;
+        let p = g
+            .on_line(
+                &sys,
+                Line {
+                    v_free: v_min + 2.0 * w,
+                    w,
+                },
+                &state(0.0),
+            )
+            .unwrap();
+        assert_eq!((p.mode, p.v), (Mode::Plateau, v_min));
+        assert!((p.f - 2.0).abs() < 1e-9);
+        // Approach 1: from the inner branch the force stays inner while it exists...
+        let (sys, g1) = graph(
+            Law::BinghamNonMonotone {
+                selection: Selection::NoVelocityJumps,
+            },
+            1.0,
+            non_monotone,
+        );
+        let p = g1
+            .on_line(
+                &sys,
+                Line {
+                    v_free: 0.8 + 1.3e-3,
+                    w: 1e-3,
+                },
+                &state(1.25),
+            )
+            .unwrap();
+        assert!(p.f > 1.0 && p.f < 1.69 && (non_monotone(p.f).0 - p.v).abs() < 1e-12);
+        // ... from the outer branch the same line gives the outer force ...
+        let q = g1
+            .on_line(
+                &sys,
+                Line {
+                    v_free: 0.8 + 1.3e-3,
+                    w: 1e-3,
+                },
+                &state(2.8),
+            )
+            .unwrap();
+        assert!(q.f > 2.5 && (non_monotone(q.f).0 - q.v).abs() < 1e-12);
+        // ... and past the fold (v > 1.17493) the inner branch jumps to the outer one.
+        let r = g1
+            .on_line(
+                &sys,
+                Line {
+                    v_free: 1.2,
+                    w: 1e-3,
+                },
+                &state(1.6),
+            )
+            .unwrap();
+        assert!(r.f > 2.5 && (non_monotone(r.f).0 - r.v).abs() < 1e-12);
+        // Stick is the dead-zone branch.
+        let s = g1
+            .on_line(
+                &sys,
+                Line {
+                    v_free: 5e-4,
+                    w: 1e-3,
+                },
+                &state(0.0),
+            )
+            .unwrap();
+        assert_eq!((s.mode, s.v), (Mode::Stick, 0.0));
+    }
+
+    #[test]
+    fn stops_on_a_line() {
+        use crate::nonsmooth::{Side, StopKind};
+        let rigid = oscillator(
+            1.0,
+            0.0,
+            [stop(
+                "floor",
+                0,
+                Side::Lower,
+                0.0,
+                StopKind::Rigid { restitution: 0.5 },
+            )],
+            cubic,
+        );
+        let g = Graph::new(&rigid, 0).unwrap();
+        // Arriving at −2 with the gap closed: bounces at +1, force pushes up (f < 0).
+        let st = StepState {
+            q: -0.001,
+            v: -2.0,
+            h: 0.01,
+            force: 0.0,
+        };
+        let p = g
+            .on_line(
+                &rigid,
+                Line {
+                    v_free: -2.01,
+                    w: 0.01,
+                },
+                &st,
+            )
+            .unwrap();
+        assert_eq!((p.v, p.mode), (1.0, Mode::Contact));
+        assert!(p.f < 0.0);
+        // Far from the stop: open.
+        let st = StepState { q: 1.0, ..st };
+        assert_eq!(
+            g.on_line(
+                &rigid,
+                Line {
+                    v_free: -2.01,
+                    w: 0.01
+                },
+                &st
+            )
+            .unwrap()
+            .mode,
+            Mode::Open
+        );
+        // Spring-backed, upper: λ = k (q + h v − L)₊ with v = v_free − w λ.
+        let spring = oscillator(
+            1.0,
+            0.0,
+            [stop(
+                "wall",
+                0,
+                Side::Upper,
+                0.5,
+                StopKind::SpringBacked { stiffness: 1e6 },
+            )],
+            cubic,
+        );
+        let g = Graph::new(&spring, 0).unwrap();
+        let st = StepState {
+            q: 0.5,
+            v: 1.0,
+            h: 0.01,
+            force: 0.0,
+        };
+        let p = g
+            .on_line(
+                &spring,
+                Line {
+                    v_free: 1.0,
+                    w: 0.01,
+                },
+                &st,
+            )
+            .unwrap();
+        assert!(
+            (p.f - 1e6 * (0.5 + 0.01 * p.v - 0.5)).abs() < 1e-6
+                && (p.v - (1.0 - 0.01 * p.f)).abs() < 1e-12
+        );
+        // Invalid parameters name the element.
+        let bad = oscillator(
+            1.0,
+            0.0,
+            [stop(
+                "floor",
+                0,
+                Side::Lower,
+                0.0,
+                StopKind::Rigid { restitution: 1.5 },
+            )],
+            cubic,
+        );
+        match Graph::new(&bad, 0) {
+            Err(LawError::InvalidElement(msg)) => {
+                assert!(msg.contains("floor") && msg.contains("[0, 1]"))
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+}

@@ -1,0 +1,100 @@
+//! What the report runs: default, `--long` or `--tiny`.
+
+use std::path::PathBuf;
+
+use indicatif::{ProgressBar, ProgressStyle};
+
+pub struct Config {
+    pub name: &'static str,
+    /// Timed repetitions per measurement (after one warm-up).
+    pub repeats: usize,
+    /// Tolerances of the adaptive sweeps.
+    pub tolerances: Vec<f64>,
+    /// Steps of the RK4 sweeps (as fractions of the horizon: h = horizon / steps).
+    pub rk4_steps: Vec<usize>,
+    /// Integration horizon scale (1 = the scenes' horizons).
+    pub horizon: f64,
+    /// Calls per kernel timing batch.
+    pub kernel_calls: usize,
+    /// Measure release compile time of each scene (builds temporary crates).
+    pub compile: bool,
+    pub show_progress: bool,
+    pub out_dir: PathBuf,
+}
+
+impl Config {
+    pub fn default_run() -> Config {
+        Config {
+            name: "default",
+            repeats: 5,
+            tolerances: vec![1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10],
+            rk4_steps: vec![100, 200, 400, 800, 1600, 3200, 6400],
+            horizon: 1.0,
+            kernel_calls: 20_000,
+            compile: true,
+            show_progress: true,
+            out_dir: PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                .join("target")
+                .join("report"),
+        }
+    }
+
+    pub fn long() -> Config {
+        Config {
+            name: "long",
+            repeats: 11,
+            tolerances: vec![
+                1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12,
+            ],
+            rk4_steps: vec![100, 200, 400, 800, 1600, 3200, 6400, 12800, 25600],
+            kernel_calls: 200_000,
+            ..Config::default_run()
+        }
+    }
+
+    /// Every code path, tiny sizes: what the tests run.
+    pub fn tiny(out_dir: PathBuf) -> Config {
+        Config {
+            name: "tiny",
+            repeats: 1,
+            tolerances: vec![1e-4, 1e-6],
+            rk4_steps: vec![50, 100],
+            horizon: 0.1,
+            kernel_calls: 10,
+            compile: false,
+            show_progress: false,
+            out_dir,
+        }
+    }
+
+    pub fn from_args(args: impl Iterator<Item = String>) -> Config {
+        let mut config = Config::default_run();
+        for a in args {
+            match a.as_str() {
+                "--long" => config = Config::long(),
+                "--tiny" => config = Config::tiny(config.out_dir.clone()),
+                "--no-compile" => config.compile = false,
+                other => {
+                    eprintln!("unknown argument `{other}`; use --long, --tiny or --no-compile");
+                    std::process::exit(2);
+                }
+            }
+        }
+        config
+    }
+
+    pub fn progress(&self, sections: u64) -> ProgressBar {
+        if !self.show_progress {
+            return ProgressBar::hidden();
+        }
+        let bar = ProgressBar::new(sections);
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} sections — {msg}",
+            )
+            .expect("template"),
+        );
+        bar.enable_steady_tick(std::time::Duration::from_millis(200));
+        bar
+    }
+}

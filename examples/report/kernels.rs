@@ -1,0 +1,268 @@
+//! Kernel costs: ns per call of the generated kernels against the numeric
+//! implementation, operation counts, expansion time and release compile time per scene.
+
+use std::hint::black_box as bb;
+use std::path::Path;
+use std::process::Command;
+use std::time::Instant;
+
+use filippov::Mechanism;
+use filippov::nalgebra::{DVector, SVector};
+use filippov::runtime::numeric;
+use filippov::scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
+
+use super::config::Config;
+use super::markdown::{Page, sci};
+use super::timing::{median, ns_per_call};
+use super::workprecision::Section;
+
+fn row<S: Mechanism<N>, const N: usize>(
+    config: &Config,
+    name: &str,
+    s: &S,
+    rows: &mut Vec<Vec<String>>,
+    summary: &mut Vec<String>,
+) {
+    let q = SVector::<f64, N>::from_fn(|i, _| 0.3 + 0.7 * (i as f64).sin());
+    let v = SVector::<f64, N>::from_fn(|i, _| 0.5 - 0.4 * (i as f64).cos());
+    let tau = SVector::<f64, N>::from_fn(|i, _| 0.2 * i as f64);
+    let model = s.model();
+    let (qd, vd, td) = (
+        DVector::from_column_slice(q.as_slice()),
+        DVector::from_column_slice(v.as_slice()),
+        DVector::from_column_slice(tau.as_slice()),
+    );
+    let (r, c) = (config.repeats.max(3), config.kernel_calls);
+    let m = (
+        ns_per_call(r, c, || s.mass_matrix(bb(&q))),
+        ns_per_call(r, c / 10, || numeric::crba(&model, bb(&qd))),
+    );
+    let cor = (
+        ns_per_call(r, c, || s.coriolis_matrix(bb(&q), bb(&v))),
+        ns_per_call(r, c / 50, || {
+            numeric::coriolis_matrix(&model, bb(&qd), bb(&vd))
+        }),
+    );
+    let g = (
+        ns_per_call(r, c, || s.gravity(bb(&q))),
+        ns_per_call(r, c / 10, || numeric::gravity(&model, bb(&qd))),
+    );
+    let fd = (
+        ns_per_call(r, c, || s.forward_dynamics(bb(&q), bb(&v), bb(&tau))),
+        ns_per_call(r, c / 10, || {
+            numeric::forward_dynamics(&model, bb(&qd), bb(&vd), bb(&td))
+        }),
+    );
+    let jac = ns_per_call(r, c / 4, || {
+        s.forward_dynamics_jacobian(bb(&q), bb(&v), bb(&tau))
+    });
+    let cell = |(a, b): (f64, f64)| format!("{a:.1} / {b:.1} ({:.1}×)", b / a);
+    rows.push(vec![
+        name.into(),
+        N.to_string(),
+        cell(m),
+        cell(cor),
+        cell(g),
+        cell(fd),
+        format!("{jac:.1}"),
+    ]);
+    summary.push(format!(
+        "{name}: generated forward dynamics {:.1} ns vs numeric {:.1} ns per call ({:.1}× faster)",
+        fd.0,
+        fd.1,
+        fd.1 / fd.0
+    ));
+}
+
+pub fn kernels(config: &Config) -> Section {
+    let mut page = Page::empty();
+    let mut rows = Vec::new();
+    let mut summary = Vec::new();
+    row(
+        config,
+        "DoublePendulum",
+        &DoublePendulum::default(),
+        &mut rows,
+        &mut summary,
+    );
+    row(
+        config,
+        "PlanarArm3",
+        &PlanarArm3::default(),
+        &mut rows,
+        &mut summary,
+    );
+    row(
+        config,
+        "BranchedTree",
+        &BranchedTree::default(),
+        &mut rows,
+        &mut summary,
+    );
+    row(config, "Panda", &Panda::default(), &mut rows, &mut summary);
+    page.h2("Kernels: generated against the numeric implementation");
+    page.para(&format!(
+        "ns per call, generated / numeric (speed-up), median of batches of up to {} calls. The numeric implementation \
+         (`runtime::numeric`) is plain RNEA/CRBA over a runtime model with dynamic sizes; its Coriolis matrix uses exact \
+         ∂M/∂q. The same comparison with divan: `cargo bench --bench kernels`.",
+        config.kernel_calls
+    ));
+    page.table(
+        &[
+            "scene",
+            "dof",
+            "M",
+            "C",
+            "g",
+            "forward dynamics",
+            "FD Jacobian (generated)",
+        ],
+        &rows,
+    );
+    Section { page, summary }
+}
+
+fn scene_sources() -> Vec<(String, String)> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/scenes");
+    ["double_pendulum.rs", "arm3.rs", "tree.rs", "panda.rs"]
+        .iter()
+        .map(|f| {
+            (
+                f.to_string(),
+                std::fs::read_to_string(dir.join(f)).expect("scene source"),
+            )
+        })
+        .collect()
+}
+
+fn structs(src: &str) -> Vec<(String, proc_macro2::TokenStream)> {
+    syn::parse_file(src)
+        .expect("parses")
+        .items
+        .into_iter()
+        .filter_map(|i| match i {
+            syn::Item::Struct(s) => {
+                Some((s.ident.to_string(), quote::ToTokens::to_token_stream(&s)))
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+pub fn expansion(config: &Config) -> Section {
+    let mut page = Page::empty();
+    let mut rows = Vec::new();
+    let mut summary = Vec::new();
+    for (_, src) in scene_sources() {
+        for (name, tokens) in structs(&src) {
+            let (t, e) = median(config.repeats.max(3), || {
+                filippov_codegen::expand_with_stats(tokens.clone())
+            });
+            let Ok(e) = e else { continue };
+            let get = |n: &str| e.functions.iter().find(|f| f.name == n).map(|f| f.ops);
+            let ops = |n: &str| {
+                get(n).map_or("—".into(), |o| {
+                    format!("{} / {} / {} / {}", o.add, o.mul, o.div, o.trig)
+                })
+            };
+            rows.push(vec![
+                name.clone(),
+                e.dof.to_string(),
+                format!("{:.2}", t * 1e3),
+                e.graph_nodes.to_string(),
+                ops("mass_matrix"),
+                ops("coriolis_matrix"),
+                ops("gravity"),
+                ops("forward_dynamics"),
+                ops("forward_dynamics_jacobian"),
+            ]);
+            summary.push(format!("{name}: expansion {:.2} ms (median)", t * 1e3));
+        }
+    }
+    page.h2("Expansion and operation counts");
+    page.para("Expansion = the derive's engine on the scene's source (parse, validate, symbolic mechanics, emission), median of repeated runs. Operation counts of the emitted code: add / mul / div / sin-cos pairs, each shared subexpression once.");
+    page.table(
+        &[
+            "scene",
+            "dof",
+            "expansion [ms]",
+            "DAG nodes",
+            "M",
+            "C",
+            "g",
+            "FD",
+            "FD Jacobian",
+        ],
+        &rows,
+    );
+    Section {
+        page,
+        summary: summary
+            .into_iter()
+            .filter(|s| s.starts_with("Panda"))
+            .collect(),
+    }
+}
+
+/// Release compile time of a crate holding one scene, measured by building a temporary
+/// crate twice (the first build compiles the dependencies).
+pub fn compile_times(config: &Config) -> Section {
+    let mut page = Page::empty();
+    page.h2("Release compile time per scene");
+    if !config.compile {
+        page.para("Not measured in this configuration (run the default or `--long` report).");
+        return Section {
+            page,
+            summary: Vec::new(),
+        };
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let work = config.out_dir.join("compile");
+    let mut rows = Vec::new();
+    let mut summary = Vec::new();
+    for (file, src) in scene_sources() {
+        let dir = work.join(file.trim_end_matches(".rs"));
+        let _ = std::fs::create_dir_all(dir.join("src"));
+        let manifest = format!(
+            "[package]\nname = \"scene_{}\"\nversion = \"0.0.0\"\nedition = \"2024\"\n\n[dependencies]\nfilippov = {{ path = {:?} }}\n\n[workspace]\n",
+            file.trim_end_matches(".rs"),
+            root
+        );
+        let _ = std::fs::write(dir.join("Cargo.toml"), manifest);
+        let lib = src.replace("use super::Mechanism;", "use filippov::Mechanism;");
+        let target = work.join("target");
+        let build = |lib: &str| -> Option<f64> {
+            std::fs::write(dir.join("src/lib.rs"), lib).ok()?;
+            let t = Instant::now();
+            let ok = Command::new(env!("CARGO"))
+                .args(["build", "--release", "--quiet"])
+                .current_dir(&dir)
+                .env("CARGO_TARGET_DIR", &target)
+                .status()
+                .ok()?
+                .success();
+            ok.then(|| t.elapsed().as_secs_f64())
+        };
+        // Dependencies first, then timed rebuilds of the scene crate alone.
+        if build(&lib).is_none() {
+            rows.push(vec![file.clone(), "**build failed**".into()]);
+            continue;
+        }
+        let mut times: Vec<f64> = (0..3)
+            .filter_map(|i| build(&format!("{lib}\n// rebuild {i}\n")))
+            .collect();
+        times.sort_by(f64::total_cmp);
+        if let Some(t) = times.get(times.len() / 2) {
+            rows.push(vec![file.clone(), format!("{t:.2}")]);
+            if file == "panda.rs" {
+                summary.push(format!(
+                    "Panda: release compile of the scene's crate {t:.2} s (median of 3)"
+                ));
+            }
+        }
+    }
+    page.para("`cargo build --release` of a crate holding only the scene (dependencies prebuilt), median of 3 rebuilds.");
+    page.table(&["scene file", "release compile [s]"], &rows);
+    let _ = sci(0.0);
+    Section { page, summary }
+}

@@ -1,0 +1,78 @@
+//! A small Markdown page builder.
+
+pub struct Page {
+    text: String,
+}
+
+impl Page {
+    pub fn new(title: &str) -> Page {
+        Page {
+            text: format!("# {title}\n\n"),
+        }
+    }
+
+    pub fn empty() -> Page {
+        Page {
+            text: String::new(),
+        }
+    }
+
+    pub fn h2(&mut self, t: &str) {
+        self.text += &format!("## {t}\n\n");
+    }
+
+    pub fn h3(&mut self, t: &str) {
+        self.text += &format!("### {t}\n\n");
+    }
+
+    pub fn para(&mut self, t: &str) {
+        self.text += &format!("{t}\n\n");
+    }
+
+    pub fn bullets(&mut self, items: &[String]) {
+        for i in items {
+            self.text += &format!("- {i}\n");
+        }
+        self.text += "\n";
+    }
+
+    pub fn table(&mut self, header: &[&str], rows: &[Vec<String>]) {
+        self.text += &format!("| {} |\n", header.join(" | "));
+        self.text += &format!("|{}\n", "---|".repeat(header.len()));
+        for r in rows {
+            self.text += &format!("| {} |\n", r.join(" | "));
+        }
+        self.text += "\n";
+    }
+
+    pub fn image(&mut self, alt: &str, file: &str) {
+        self.text += &format!("![{alt}]({file})\n\n");
+    }
+
+    pub fn code(&mut self, t: &str) {
+        self.text += &format!("```text\n{t}\n```\n\n");
+    }
+
+    pub fn append(&mut self, other: Page) {
+        self.text += &other.text;
+    }
+
+    pub fn finish(self) -> String {
+        self.text
+    }
+}
+
+/// `1.23e-4` style for errors, plain for moderate numbers.
+pub fn sci(x: f64) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    if x.abs() < 1e-2 || x.abs() >= 1e5 {
+        format!("{x:.2e}")
+    } else {
+        format!("{x:.3}")
+    }
+}

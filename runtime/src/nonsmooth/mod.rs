@@ -19,3 +19,6 @@ mod problem;
 pub use element::*;
 pub use problem::*;
 pub mod law;
+mod timestepping;
+
+pub use timestepping::time_stepping;

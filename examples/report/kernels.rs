@@ -229,7 +229,7 @@ pub fn compile_times(config: &Config) -> Section {
             root
         );
         let _ = std::fs::write(dir.join("Cargo.toml"), manifest);
-        let lib = src.replace("use super::Mechanism;", "use filippov::Mechanism;");
+        let lib = src.replace("use crate::Mechanism;", "use filippov::Mechanism;");
         let target = work.join("target");
         let build = |lib: &str| -> Option<f64> {
             std::fs::write(dir.join("src/lib.rs"), lib).ok()?;

@@ -436,3 +436,58 @@ mod nonsmooth {
         );
     }
 }
+
+/// `validate()` accepts the canonical parameters and names every bad one.
+#[test]
+fn validate_names_bad_parameters() {
+    use filippov::scenes::{BouncingBall, CoulombOscillator, SupportedStop};
+    assert_eq!(DoublePendulum::default().validate(), Ok(()));
+    assert_eq!(Panda::default().validate(), Ok(()));
+    assert_eq!(BranchedTree::default().validate(), Ok(()));
+    let bad = DoublePendulum {
+        m1: -1.0,
+        l2: f64::NAN,
+        ..DoublePendulum::default()
+    };
+    let err = bad.validate().expect_err("negative mass and NaN length");
+    let text = err.to_string();
+    assert!(text.contains("mass of body `upper` (`m1`)"), "{text}");
+    assert!(text.contains("field `l2`"), "{text}");
+    assert!(err.problems.len() >= 2, "{err:?}");
+    let c = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: -0.1,
+    };
+    assert!(
+        c.validate()
+            .expect_err("negative f_crit")
+            .to_string()
+            .contains("f_crit of `friction_x`")
+    );
+    let s = SupportedStop {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+        eta: 0.2,
+        l: 0.5,
+        k_support: 0.0,
+    };
+    assert!(
+        s.validate()
+            .expect_err("zero support stiffness")
+            .to_string()
+            .contains("k_support of `stop_x`")
+    );
+    let b = BouncingBall {
+        m: 1.0,
+        g: 9.81,
+        e: 1.5,
+    };
+    assert!(
+        b.validate()
+            .expect_err("restitution")
+            .to_string()
+            .contains("restitution of `stop_x`")
+    );
+}

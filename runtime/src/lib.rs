@@ -42,5 +42,5 @@ pub use method::{Dopri5, Method, Rk4, Sdirk4, solve};
 pub use options::Options;
 pub use problem::{FnSystem, OdeSystem, Problem};
 pub use stats::Stats;
-pub use system::{ForwardJacobian, Mechanism};
+pub use system::{ForwardJacobian, Mechanism, ParameterError};
 pub use trajectory::{Interpolant, Trajectory};

@@ -63,6 +63,29 @@ impl PExpr {
         }
     }
 
+    /// The expression as the user would read it (fields by name).
+    pub fn display(&self, params: &[Ident]) -> String {
+        match self {
+            PExpr::Const(c) => format!("{c}"),
+            PExpr::Param(i) => params[*i as usize].to_string(),
+            PExpr::Var => "f".into(),
+            PExpr::Neg(x) => format!("-{}", x.display_atom(params)),
+            PExpr::Bin(op, a, b) => {
+                format!("{} {op} {}", a.display_atom(params), b.display_atom(params))
+            }
+            PExpr::Call(f, x) => {
+                format!("{}({})", format!("{f:?}").to_lowercase(), x.display(params))
+            }
+        }
+    }
+
+    fn display_atom(&self, params: &[Ident]) -> String {
+        match self {
+            PExpr::Bin(..) | PExpr::Neg(_) => format!("({})", self.display(params)),
+            _ => self.display(params),
+        }
+    }
+
     /// Adds the expression to the graph.
     pub fn lower(&self, g: &mut Graph) -> Id {
         match self {

@@ -6,6 +6,7 @@ pub mod describe;
 pub mod fallback;
 pub mod function;
 pub mod nonsmooth;
+pub mod validate;
 
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
@@ -184,6 +185,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         .map(|s| Literal::string(s))
         .collect();
     let describe = describe::model_fn(model);
+    let validate = validate::validate_fn(model);
     let inputs = inputs_items(model, n);
     let (nonsmooth, ns_helpers) = nonsmooth::nonsmooth_impl(model, k, &mut stats);
     helpers.extend(ns_helpers);
@@ -191,6 +193,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         impl ::filippov::runtime::system::Mechanism<#n> for #ident {
             const JOINTS: [&'static str; #n] = [#(#names),*];
             #methods
+            #validate
             #describe
         }
         #nonsmooth

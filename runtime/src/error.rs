@@ -18,6 +18,12 @@ pub enum ErrorKind {
     MaxSteps { t: f64 },
     /// The problem or the options are invalid; nothing was integrated.
     InvalidInput(String),
+    /// The initial state of a non-smooth problem violates an element's law and cannot
+    /// be repaired (penetrating a rigid stop, a given stuck force beyond `f_crit`).
+    InconsistentInitialData(String),
+    /// At time `t` no mode, or more than one, of the switching elements is consistent
+    /// (Painlevé-type or non-unique); `detail` names the candidates.
+    IllPosedMode { t: f64, detail: String },
 }
 
 impl fmt::Display for ErrorKind {
@@ -37,6 +43,12 @@ impl fmt::Display for ErrorKind {
             }
             ErrorKind::MaxSteps { t } => write!(f, "maximum number of steps reached at t = {t}"),
             ErrorKind::InvalidInput(msg) => write!(f, "invalid input: {msg}"),
+            ErrorKind::InconsistentInitialData(msg) => {
+                write!(f, "inconsistent initial data: {msg}")
+            }
+            ErrorKind::IllPosedMode { t, detail } => {
+                write!(f, "no unique consistent mode at t = {t}: {detail}")
+            }
         }
     }
 }

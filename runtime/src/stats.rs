@@ -19,6 +19,15 @@ pub struct Stats {
     pub lu_factorisations: usize,
     /// Simplified-Newton iterations (each one linear solve and one rhs evaluation).
     pub newton_iterations: usize,
+    /// Event-driven non-smooth integration: located switching instants.
+    pub events: usize,
+    /// Element mode changes at those instants (several per event when elements switch
+    /// together).
+    pub mode_changes: usize,
+    /// Spans of accumulating events (Zeno, chattering) detected.
+    pub zeno_detected: usize,
+    /// Of those, spans handed to time-stepping (then back to event-driven).
+    pub zeno_handovers: usize,
 }
 
 impl fmt::Display for Stats {
@@ -33,6 +42,14 @@ impl fmt::Display for Stats {
             self.finite_difference_jacobians,
             self.lu_factorisations,
             self.newton_iterations
-        )
+        )?;
+        if self.events > 0 || self.zeno_detected > 0 {
+            write!(
+                f,
+                ", events {}, mode changes {}, Zeno spans {} (handed over {})",
+                self.events, self.mode_changes, self.zeno_detected, self.zeno_handovers
+            )?;
+        }
+        Ok(())
     }
 }

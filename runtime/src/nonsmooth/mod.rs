@@ -14,9 +14,14 @@
 //! [`NonSmooth::inverse_mass_matrix`] at their coordinates.
 
 mod element;
+mod event;
+mod mode;
 mod problem;
+pub mod rootfind;
 
 pub use element::*;
+pub use event::{event_driven, solve_nonsmooth};
+pub use mode::Mode;
 pub use problem::*;
 pub mod law;
 mod timestepping;

@@ -1,0 +1,764 @@
+//! Event-driven integration of mechanisms with non-smooth elements on joint
+//! coordinates (theory.md §1, §3).
+//!
+//! Design:
+//!
+//! * **Modes.** Every element is in one [`Mode`]; inside a mode assignment the
+//!   dynamics are a smooth ODE in `(q, v)` ([`mode`](super::mode): slip forces as
+//!   functions of the velocity, stuck/contact forces from the Delassus system, the
+//!   constrained coordinates frozen exactly: their derivatives are `0.0`, so `q_c` and
+//!   `v_c = 0.0` do not move by a single bit).
+//! * **Between switches** the smooth method (DOPRI5 for non-stiff problems, SDIRK4 for
+//!   stiff ones) integrates that ODE in windows of at most [`WINDOW_STEPS`] step
+//!   attempts, continuing with the step size it had reached.
+//! * **Events.** Each element has a switching function, positive while its mode holds
+//!   (stick: `f_crit − |f|`; slip: `±v_c`; free stop: gap; contact: `λ`; compressed:
+//!   penetration). Inside every accepted step the functions are sampled on the dense
+//!   output (DOPRI5's continuous extension; cubic Hermite for SDIRK4) at
+//!   [`SAMPLES`] points; a sign change is located by the Anderson–Björck root finder
+//!   ([`rootfind`](super::rootfind)) to `TIME_TOL` relative in time, and the
+//!   integration restarts exactly at the first time past the root.
+//! * **Transitions.** At the event the switching elements are updated (a slipping
+//!   velocity that reached zero is set to `0.0`; a rigid stop applies Newton's impact law
+//!   `v⁺_c = −e v⁻_c` through the generalised impulse `−M⁻¹ e_c P`; a spring-backed stop
+//!   toggles free/compressed) and the modes of all elements at rest on a switching
+//!   surface (dash-pots with `v_c = 0`, rigid stops closed at rest) are *selected*:
+//!   every combination of their candidate modes is evaluated and the unique consistent
+//!   one is taken ([`mode::select`](super::mode)), otherwise
+//!   [`ErrorKind::IllPosedMode`]. The old mode of an element whose switching function
+//!   fired is not a candidate.
+//! * **Initialisation** selects the initial modes the same way; a state that penetrates
+//!   a rigid stop or a given stuck force with `|f| > f_crit` is
+//!   [`ErrorKind::InconsistentInitialData`]. Given forces (`forces0`) are checked
+//!   against the bounds; where the state determines the force (always, for independent
+//!   constraints) the determined value is what the trajectory shows.
+//! * **Accumulating events.** If event gaps shrink geometrically ([`ZENO_GEOMETRIC`]
+//!   gaps each at most [`ZENO_RATIO`] times the previous: a Zeno point) or
+//!   [`ZENO_EVENTS`] events fall in a span shorter than [`ZENO_SPAN`] of the
+//!   integration interval (chattering), the span is counted in
+//!   [`Stats::zeno_detected`], handed to [`time_stepping`] (θ = 1, [`HANDOVER_STEPS`]
+//!   fixed steps over three times the extrapolated remaining Zeno time, or twice the
+//!   cluster's duration), counted in [`Stats::zeno_handovers`], and the event-driven
+//!   integration resumes from its final state with a fresh consistent initialisation.
+//!
+//! The output has the components `q<i>`, `v<i>` and `f_<element>`; at every event two
+//! rows share the event time (before and after the switch), so jumps show in plots.
+//! It interpolates with cubic Hermite (the force rows with zero slopes).
+//!
+//! Not supported: non-monotone laws (fold and plateau modes; rejected with
+//! [`ErrorKind::InvalidInput`]), two constrained elements on one coordinate (their
+//! Delassus matrix is singular), impacts of several stops at the same instant (applied
+//! one after the other).
+
+use std::collections::VecDeque;
+
+use nalgebra::SVector;
+
+use super::mode::{self, Choices, Mode};
+use super::rootfind::find_root;
+use super::time_stepping;
+use super::{ElementKind, NonSmooth, NonSmoothMethod, NonSmoothProblem, SmoothMethod, StopKind};
+use crate::nonsmooth::Element;
+use crate::{
+    Dopri5, ErrorKind, Interpolant, OdeSystem, Options, Problem, Sdirk4, SolveError, Stats,
+    Trajectory,
+};
+
+/// Step attempts per call of the smooth method before the events are checked.
+pub const WINDOW_STEPS: usize = 12;
+/// Samples of the switching functions per accepted step (the last at the step's end).
+pub const SAMPLES: usize = 4;
+/// Relative width in time of a located event bracket.
+pub const TIME_TOL: f64 = 1e-12;
+/// Chattering: this many events …
+pub const ZENO_EVENTS: usize = 50;
+/// … within this fraction of `tf − t0`.
+pub const ZENO_SPAN: f64 = 1e-3;
+/// Zeno: this many consecutive event gaps, each …
+pub const ZENO_GEOMETRIC: usize = 10;
+/// … at most this fraction of the previous one.
+pub const ZENO_RATIO: f64 = 0.9;
+/// Fixed steps of the time-stepping that takes over a span of accumulating events.
+pub const HANDOVER_STEPS: usize = 200;
+/// Events at one and the same instant before the mode selection counts as cycling.
+const SAME_TIME_EVENTS: usize = 20;
+
+/// Integrates `problem` with the chosen non-smooth method.
+pub fn solve_nonsmooth<S, F, const N: usize>(
+    system: &S,
+    input: &F,
+    problem: &NonSmoothProblem<N>,
+    method: &NonSmoothMethod,
+) -> Result<Trajectory, SolveError>
+where
+    S: NonSmooth<N>,
+    F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
+{
+    match *method {
+        NonSmoothMethod::EventDriven { method, options } => {
+            event_driven(system, input, problem, method, &options)
+        }
+        NonSmoothMethod::TimeStepping { h, theta } => {
+            time_stepping(system, input, problem, h, theta)
+        }
+    }
+}
+
+/// Event-driven integration (see the module documentation). `input(t, q, v)` gives the
+/// applied generalised forces `τ`.
+pub fn event_driven<S, F, const N: usize>(
+    system: &S,
+    input: &F,
+    problem: &NonSmoothProblem<N>,
+    method: SmoothMethod,
+    options: &Options,
+) -> Result<Trajectory, SolveError>
+where
+    S: NonSmooth<N>,
+    F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
+{
+    let out = Trajectory::new(names::<S, N>(system), Interpolant::Hermite);
+    let elements: Vec<Element> = (0..S::ELEMENTS).map(|e| system.element(e)).collect();
+    let mut driver = Driver {
+        system,
+        input,
+        elements,
+        modes: Vec::new(),
+        t: problem.t0,
+        q: problem.q0,
+        v: problem.v0,
+        out,
+        event_times: VecDeque::new(),
+        method,
+        options: *options,
+        span: problem.tf - problem.t0,
+    };
+    if let Err(msg) = driver.validate(problem) {
+        driver.out.stats = Stats::default();
+        return Err(SolveError {
+            kind: ErrorKind::InvalidInput(msg),
+            trajectory: Box::new(driver.out),
+        });
+    }
+    match driver.run(problem) {
+        Ok(()) => Ok(driver.out),
+        Err(kind) => Err(SolveError {
+            kind,
+            trajectory: Box::new(driver.out),
+        }),
+    }
+}
+
+fn names<S: NonSmooth<N>, const N: usize>(system: &S) -> Vec<String> {
+    let mut names: Vec<String> = (0..N).map(|i| format!("q{i}")).collect();
+    names.extend((0..N).map(|i| format!("v{i}")));
+    names.extend((0..S::ELEMENTS).map(|e| format!("f_{}", system.element(e).name)));
+    names
+}
+
+/// The smooth ODE `(q̇, v̇) = (v, a)` of one mode assignment.
+struct ModeSystem<'a, S, F, const N: usize> {
+    system: &'a S,
+    input: &'a F,
+    elements: &'a [Element],
+    modes: &'a [Mode],
+}
+
+impl<S, F, const N: usize> OdeSystem for ModeSystem<'_, S, F, N>
+where
+    S: NonSmooth<N>,
+    F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
+{
+    fn dim(&self) -> usize {
+        2 * N
+    }
+
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let q = SVector::<f64, N>::from_column_slice(&y[..N]);
+        let v = SVector::<f64, N>::from_column_slice(&y[N..]);
+        let tau = (self.input)(t, &q, &v);
+        match mode::evaluate(self.system, self.elements, self.modes, &q, &v, &tau) {
+            Some(ev) => {
+                dy[..N].copy_from_slice(v.as_slice());
+                dy[N..].copy_from_slice(ev.a.as_slice());
+            }
+            // Dependent constraints: reported by the smooth method as non-finite.
+            None => dy.fill(f64::NAN),
+        }
+    }
+}
+
+/// One event-driven integration in progress.
+struct Driver<'a, S, F, const N: usize> {
+    system: &'a S,
+    input: &'a F,
+    elements: Vec<Element>,
+    modes: Vec<Mode>,
+    t: f64,
+    q: SVector<f64, N>,
+    v: SVector<f64, N>,
+    out: Trajectory,
+    /// Times of the recent events, for the Zeno test.
+    event_times: VecDeque<f64>,
+    method: SmoothMethod,
+    options: Options,
+    span: f64,
+}
+
+/// A located event: the interval of the smooth window it lies in, its time (the first
+/// time past the root) and the elements whose switching functions fired.
+struct Located {
+    interval: usize,
+    t: f64,
+    triggered: Vec<usize>,
+}
+
+impl<S, F, const N: usize> Driver<'_, S, F, N>
+where
+    S: NonSmooth<N>,
+    F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
+{
+    fn validate(&self, problem: &NonSmoothProblem<N>) -> Result<(), String> {
+        self.options.validate()?;
+        if !problem.t0.is_finite() || !problem.tf.is_finite() || problem.tf < problem.t0 {
+            return Err(format!(
+                "need finite t0 ≤ tf (t0 = {}, tf = {})",
+                problem.t0, problem.tf
+            ));
+        }
+        if let Some(i) = problem
+            .q0
+            .iter()
+            .chain(problem.v0.iter())
+            .position(|x| !x.is_finite())
+        {
+            return Err(format!("initial state component {i} is not finite"));
+        }
+        if !problem.forces0.is_empty() && problem.forces0.len() != self.elements.len() {
+            return Err(format!(
+                "forces0 has {} entries for {} elements",
+                problem.forces0.len(),
+                self.elements.len()
+            ));
+        }
+        if let Some(f) = problem.forces0.iter().flatten().find(|f| !f.is_finite()) {
+            return Err(format!("initial force {f} is not finite"));
+        }
+        for el in &self.elements {
+            mode::validate_element(el, N)?;
+        }
+        Ok(())
+    }
+
+    fn run(&mut self, problem: &NonSmoothProblem<N>) -> Result<(), ErrorKind> {
+        self.initialise(problem)?;
+        let tf = problem.tf;
+        let mut h0: Option<f64> = None;
+        let mut stalls = 0;
+        while self.t < tf {
+            let used = self.out.stats.steps + self.out.stats.rejected_steps;
+            if used >= self.options.max_steps {
+                return Err(ErrorKind::MaxSteps { t: self.t });
+            }
+            let inner = self.smooth_window(tf, h0)?;
+            let n = inner.len();
+            if n < 2 {
+                stalls += 1;
+                if stalls > 3 {
+                    return Err(ErrorKind::StepSizeUnderflow {
+                        t: self.t,
+                        h: h0.unwrap_or(0.0),
+                    });
+                }
+                h0 = None;
+                continue;
+            }
+            stalls = 0;
+            match self.scan(&inner) {
+                None => {
+                    for i in 1..n {
+                        self.push_inner(&inner, i)?;
+                    }
+                    let times = inner.times();
+                    h0 = Some(times[n - 1] - times[n - 2]);
+                    let (t, y) = inner.last().expect("n ≥ 2");
+                    self.set_state(t, y);
+                }
+                Some(event) => {
+                    for i in 1..=event.interval {
+                        self.push_inner(&inner, i)?;
+                    }
+                    let y = inner.at(event.t).expect("event inside the window");
+                    self.transition(event.t, &y, &event.triggered)?;
+                    if let Some(end) = self.check_accumulation(tf)? {
+                        self.hand_over(end)?;
+                    }
+                    h0 = None;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn set_state(&mut self, t: f64, y: &[f64]) {
+        self.t = t;
+        self.q = SVector::from_column_slice(&y[..N]);
+        self.v = SVector::from_column_slice(&y[N..2 * N]);
+    }
+
+    /// Appends stored point `i` of a smooth window to the output.
+    fn push_inner(&mut self, inner: &Trajectory, i: usize) -> Result<(), ErrorKind> {
+        let y = inner.state(i);
+        let q = SVector::from_column_slice(&y[..N]);
+        let v = SVector::from_column_slice(&y[N..]);
+        self.push_row(inner.times()[i], &q, &v)
+    }
+
+    /// Appends `(q, v, f)` at `t` in the current modes.
+    fn push_row(
+        &mut self,
+        t: f64,
+        q: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+    ) -> Result<(), ErrorKind> {
+        let tau = (self.input)(t, q, v);
+        let ev = mode::evaluate(self.system, &self.elements, &self.modes, q, v, &tau).ok_or_else(
+            || ErrorKind::IllPosedMode {
+                t,
+                detail: "constraints of the current modes are dependent".into(),
+            },
+        )?;
+        let mut y: Vec<f64> = q.iter().chain(v.iter()).copied().collect();
+        y.extend_from_slice(&ev.f);
+        let mut dy: Vec<f64> = v.iter().chain(ev.a.iter()).copied().collect();
+        dy.extend(std::iter::repeat_n(0.0, ev.f.len()));
+        self.out.push(t, &y, &dy);
+        Ok(())
+    }
+
+    /// Runs the smooth method in the current modes for at most [`WINDOW_STEPS`] step
+    /// attempts (fewer if it reaches `tf`).
+    fn smooth_window(&mut self, tf: f64, h0: Option<f64>) -> Result<Trajectory, ErrorKind> {
+        let system = ModeSystem {
+            system: self.system,
+            input: self.input,
+            elements: &self.elements,
+            modes: &self.modes,
+        };
+        let y0: Vec<f64> = self.q.iter().chain(self.v.iter()).copied().collect();
+        let problem = Problem::new(self.t, tf, y0);
+        let options = Options {
+            max_steps: WINDOW_STEPS,
+            h0: h0.map(|h| h.min(tf - self.t)).filter(|h| *h > 0.0),
+            ..self.options
+        };
+        let result = match self.method {
+            SmoothMethod::Dopri5 => Dopri5::new(options).solve(&system, &problem),
+            SmoothMethod::Sdirk4 => Sdirk4::new(options).solve(&system, &problem),
+        };
+        let (inner, failure) = match result {
+            Ok(traj) => (traj, None),
+            Err(err) => match err.kind {
+                ErrorKind::MaxSteps { .. } => (*err.trajectory, None),
+                kind => (*err.trajectory, Some(kind)),
+            },
+        };
+        add_stats(&mut self.out.stats, &inner.stats);
+        match failure {
+            Some(kind) => Err(kind),
+            None => Ok(inner),
+        }
+    }
+
+    /// Switching function values of all elements at state `y` (`q, v`) and time `t`.
+    fn switching_all(&self, t: f64, y: &[f64]) -> Vec<f64> {
+        let q = SVector::<f64, N>::from_column_slice(&y[..N]);
+        let v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
+        let tau = (self.input)(t, &q, &v);
+        match mode::evaluate(self.system, &self.elements, &self.modes, &q, &v, &tau) {
+            Some(ev) => self
+                .elements
+                .iter()
+                .enumerate()
+                .map(|(e, el)| {
+                    let c = el.coordinate;
+                    mode::switching(el, self.modes[e], q[c], v[c], ev.f[e])
+                })
+                .collect(),
+            None => vec![f64::NAN; self.elements.len()],
+        }
+    }
+
+    /// The first event in a smooth window, if any.
+    ///
+    /// A switching function is *armed* once it has been seen positive in its mode; an
+    /// armed function fires when it reaches `≤ 0`, an unarmed one (entered on its
+    /// boundary) when it goes below zero, with the bracket starting at the window start.
+    fn scan(&self, inner: &Trajectory) -> Option<Located> {
+        let m = self.elements.len();
+        if m == 0 {
+            return None;
+        }
+        let times = inner.times();
+        let g0 = self.switching_all(times[0], inner.state(0));
+        let mut armed: Vec<bool> = g0.iter().map(|g| *g > 0.0).collect();
+        let mut last_positive: Vec<(f64, f64)> = g0
+            .iter()
+            .map(|g| (times[0], if *g > 0.0 { *g } else { f64::MIN_POSITIVE }))
+            .collect();
+        for i in 0..times.len() - 1 {
+            let (ta, tb) = (times[i], times[i + 1]);
+            for s in 1..=SAMPLES {
+                let (ts, y) = if s == SAMPLES {
+                    (tb, inner.state(i + 1).to_vec())
+                } else {
+                    let ts = ta + (tb - ta) * s as f64 / SAMPLES as f64;
+                    (ts, inner.at(ts).expect("inside the window"))
+                };
+                let g = self.switching_all(ts, &y);
+                let fired: Vec<usize> = (0..m)
+                    .filter(|&e| (armed[e] && g[e] <= 0.0) || g[e] < 0.0)
+                    .collect();
+                if fired.is_empty() {
+                    for e in 0..m {
+                        if g[e] > 0.0 {
+                            armed[e] = true;
+                            last_positive[e] = (ts, g[e]);
+                        }
+                    }
+                    continue;
+                }
+                let xtol = TIME_TOL * ts.abs().max(1.0);
+                let brackets: Vec<(usize, f64, f64)> = fired
+                    .iter()
+                    .map(|&e| {
+                        let (a, ga) = last_positive[e];
+                        let r = find_root(
+                            |t| {
+                                let y = inner.at(t).expect("inside the window");
+                                self.switching_all(t, &y)[e]
+                            },
+                            a,
+                            ts,
+                            ga,
+                            g[e],
+                            xtol,
+                        );
+                        (e, r.lo, r.hi)
+                    })
+                    .collect();
+                let t_event = brackets.iter().map(|b| b.2).fold(f64::INFINITY, f64::min);
+                let triggered = brackets
+                    .iter()
+                    .filter(|b| b.1 < t_event || b.2 == t_event)
+                    .map(|b| b.0)
+                    .collect();
+                return Some(Located {
+                    interval: i,
+                    t: t_event,
+                    triggered,
+                });
+            }
+        }
+        None
+    }
+
+    /// Applies the transitions of the `triggered` elements at `t` (state `y` before
+    /// the switch), selects the new modes, and records both rows.
+    fn transition(&mut self, t: f64, y: &[f64], triggered: &[usize]) -> Result<(), ErrorKind> {
+        let mut q = SVector::<f64, N>::from_column_slice(&y[..N]);
+        let mut v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
+        self.push_row(t, &q, &v)?;
+        let old = self.modes.clone();
+        let mut excluded: Vec<Option<Mode>> = vec![None; self.elements.len()];
+        let mut jumped = false;
+        for &e in triggered {
+            let el = self.elements[e];
+            let c = el.coordinate;
+            match (el.kind, self.modes[e]) {
+                (ElementKind::DashPot { .. }, Mode::SlipPos | Mode::SlipNeg) => {
+                    v[c] = 0.0;
+                    excluded[e] = Some(self.modes[e]);
+                }
+                (
+                    ElementKind::Stop {
+                        kind: StopKind::Rigid { restitution },
+                        position,
+                        side,
+                    },
+                    Mode::Free,
+                ) => {
+                    q[c] = position;
+                    // Approaching: gap rate −s v_c < 0.
+                    if mode::side_sign(side) * v[c] > 0.0 {
+                        self.impact(&q, &mut v, c, restitution);
+                        jumped = true;
+                    }
+                }
+                (
+                    ElementKind::Stop {
+                        kind: StopKind::SpringBacked { .. },
+                        ..
+                    },
+                    m,
+                ) => {
+                    self.modes[e] = if m == Mode::Compressed {
+                        Mode::Free
+                    } else {
+                        Mode::Compressed
+                    };
+                }
+                (_, m) => excluded[e] = Some(m),
+            }
+        }
+        self.select_modes(t, &mut q, &mut v, &excluded, jumped)?;
+        let changes = old.iter().zip(&self.modes).filter(|(a, b)| a != b).count();
+        self.out.stats.events += 1;
+        self.out.stats.mode_changes += changes;
+        self.t = t;
+        self.q = q;
+        self.v = v;
+        self.push_row(t, &q, &v)
+    }
+
+    /// Newton's impact law at coordinate `c`: the generalised impulse `P e_c` with
+    /// `v⁺ = v⁻ − M⁻¹ e_c P` and `v⁺_c = −e v⁻_c` (the other coordinates move with the
+    /// impulse through the coupling of `M`; bounded element forces carry no impulse).
+    fn impact(&self, q: &SVector<f64, N>, v: &mut SVector<f64, N>, c: usize, restitution: f64) {
+        let w = self.system.inverse_mass_matrix(q);
+        let before = v[c];
+        let p = (1.0 + restitution) * before / w[(c, c)];
+        *v -= w.column(c) * p;
+        v[c] = -restitution * before;
+    }
+
+    /// Re-selects the modes of every element at rest on a switching surface
+    /// (dash-pots with `v_c = 0`, rigid stops closed with `v_c = 0`), excluding the
+    /// modes just left; after a velocity jump, dash-pots that now move slip that way.
+    fn select_modes(
+        &mut self,
+        t: f64,
+        q: &mut SVector<f64, N>,
+        v: &mut SVector<f64, N>,
+        excluded: &[Option<Mode>],
+        jumped: bool,
+    ) -> Result<(), ErrorKind> {
+        let mut choices: Choices = Vec::new();
+        for (e, el) in self.elements.iter().enumerate() {
+            let c = el.coordinate;
+            let at_rest_on_surface = match el.kind {
+                ElementKind::DashPot { .. } => v[c] == 0.0,
+                ElementKind::Stop {
+                    kind: StopKind::Rigid { .. },
+                    ..
+                } => mode::gap(el, q[c]) <= 0.0 && v[c] == 0.0,
+                ElementKind::Stop { .. } => false,
+            };
+            if at_rest_on_surface {
+                let cands = mode::candidates(el)
+                    .iter()
+                    .copied()
+                    .filter(|m| Some(*m) != excluded[e])
+                    .collect();
+                choices.push((e, cands));
+            } else if jumped || matches!(self.modes[e], Mode::Stick | Mode::Contact) {
+                // Moving off a surface: the direction decides.
+                self.modes[e] = match el.kind {
+                    ElementKind::DashPot { .. } if v[c] > 0.0 => Mode::SlipPos,
+                    ElementKind::DashPot { .. } => Mode::SlipNeg,
+                    ElementKind::Stop {
+                        kind: StopKind::Rigid { .. },
+                        ..
+                    } => Mode::Free,
+                    _ => self.modes[e],
+                };
+            }
+        }
+        let tau = (self.input)(t, q, v);
+        self.modes = mode::select(
+            self.system,
+            &self.elements,
+            &self.modes,
+            &choices,
+            q,
+            v,
+            &tau,
+        )
+        .map_err(|detail| ErrorKind::IllPosedMode { t, detail })?;
+        for (e, el) in self.elements.iter().enumerate() {
+            if let (Mode::Contact, ElementKind::Stop { position, .. }) = (self.modes[e], el.kind) {
+                q[el.coordinate] = position;
+            }
+        }
+        Ok(())
+    }
+
+    /// Consistent initial modes (see the module documentation) and the first row.
+    fn initialise(&mut self, problem: &NonSmoothProblem<N>) -> Result<(), ErrorKind> {
+        let (mut q, mut v) = (problem.q0, problem.v0);
+        for (e, el) in self.elements.iter().enumerate() {
+            let Some(f) = problem.forces0.get(e).copied().flatten() else {
+                continue;
+            };
+            match el.kind {
+                ElementKind::DashPot { f_crit, .. } if f.abs() > f_crit * (1.0 + 1e-12) => {
+                    return Err(ErrorKind::InconsistentInitialData(format!(
+                        "element `{}`: the given force {f} exceeds f_crit = {f_crit}",
+                        el.name
+                    )));
+                }
+                ElementKind::Stop { side, .. } if mode::side_sign(side) * f < 0.0 => {
+                    return Err(ErrorKind::InconsistentInitialData(format!(
+                        "stop `{}`: the given force {f} pulls (a stop can only push)",
+                        el.name
+                    )));
+                }
+                _ => {}
+            }
+        }
+        let mut modes = Vec::with_capacity(self.elements.len());
+        for el in &self.elements {
+            let c = el.coordinate;
+            let g = mode::gap(el, q[c]);
+            let m = match el.kind {
+                ElementKind::DashPot { .. } => Mode::Stick,
+                ElementKind::Stop {
+                    kind: StopKind::Rigid { restitution },
+                    position,
+                    side,
+                } => {
+                    let slack = 1e-12 * (1.0 + position.abs());
+                    if g < -slack {
+                        return Err(ErrorKind::InconsistentInitialData(format!(
+                            "coordinate {c} = {} penetrates the rigid stop `{}` at {position}",
+                            q[c], el.name
+                        )));
+                    }
+                    if g <= 0.0 {
+                        q[c] = position;
+                        if mode::side_sign(side) * v[c] > 0.0 {
+                            self.impact(&q, &mut v, c, restitution);
+                        }
+                    }
+                    Mode::Free
+                }
+                ElementKind::Stop { side, .. } => {
+                    if g < 0.0 || (g == 0.0 && mode::side_sign(side) * v[c] > 0.0) {
+                        Mode::Compressed
+                    } else {
+                        Mode::Free
+                    }
+                }
+            };
+            modes.push(m);
+        }
+        self.modes = modes;
+        let none = vec![None; self.elements.len()];
+        // Dash-pots that move slip their way; the ones at rest are selected.
+        self.select_modes(problem.t0, &mut q, &mut v, &none, true)
+            .map_err(|kind| match kind {
+                ErrorKind::IllPosedMode { detail, .. } => ErrorKind::InconsistentInitialData(
+                    format!("no unique consistent initial mode: {detail}"),
+                ),
+                other => other,
+            })?;
+        self.t = problem.t0;
+        self.q = q;
+        self.v = v;
+        self.push_row(problem.t0, &q, &v)
+    }
+
+    /// Zeno / chattering test after an event (see the module documentation): the end
+    /// of the span to hand over to time-stepping, if events accumulate.
+    ///
+    /// Geometric gaps `g, r g, r² g, …` accumulate at `t + g r/(1 − r)`; the span
+    /// handed over is three times that remainder. A dense cluster of events is handed
+    /// over for twice the time it took.
+    fn check_accumulation(&mut self, tf: f64) -> Result<Option<f64>, ErrorKind> {
+        let t = self.t;
+        self.event_times.push_back(t);
+        if self.event_times.len() > ZENO_EVENTS {
+            self.event_times.pop_front();
+        }
+        let times: Vec<f64> = self.event_times.iter().copied().collect();
+        let k = times.len();
+        if times.iter().rev().take_while(|&&s| s == t).count() >= SAME_TIME_EVENTS {
+            return Err(ErrorKind::IllPosedMode {
+                t,
+                detail: format!("{SAME_TIME_EVENTS} mode switches at one instant (cycling)"),
+            });
+        }
+        let mut end = None;
+        if k > ZENO_GEOMETRIC + 1 {
+            let gaps: Vec<f64> = times[k - ZENO_GEOMETRIC - 2..]
+                .windows(2)
+                .map(|w| w[1] - w[0])
+                .collect();
+            if gaps
+                .windows(2)
+                .all(|g| g[0] > 0.0 && g[1] <= ZENO_RATIO * g[0])
+            {
+                let (g1, g2) = (gaps[gaps.len() - 2], gaps[gaps.len() - 1]);
+                let r = g2 / g1;
+                end = Some(t + 3.0 * g2 * r / (1.0 - r));
+            }
+        }
+        if end.is_none() && k >= ZENO_EVENTS && t - times[k - ZENO_EVENTS] < ZENO_SPAN * self.span {
+            end = Some(t + 2.0 * (t - times[k - ZENO_EVENTS]));
+        }
+        Ok(end.map(|e: f64| e.min(tf)))
+    }
+
+    /// Integrates `[t, end]` with time-stepping (θ = 1, [`HANDOVER_STEPS`] steps),
+    /// appends its rows, and re-initialises the modes at its final state. A rigid stop
+    /// that the velocity-level time-stepping left slightly penetrated is projected onto
+    /// its surface first.
+    fn hand_over(&mut self, end: f64) -> Result<(), ErrorKind> {
+        self.out.stats.zeno_detected += 1;
+        self.event_times.clear();
+        if end <= self.t {
+            return Ok(());
+        }
+        let problem = NonSmoothProblem::new(self.t, end, self.q, self.v);
+        let h = (end - self.t) / HANDOVER_STEPS as f64;
+        let traj = time_stepping(self.system, self.input, &problem, h, 1.0).map_err(|e| e.kind)?;
+        self.out.stats.zeno_handovers += 1;
+        self.out.stats.steps += traj.stats.steps;
+        self.out.stats.rhs_evaluations += traj.stats.rhs_evaluations;
+        self.out.stats.newton_iterations += traj.stats.newton_iterations;
+        for i in 1..traj.len() {
+            self.out
+                .push(traj.times()[i], traj.state(i), traj.derivative(i));
+        }
+        let (t, y) = traj.last().expect("time-stepping keeps the first row");
+        let mut q = SVector::<f64, N>::from_column_slice(&y[..N]);
+        let v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
+        for el in &self.elements {
+            if let ElementKind::Stop {
+                kind: StopKind::Rigid { .. },
+                position,
+                ..
+            } = el.kind
+                && mode::gap(el, q[el.coordinate]) < 0.0
+            {
+                q[el.coordinate] = position;
+            }
+        }
+        let resume = NonSmoothProblem::new(t, t, q, v);
+        self.initialise(&resume)
+    }
+}
+
+/// Adds the cost of a smooth window to the total.
+fn add_stats(total: &mut Stats, s: &Stats) {
+    total.steps += s.steps;
+    total.rejected_steps += s.rejected_steps;
+    total.rhs_evaluations += s.rhs_evaluations;
+    total.jacobian_evaluations += s.jacobian_evaluations;
+    total.finite_difference_jacobians += s.finite_difference_jacobians;
+    total.lu_factorisations += s.lu_factorisations;
+    total.newton_iterations += s.newton_iterations;
+}
+
+#[cfg(test)]
+mod tests;

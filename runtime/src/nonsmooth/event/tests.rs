@@ -1,0 +1,624 @@
+//! Event-driven integration against closed forms (theory.md §5) on hand-built lumped
+//! systems: masses on linear springs, `M = diag(m)`, `τ_p = −K q`.
+
+use std::f64::consts::PI;
+
+use nalgebra::{SMatrix, SVector, Vector3};
+
+use super::*;
+use crate::ForwardJacobian;
+use crate::nonsmooth::{Law, Side};
+use crate::numeric::{JointKind, Link, Model};
+use crate::system::Mechanism;
+
+/// Point masses `m` on prismatic coordinates with a stiffness matrix `K`
+/// (`τ_p = −K q`) and `E` non-smooth elements.
+struct Lumped<const N: usize, const E: usize> {
+    m: [f64; N],
+    k: SMatrix<f64, N, N>,
+    elements: [Element; E],
+    /// Monotone user law `v = φ(f)` with its derivative (for `BinghamMonotone`).
+    law: Option<fn(f64) -> (f64, f64)>,
+}
+
+impl<const N: usize, const E: usize> Mechanism<N> for Lumped<N, E> {
+    const JOINTS: [&'static str; N] = ["x"; N];
+
+    fn mass_matrix(&self, _q: &SVector<f64, N>) -> SMatrix<f64, N, N> {
+        SMatrix::from_diagonal(&SVector::from(self.m))
+    }
+    fn christoffel_symbols(&self, _q: &SVector<f64, N>) -> [SMatrix<f64, N, N>; N] {
+        [SMatrix::zeros(); N]
+    }
+    fn coriolis_matrix(&self, _q: &SVector<f64, N>, _v: &SVector<f64, N>) -> SMatrix<f64, N, N> {
+        SMatrix::zeros()
+    }
+    fn gravity(&self, _q: &SVector<f64, N>) -> SVector<f64, N> {
+        SVector::zeros()
+    }
+    fn bias(&self, _q: &SVector<f64, N>, _v: &SVector<f64, N>) -> SVector<f64, N> {
+        SVector::zeros()
+    }
+    fn passive_forces(&self, q: &SVector<f64, N>, _v: &SVector<f64, N>) -> SVector<f64, N> {
+        -self.k * q
+    }
+    fn inverse_dynamics(
+        &self,
+        q: &SVector<f64, N>,
+        _v: &SVector<f64, N>,
+        a: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        self.mass_matrix(q) * a + self.k * q
+    }
+    fn forward_dynamics(
+        &self,
+        q: &SVector<f64, N>,
+        _v: &SVector<f64, N>,
+        tau: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        (tau - self.k * q).component_div(&SVector::from(self.m))
+    }
+    fn forward_dynamics_jacobian(
+        &self,
+        q: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        tau: &SVector<f64, N>,
+    ) -> ForwardJacobian<N> {
+        let minv = SMatrix::from_diagonal(&SVector::from(self.m.map(|m| 1.0 / m)));
+        ForwardJacobian {
+            acceleration: self.forward_dynamics(q, v, tau),
+            d_dq: -minv * self.k,
+            d_dv: SMatrix::zeros(),
+        }
+    }
+    fn kinetic_energy(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64 {
+        0.5 * v.dot(&(self.mass_matrix(q) * v))
+    }
+    fn potential_energy(&self, q: &SVector<f64, N>) -> f64 {
+        0.5 * q.dot(&(self.k * q))
+    }
+    fn model(&self) -> Model {
+        // Independent prismatic joints along x from the world (the springs between
+        // masses are not expressible as joint springs; the tests do not use the model).
+        let links = (0..N)
+            .map(|i| Link {
+                name: format!("mass{i}"),
+                parent: None,
+                joint: JointKind::Prismatic { axis: Vector3::x() },
+                coordinate: Some(i),
+                origin_xyz: Vector3::zeros(),
+                origin_rpy: Vector3::zeros(),
+                mass: self.m[i],
+                com: Vector3::zeros(),
+                inertia: nalgebra::Matrix3::zeros(),
+            })
+            .collect();
+        Model {
+            gravity: Vector3::zeros(),
+            links,
+            springs: Vec::new(),
+            dampers: Vec::new(),
+        }
+    }
+}
+
+impl<const N: usize, const E: usize> NonSmooth<N> for Lumped<N, E> {
+    const ELEMENTS: usize = E;
+    fn element(&self, e: usize) -> Element {
+        self.elements[e]
+    }
+    fn law(&self, _e: usize, f: f64) -> (f64, f64) {
+        self.law.map_or((0.0, 0.0), |law| law(f))
+    }
+    fn inverse_mass_matrix(&self, _q: &SVector<f64, N>) -> SMatrix<f64, N, N> {
+        SMatrix::from_diagonal(&SVector::from(self.m.map(|m| 1.0 / m)))
+    }
+}
+
+fn dashpot(law: Law, f_crit: f64) -> Element {
+    Element {
+        name: "d",
+        coordinate: 0,
+        kind: ElementKind::DashPot { law, f_crit },
+    }
+}
+
+fn oscillator(m: f64, k: f64, element: Element) -> Lumped<1, 1> {
+    Lumped {
+        m: [m],
+        k: SMatrix::from_element(k),
+        elements: [element],
+        law: None,
+    }
+}
+
+fn no_input<const N: usize>(
+    _t: f64,
+    _q: &SVector<f64, N>,
+    _v: &SVector<f64, N>,
+) -> SVector<f64, N> {
+    SVector::zeros()
+}
+
+fn tight() -> Options {
+    Options::tolerances(1e-12, 1e-14)
+}
+
+fn problem1(tf: f64, x0: f64, v0: f64) -> NonSmoothProblem<1> {
+    NonSmoothProblem::new(0.0, tf, SVector::from([x0]), SVector::from([v0]))
+}
+
+/// `(t, state before, state after)` of every event: the rows that share a time.
+fn events(traj: &Trajectory) -> Vec<(f64, Vec<f64>, Vec<f64>)> {
+    let t = traj.times();
+    (1..t.len())
+        .filter(|&i| t[i] == t[i - 1])
+        .map(|i| (t[i], traj.state(i - 1).to_vec(), traj.state(i).to_vec()))
+        .collect()
+}
+
+#[test]
+fn s6_coulomb_free_decay_turning_points_and_exact_stop() {
+    let sys = oscillator(1.0, 1.0, dashpot(Law::Coulomb, 0.1));
+    let traj = event_driven(
+        &sys,
+        &no_input,
+        &problem1(30.0, 1.0, 0.0),
+        SmoothMethod::Dopri5,
+        &tight(),
+    )
+    .unwrap();
+    let ev = events(&traj);
+    // Initial slip is chosen at t0 (not an event); then velocity zeros at nπ.
+    assert_eq!(ev.len(), 5, "{ev:?}");
+    let expected = [-0.8, 0.6, -0.4, 0.2, 0.0];
+    let mut worst: f64 = 0.0;
+    for (n, (t, _, after)) in ev.iter().enumerate() {
+        let dt = (t - (n + 1) as f64 * PI).abs();
+        let dx = (after[0] - expected[n]).abs();
+        worst = worst.max(dt).max(dx);
+        assert!(
+            dt <= 1e-9 && dx <= 1e-9,
+            "turning point {n}: t {t}, x {}",
+            after[0]
+        );
+        assert_eq!(after[1], 0.0);
+    }
+    eprintln!(
+        "S6 worst turning-point error {worst:e}, stats {}",
+        traj.stats
+    );
+    // Stuck for good after 5π: v exactly 0.0, x frozen, force within bounds.
+    let t_stop = ev[4].0;
+    let x_stop = ev[4].2[0];
+    for i in 0..traj.len() {
+        if traj.times()[i] >= t_stop && i > 0 && traj.times()[i - 1] == t_stop
+            || traj.times()[i] > t_stop
+        {
+            let s = traj.state(i);
+            assert_eq!(s[1], 0.0);
+            assert_eq!(s[0], x_stop);
+            assert!(s[2].abs() <= 0.1);
+        }
+    }
+    assert_eq!(traj.last().unwrap().0, 30.0);
+    assert_eq!(traj.stats.events, 5);
+}
+
+#[test]
+fn s1_bingham_linear_free_decay_matches_piecewise_closed_form() {
+    let (eta, fc) = (0.2, 0.1);
+    let sys = oscillator(1.0, 1.0, dashpot(Law::BinghamLinear { eta }, fc));
+    let traj = event_driven(
+        &sys,
+        &no_input,
+        &problem1(30.0, 1.0, 0.0),
+        SmoothMethod::Dopri5,
+        &tight(),
+    )
+    .unwrap();
+    // Closed form: from rest at x_n, sliding in direction s = −sgn(x_n) about the
+    // offset −s f_c/k, the next velocity zero is π/ω_d later at
+    // x_{n+1} = −s f_c − (x_n + s f_c) e^{−ζ π/ω_d}.
+    let zeta = eta / 2.0;
+    let wd = (1.0 - zeta * zeta).sqrt();
+    let r = (-zeta * PI / wd).exp();
+    let mut zeros = Vec::new();
+    let mut x: f64 = 1.0;
+    let mut t = 0.0;
+    while x.abs() > fc {
+        let s = -x.signum();
+        x = -s * fc - (x + s * fc) * r;
+        t += PI / wd;
+        zeros.push((t, x));
+    }
+    let ev = events(&traj);
+    assert_eq!(ev.len(), zeros.len(), "{ev:?} vs {zeros:?}");
+    let mut worst: f64 = 0.0;
+    for ((t, _, after), (te, xe)) in ev.iter().zip(&zeros) {
+        worst = worst.max((t - te).abs()).max((after[0] - xe).abs());
+        assert!(
+            (t - te).abs() <= 1e-9 && (after[0] - xe).abs() <= 1e-9,
+            "{t} {} vs {te} {xe}",
+            after[0]
+        );
+    }
+    eprintln!("S1 {} velocity zeros, worst error {worst:e}", zeros.len());
+    let last = traj.last().unwrap().1;
+    assert_eq!(last[1], 0.0);
+    assert_eq!(last[0], ev.last().unwrap().2[0]);
+}
+
+#[test]
+fn s5_coulomb_forced_stick_slip_first_break_away_and_sign_consistency() {
+    let fc = 0.5;
+    let sys = oscillator(1.0, 1.0, dashpot(Law::Coulomb, fc));
+    let force =
+        |t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>| SVector::from([1.2 * (0.5 * t).sin()]);
+    let problem = problem1(30.0, 0.25, 0.0).with_forces(vec![Some(-fc / 2.0)]);
+    let traj = event_driven(&sys, &force, &problem, SmoothMethod::Dopri5, &tight()).unwrap();
+    assert_eq!(traj.state(0)[2], -0.25);
+    // Independent: first root of |F(t) − k x0| = f_crit by bisection.
+    let g = |t: f64| (1.2 * (0.5 * t).sin() - 0.25).abs() - fc;
+    let (mut a, mut b) = (0.0, 3.0);
+    for _ in 0..200 {
+        let m = 0.5 * (a + b);
+        if g(m) < 0.0 { a = m } else { b = m }
+    }
+    let ev = events(&traj);
+    assert!(ev.len() >= 4, "{} events", ev.len());
+    let (t1, before, after) = &ev[0];
+    eprintln!(
+        "S5 first break-away {t1} vs {a} ({:e}); {} events",
+        (t1 - a).abs(),
+        ev.len()
+    );
+    assert!((t1 - a).abs() <= 1e-9);
+    assert_eq!(before[1], 0.0);
+    assert!(
+        (after[2] - fc).abs() < 1e-15,
+        "slips forward with f = +f_crit: {after:?}"
+    );
+    // Everywhere: stuck rows have |f| ≤ f_crit and v = 0 exactly; moving rows have
+    // f = f_crit sgn v (except the pre-switch rows, a round-off past a velocity zero).
+    for i in 0..traj.len() {
+        let s = traj.state(i);
+        if s[1] == 0.0 {
+            assert!(s[2].abs() <= fc * (1.0 + 1e-12), "row {i}: {s:?}");
+        } else if i + 1 == traj.len() || traj.times()[i + 1] != traj.times()[i] {
+            assert_eq!(s[2], fc * s[1].signum(), "row {i}: {s:?}");
+        }
+    }
+    assert!(traj.stats.mode_changes >= ev.len());
+}
+
+#[test]
+fn bingham_mass_under_constant_force() {
+    let (eta, fc) = (0.2, 0.1);
+    let sys = oscillator(1.0, 0.0, dashpot(Law::BinghamLinear { eta }, fc));
+    let push = |_t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>| SVector::from([0.5]);
+    let traj = event_driven(
+        &sys,
+        &push,
+        &problem1(20.0, 0.0, 0.0),
+        SmoothMethod::Dopri5,
+        &tight(),
+    )
+    .unwrap();
+    let mut worst: f64 = 0.0;
+    for (i, &t) in traj.times().iter().enumerate() {
+        let exact = (0.5 - fc) / eta * (1.0 - (-eta * t).exp());
+        worst = worst.max((traj.state(i)[1] - exact).abs());
+    }
+    eprintln!("Bingham F = 0.5: worst velocity error {worst:e}");
+    assert!(worst <= 1e-9);
+    // F ≤ f_crit: at rest exactly, held by f = F.
+    let hold = |_t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>| SVector::from([0.1]);
+    let traj = event_driven(
+        &sys,
+        &hold,
+        &problem1(20.0, 0.0, 0.0),
+        SmoothMethod::Dopri5,
+        &tight(),
+    )
+    .unwrap();
+    for i in 0..traj.len() {
+        assert_eq!(traj.state(i), &[0.0, 0.0, 0.1][..]);
+    }
+    assert_eq!(traj.stats.events, 0);
+}
+
+/// Theory §5, bilinear oscillator period.
+fn bilinear_period(k: f64, ks: f64, l: f64, v0: f64) -> f64 {
+    let e = 0.5 * v0 * v0;
+    let (w1, w2) = (k.sqrt(), (k + ks).sqrt());
+    let a1 = (2.0 * e / k).sqrt();
+    let xe = ks * l / (k + ks);
+    let vl = w1 * (a1 * a1 - l * l).sqrt();
+    let a2 = ((l - xe).powi(2) + (vl / w2).powi(2)).sqrt();
+    2.0 * (PI - (l / a1).acos()) / w1 + 2.0 * ((l - xe) / a2).acos() / w2
+}
+
+#[test]
+fn s7_spring_backed_stop_period() {
+    let stop = Element {
+        name: "support",
+        coordinate: 0,
+        kind: ElementKind::Stop {
+            side: Side::Upper,
+            position: 0.5,
+            kind: StopKind::SpringBacked { stiffness: 1.0 },
+        },
+    };
+    let sys = oscillator(1.0, 1.0, stop);
+    let period = bilinear_period(1.0, 1.0, 0.5, 1.0);
+    assert!((period - 5.8620872).abs() < 1e-7);
+    let traj = event_driven(
+        &sys,
+        &no_input,
+        &problem1(20.0, 0.0, 1.0),
+        SmoothMethod::Dopri5,
+        &tight(),
+    )
+    .unwrap();
+    let ev = events(&traj);
+    // Entries into compression (mode change Free → Compressed: force still 0, v > 0).
+    let entries: Vec<f64> = ev
+        .iter()
+        .filter(|(_, b, _)| b[1] > 0.0)
+        .map(|e| e.0)
+        .collect();
+    assert!(entries.len() >= 3, "{ev:?}");
+    let mut worst: f64 = 0.0;
+    for w in entries.windows(2) {
+        worst = worst.max((w[1] - w[0] - period).abs());
+    }
+    eprintln!("S7 period {period}, worst error {worst:e}");
+    assert!(worst <= 1e-8);
+    // Compressed rows carry λ = k_s (x − L) ≥ 0, free rows 0.
+    for i in 0..traj.len() {
+        let s = traj.state(i);
+        assert!((s[2] - (s[0] - 0.5).max(0.0)).abs() < 1e-10, "{s:?}");
+    }
+}
+
+#[test]
+fn error_in_a_single_mode_follows_the_smooth_method_order() {
+    // S1's first half-cycle (t < π/ω_d): one slip mode, a damped oscillation about 0.1.
+    let (eta, fc) = (0.2, 0.1);
+    let sys = oscillator(1.0, 1.0, dashpot(Law::BinghamLinear { eta }, fc));
+    let zeta = eta / 2.0;
+    let wd = (1.0 - zeta * zeta).sqrt();
+    let t_end = 3.0;
+    let exact = fc
+        + (1.0 - fc)
+            * (-zeta * t_end).exp()
+            * ((wd * t_end).cos() + zeta / wd * (wd * t_end).sin());
+    for (method, min_order) in [(SmoothMethod::Dopri5, 4.0), (SmoothMethod::Sdirk4, 3.0)] {
+        let mut runs = Vec::new();
+        for tol in [1e-5, 1e-7, 1e-9] {
+            let traj = event_driven(
+                &sys,
+                &no_input,
+                &problem1(t_end, 1.0, 0.0),
+                method,
+                &Options::tolerances(tol, tol * 1e-2),
+            )
+            .unwrap();
+            let err = (traj.last().unwrap().1[0] - exact).abs();
+            runs.push((tol, traj.stats.steps as f64, err));
+        }
+        let (_, n0, e0) = runs[0];
+        let (_, n2, e2) = runs[2];
+        let order = (e0 / e2).ln() / (n2 / n0).ln();
+        eprintln!("{method:?}: (tol, steps, error) {runs:?}, observed order {order:.2}");
+        assert!(e2 < e0 * 1e-2, "error must follow the tolerance: {runs:?}");
+        assert!(order >= min_order, "{method:?} order {order}");
+    }
+}
+
+#[test]
+fn two_masses_stick_at_once_by_mode_selection() {
+    // Two unit masses on wall springs k = 1, coupled by k_c = 0.5, each with Coulomb
+    // friction f_crit = 0.8, both launched at v = 1: the coupling spring stays
+    // unstretched, each mass follows ẍ + x = −0.8 until v = 0 at t* = atan(1.25), where
+    // x* = −0.8 + 0.8 cos t* + sin t*, |x*| < 0.8: both stick together, each held by
+    // f = −x*.
+    let kc = 0.5;
+    let k = SMatrix::<f64, 2, 2>::new(1.0 + kc, -kc, -kc, 1.0 + kc);
+    let fc = 0.8;
+    let el = |name, coordinate| Element {
+        name,
+        coordinate,
+        kind: ElementKind::DashPot {
+            law: Law::Coulomb,
+            f_crit: fc,
+        },
+    };
+    let sys = Lumped {
+        m: [1.0, 1.0],
+        k,
+        elements: [el("a", 0), el("b", 1)],
+        law: None,
+    };
+    let problem = NonSmoothProblem::new(
+        0.0,
+        5.0,
+        SVector::from([0.0, 0.0]),
+        SVector::from([1.0, 1.0]),
+    );
+    let traj = event_driven(&sys, &no_input, &problem, SmoothMethod::Dopri5, &tight()).unwrap();
+    let ev = events(&traj);
+    assert_eq!(ev.len(), 1, "{ev:?}");
+    assert_eq!(traj.stats.mode_changes, 2);
+    let ts = 1.25f64.atan();
+    let xs = -fc + fc * ts.cos() + ts.sin();
+    let (t, _, after) = &ev[0];
+    eprintln!(
+        "two masses: stick at {t} (exact {ts}), x {} (exact {xs}), forces {:?}",
+        after[0],
+        &after[4..]
+    );
+    assert!((t - ts).abs() < 1e-9 && (after[0] - xs).abs() < 1e-9);
+    for i in traj.len() - 3..traj.len() {
+        let s = traj.state(i);
+        assert_eq!(&s[2..4], &[0.0, 0.0]);
+        assert!(s[4].abs() <= fc && s[5].abs() <= fc);
+        assert!((s[4] + xs).abs() < 1e-9 && (s[5] + xs).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn bouncing_on_a_rigid_stop_hands_the_zeno_span_to_time_stepping() {
+    // Unit mass under a constant force −1 toward a lower rigid stop at 0, e = 0.5:
+    // impacts at t1 = √2, then gaps halving: accumulation at t1 + 2·e·√2/(1 − e) = 3√2.
+    let stop = Element {
+        name: "floor",
+        coordinate: 0,
+        kind: ElementKind::Stop {
+            side: Side::Lower,
+            position: 0.0,
+            kind: StopKind::Rigid { restitution: 0.5 },
+        },
+    };
+    let sys = oscillator(1.0, 0.0, stop);
+    let down = |_t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>| SVector::from([-1.0]);
+    let traj = event_driven(
+        &sys,
+        &down,
+        &problem1(8.0, 1.0, 0.0),
+        SmoothMethod::Dopri5,
+        &tight(),
+    )
+    .unwrap();
+    eprintln!("Zeno: {}", traj.stats);
+    assert_eq!(traj.stats.zeno_detected, 1);
+    assert_eq!(traj.stats.zeno_handovers, 1);
+    let ev = events(&traj);
+    assert!((ev[0].0 - 2f64.sqrt()).abs() < 1e-9);
+    let (t, last) = traj.last().unwrap();
+    assert_eq!(t, 8.0);
+    assert_eq!(
+        last,
+        &[0.0, 0.0, -1.0][..],
+        "rests on the stop, pushed up by λ = 1"
+    );
+}
+
+#[test]
+fn bad_input_gives_typed_errors() {
+    let run = |sys: &Lumped<1, 1>, problem: &NonSmoothProblem<1>| {
+        event_driven(
+            sys,
+            &no_input,
+            problem,
+            SmoothMethod::Dopri5,
+            &Options::default(),
+        )
+        .unwrap_err()
+        .kind
+    };
+    let p = problem1(1.0, 1.0, 0.0);
+    assert!(
+        matches!(run(&oscillator(1.0, 1.0, dashpot(Law::Coulomb, -0.1)), &p), ErrorKind::InvalidInput(m) if m.contains("f_crit"))
+    );
+    let rigid = |e: f64| Element {
+        name: "stop",
+        coordinate: 0,
+        kind: ElementKind::Stop {
+            side: Side::Upper,
+            position: 0.5,
+            kind: StopKind::Rigid { restitution: e },
+        },
+    };
+    assert!(
+        matches!(run(&oscillator(1.0, 1.0, rigid(1.5)), &p), ErrorKind::InvalidInput(m) if m.contains("restitution"))
+    );
+    // x0 = 1 is past an upper stop at 0.5.
+    assert!(
+        matches!(run(&oscillator(1.0, 1.0, rigid(0.0)), &p), ErrorKind::InconsistentInitialData(m) if m.contains("penetrates"))
+    );
+    // A given stuck force beyond f_crit.
+    let p = problem1(1.0, 0.0, 0.0).with_forces(vec![Some(0.3)]);
+    assert!(matches!(
+        run(&oscillator(1.0, 1.0, dashpot(Law::Coulomb, 0.1)), &p),
+        ErrorKind::InconsistentInitialData(_)
+    ));
+    // forces0 of the wrong length, non-monotone law.
+    let p = problem1(1.0, 0.0, 0.0).with_forces(vec![None, None]);
+    assert!(matches!(
+        run(&oscillator(1.0, 1.0, dashpot(Law::Coulomb, 0.1)), &p),
+        ErrorKind::InvalidInput(_)
+    ));
+    let nm = dashpot(
+        Law::BinghamNonMonotone {
+            selection: crate::nonsmooth::Selection::MaximalDissipation,
+        },
+        1.0,
+    );
+    assert!(matches!(
+        run(&oscillator(1.0, 1.0, nm), &problem1(1.0, 0.0, 0.0)),
+        ErrorKind::InvalidInput(_)
+    ));
+}
+
+#[test]
+fn monotone_user_law_is_inverted_exactly_and_rigid_contact_is_released() {
+    // Cubic Bingham (4.7b) with γ = 1: v = f² (f − f_c sgn f).
+    let cubic: fn(f64) -> (f64, f64) = |f| {
+        let fc = 1.0;
+        (
+            f * f * (f - fc * f.signum()),
+            3.0 * f * f - 2.0 * fc * f.abs(),
+        )
+    };
+    let mut sys = oscillator(1.0, 0.0, dashpot(Law::BinghamMonotone, 1.0));
+    sys.law = Some(cubic);
+    let push = |_t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>| SVector::from([3.0]);
+    let traj = event_driven(
+        &sys,
+        &push,
+        &problem1(500.0, 0.0, 0.0),
+        SmoothMethod::Dopri5,
+        &tight(),
+    )
+    .unwrap();
+    // Terminal velocity: f = 3 ⇒ v = 9 · 2 = 18 (approached with time constant
+    // dφ/df(3) = 21); the stored force inverts the law.
+    let last = traj.last().unwrap().1;
+    assert!((last[1] - 18.0).abs() < 1e-6, "{last:?}");
+    for i in 1..traj.len() {
+        let s = traj.state(i);
+        assert!(
+            (cubic(s[2]).0 - s[1]).abs() <= 1e-12 * s[1].abs().max(1.0),
+            "{s:?}"
+        );
+    }
+    // A mass resting on a lower rigid stop, pulled up by a growing force: contact is
+    // released when λ = 1 − t crosses zero.
+    let stop = Element {
+        name: "floor",
+        coordinate: 0,
+        kind: ElementKind::Stop {
+            side: Side::Lower,
+            position: 0.0,
+            kind: StopKind::Rigid { restitution: 0.0 },
+        },
+    };
+    let sys = oscillator(1.0, 0.0, stop);
+    let pull = |t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>| SVector::from([t - 1.0]);
+    let traj = event_driven(
+        &sys,
+        &pull,
+        &problem1(3.0, 0.0, 0.0),
+        SmoothMethod::Sdirk4,
+        &tight(),
+    )
+    .unwrap();
+    let ev = events(&traj);
+    assert_eq!(ev.len(), 1);
+    assert!((ev[0].0 - 1.0).abs() < 1e-10);
+    // After release: x = (t − 1)³/6.
+    let x_end = traj.last().unwrap().1[0];
+    assert!((x_end - 8.0 / 6.0).abs() < 1e-6, "{x_end}");
+}

@@ -1,0 +1,463 @@
+//! Modes of the elements, the smooth dynamics inside a mode, switching functions and
+//! the selection of a consistent mode when elements switch (theory.md §3).
+//!
+//! Inside a mode every element's force is either a *function of the state* (slipping
+//! dash-pot: the slip force of its velocity; compressed spring-backed stop:
+//! `k_s · penetration`; free: 0) or a *constraint force* (stuck dash-pot, rigid stop in
+//! contact: `v_c = 0`). The constraint forces `f_A` solve the Delassus system
+//!
+//! ```text
+//! W_AA f_A = (a_free)_A,     W = M⁻¹,   a_free = M⁻¹ (τ + τ_p − bias − Σ_slip f_e e_c)
+//! ```
+//!
+//! so that the constrained accelerations vanish; the constrained coordinates' `q` and
+//! `v` are then frozen exactly (their derivatives are set to `0.0`).
+//!
+//! Sign conventions: a dash-pot force is positive when it resists a positive velocity.
+//! A stop has a sign `s = +1` (upper: `q ≤ position`) or `−1` (lower), its gap is
+//! `s (position − q) ≥ 0`, its contact magnitude is `λ = s f ≥ 0`.
+
+use nalgebra::{DMatrix, DVector, SVector};
+
+use super::{Element, ElementKind, Law, NonSmooth, Side, StopKind};
+
+/// The state of one element's constitutive relation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Dash-pot stuck: `v_c = 0`, force from the constraint, `|f| ≤ f_crit`.
+    Stick,
+    /// Dash-pot slipping with `v_c > 0` (force `≥ f_crit`).
+    SlipPos,
+    /// Dash-pot slipping with `v_c < 0`.
+    SlipNeg,
+    /// Stop open: gap `> 0` (or `= 0` and opening), no force.
+    Free,
+    /// Rigid stop closed: gap `= 0`, `v_c = 0`, `λ ≥ 0` from the constraint.
+    Contact,
+    /// Spring-backed stop pressed in: `λ = k_s · penetration`.
+    Compressed,
+}
+
+impl Mode {
+    /// Whether the mode is a velocity constraint `v_c = 0`.
+    pub fn is_constraint(self) -> bool {
+        matches!(self, Mode::Stick | Mode::Contact)
+    }
+}
+
+/// Every mode a dash-pot or a rigid stop can take at `v_c = 0` (spring-backed stops
+/// switch by the sign of the penetration rate and are not enumerated).
+pub(crate) fn candidates(element: &Element) -> &'static [Mode] {
+    match element.kind {
+        ElementKind::DashPot { .. } => &[Mode::Stick, Mode::SlipPos, Mode::SlipNeg],
+        ElementKind::Stop {
+            kind: StopKind::Rigid { .. },
+            ..
+        } => &[Mode::Contact, Mode::Free],
+        ElementKind::Stop { .. } => &[Mode::Free, Mode::Compressed],
+    }
+}
+
+/// Checks one element's parameters for the event-driven integrator.
+pub(crate) fn validate_element(e: &Element, dof: usize) -> Result<(), String> {
+    if e.coordinate >= dof {
+        return Err(format!(
+            "element `{}` acts on coordinate {} but the mechanism has {dof}",
+            e.name, e.coordinate
+        ));
+    }
+    match e.kind {
+        ElementKind::DashPot { law, f_crit } => {
+            if !(f_crit.is_finite() && f_crit >= 0.0) {
+                return Err(format!(
+                    "element `{}`: f_crit = {f_crit} must be finite and ≥ 0",
+                    e.name
+                ));
+            }
+            match law {
+                Law::BinghamLinear { eta } if !(eta.is_finite() && eta > 0.0) => Err(format!(
+                    "element `{}`: viscosity η = {eta} must be finite and > 0 (η = 0 is Coulomb)",
+                    e.name
+                )),
+                Law::BinghamNonMonotone { .. } => Err(format!(
+                    "element `{}`: non-monotone laws are not supported by the event-driven \
+                     integrator yet (fold and plateau modes); use time-stepping",
+                    e.name
+                )),
+                _ => Ok(()),
+            }
+        }
+        ElementKind::Stop { position, kind, .. } => {
+            if !position.is_finite() {
+                return Err(format!(
+                    "stop `{}`: position {position} is not finite",
+                    e.name
+                ));
+            }
+            match kind {
+                StopKind::Rigid { restitution } if !(0.0..=1.0).contains(&restitution) => {
+                    Err(format!(
+                        "stop `{}`: restitution e = {restitution} must lie in [0, 1]",
+                        e.name
+                    ))
+                }
+                StopKind::SpringBacked { stiffness }
+                    if !(stiffness.is_finite() && stiffness > 0.0) =>
+                {
+                    Err(format!(
+                        "stop `{}`: support stiffness {stiffness} must be finite and > 0",
+                        e.name
+                    ))
+                }
+                _ => Ok(()),
+            }
+        }
+    }
+}
+
+/// `s = +1` for an upper stop (`q ≤ position`), `−1` for a lower one.
+pub(crate) fn side_sign(side: Side) -> f64 {
+    match side {
+        Side::Upper => 1.0,
+        Side::Lower => -1.0,
+    }
+}
+
+/// Gap `s (position − q)` of a stop (`≥ 0` when admissible); `+∞` for dash-pots.
+pub(crate) fn gap(element: &Element, qc: f64) -> f64 {
+    match element.kind {
+        ElementKind::Stop { side, position, .. } => side_sign(side) * (position - qc),
+        ElementKind::DashPot { .. } => f64::INFINITY,
+    }
+}
+
+/// Slip force of dash-pot `index` slipping in direction `d = ±1` at velocity `vc`.
+///
+/// Coulomb: `d f_crit`. Linear Bingham: `d f_crit + η vc` (the mode's direction, not
+/// `sgn vc`, so the force stays smooth while a root finder looks just past `vc = 0`).
+/// Monotone user law: the `f` with `φ(f) = vc` on the branch `d f > f_crit`, by
+/// safeguarded Newton ([`invert_monotone`]); `d f_crit` where `d vc ≤ 0`.
+pub(crate) fn slip_force<S: NonSmooth<N>, const N: usize>(
+    system: &S,
+    index: usize,
+    law: Law,
+    f_crit: f64,
+    vc: f64,
+    d: f64,
+) -> f64 {
+    match law {
+        Law::Coulomb => d * f_crit,
+        Law::BinghamLinear { eta } => d * f_crit + eta * vc,
+        Law::BinghamMonotone | Law::BinghamNonMonotone { .. } => {
+            if d * vc <= 0.0 {
+                d * f_crit
+            } else {
+                d * invert_monotone(|f| system.law(index, d * f), f_crit, d * vc)
+            }
+        }
+    }
+}
+
+/// Solves `d φ(d f) = w` for `f > f_crit` with `w > 0` (so `φ` on the positive branch),
+/// `phi(f) = (d φ(d f), φ'(d f))`: bracket by doubling, then Newton kept inside the
+/// bracket, bisecting whenever the Newton point leaves it (a "safeguarded" Newton,
+/// Press et al., *Numerical Recipes*, 3rd ed., §9.4, `rtsafe`).
+fn invert_monotone<P: Fn(f64) -> (f64, f64)>(phi: P, f_crit: f64, w: f64) -> f64 {
+    let value = |f: f64| phi(f);
+    let mut lo = f_crit;
+    let mut step = f_crit.max(1.0);
+    let mut hi = f_crit + step;
+    for _ in 0..200 {
+        if value(hi).0 >= w {
+            break;
+        }
+        lo = hi;
+        step *= 2.0;
+        hi = f_crit + step;
+    }
+    let mut x = 0.5 * (lo + hi);
+    for _ in 0..200 {
+        let (p, dp) = value(x);
+        let r = p - w;
+        if r == 0.0 {
+            return x;
+        }
+        if r < 0.0 {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        let newton = x - r / dp;
+        let next = if dp > 0.0 && newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if (next - x).abs() <= 2.0 * f64::EPSILON * x.abs() || hi - lo <= 2.0 * f64::EPSILON * hi {
+            return next;
+        }
+        x = next;
+    }
+    x
+}
+
+/// Accelerations and element forces in one mode assignment.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Evaluation<const N: usize> {
+    pub a: SVector<f64, N>,
+    pub f: Vec<f64>,
+}
+
+/// The smooth dynamics of mode assignment `modes` at `(q, v)` with input `τ`; `None`
+/// when the constraints are dependent (two constrained elements on one coordinate).
+pub(crate) fn evaluate<S: NonSmooth<N>, const N: usize>(
+    system: &S,
+    elements: &[Element],
+    modes: &[Mode],
+    q: &SVector<f64, N>,
+    v: &SVector<f64, N>,
+    tau: &SVector<f64, N>,
+) -> Option<Evaluation<N>> {
+    let mut tau_net = *tau;
+    let mut f = vec![0.0; elements.len()];
+    let mut active = Vec::new();
+    for (i, el) in elements.iter().enumerate() {
+        let c = el.coordinate;
+        match (el.kind, modes[i]) {
+            (ElementKind::DashPot { law, f_crit }, Mode::SlipPos | Mode::SlipNeg) => {
+                let d = if modes[i] == Mode::SlipPos { 1.0 } else { -1.0 };
+                f[i] = slip_force(system, i, law, f_crit, v[c], d);
+            }
+            (
+                ElementKind::Stop {
+                    side,
+                    kind: StopKind::SpringBacked { stiffness },
+                    ..
+                },
+                Mode::Compressed,
+            ) => {
+                f[i] = side_sign(side) * stiffness * (-gap(el, q[c]));
+            }
+            (_, Mode::Stick | Mode::Contact) => active.push(i),
+            _ => {}
+        }
+        tau_net[c] -= f[i];
+    }
+    let mut a = system.forward_dynamics(q, v, &tau_net);
+    if !active.is_empty() {
+        let w = system.inverse_mass_matrix(q);
+        let k = active.len();
+        let coord = |i: usize| elements[active[i]].coordinate;
+        let waa = DMatrix::from_fn(k, k, |i, j| w[(coord(i), coord(j))]);
+        let rhs = DVector::from_fn(k, |i, _| a[coord(i)]);
+        let fa = waa.cholesky()?.solve(&rhs);
+        if fa.iter().any(|x| !x.is_finite()) {
+            return None;
+        }
+        for (i, &e) in active.iter().enumerate() {
+            f[e] = fa[i];
+            a -= w.column(coord(i)) * fa[i];
+        }
+        for i in 0..k {
+            a[coord(i)] = 0.0;
+        }
+    }
+    Some(Evaluation { a, f })
+}
+
+/// Switching function of `element` in `mode`: positive while the mode holds, crossing
+/// zero where it ends (stick: `f_crit − |f|`; slip: `±v_c`; free: gap; contact: `λ`;
+/// compressed: penetration).
+pub(crate) fn switching(element: &Element, mode: Mode, qc: f64, vc: f64, f: f64) -> f64 {
+    match (element.kind, mode) {
+        (ElementKind::DashPot { f_crit, .. }, Mode::Stick) => f_crit - f.abs(),
+        (_, Mode::SlipPos) => vc,
+        (_, Mode::SlipNeg) => -vc,
+        (_, Mode::Free) => gap(element, qc),
+        (ElementKind::Stop { side, .. }, Mode::Contact) => side_sign(side) * f,
+        (_, Mode::Compressed) => -gap(element, qc),
+        // Modes that do not belong to the element never switch.
+        _ => f64::INFINITY,
+    }
+}
+
+/// How consistently `mode` holds for `element` at an event, in force units: `≥ 0`
+/// consistent. Stick: `f_crit − |f|`; slip at `v_c = 0`: the acceleration in the slip
+/// direction divided by `W_cc`; contact: `λ`; free at gap `0` and rest: the gap
+/// acceleration divided by `W_cc`. States that already move in (out of) the mode's
+/// direction give `+∞` (`−∞`).
+pub(crate) fn margin(
+    element: &Element,
+    mode: Mode,
+    qc: f64,
+    vc: f64,
+    ac: f64,
+    f: f64,
+    wcc: f64,
+) -> f64 {
+    let directed = |d: f64| {
+        if d * vc > 0.0 {
+            f64::INFINITY
+        } else if d * vc < 0.0 {
+            f64::NEG_INFINITY
+        } else {
+            d * ac / wcc
+        }
+    };
+    match (element.kind, mode) {
+        (ElementKind::DashPot { f_crit, .. }, Mode::Stick) => f_crit - f.abs(),
+        (ElementKind::DashPot { .. }, Mode::SlipPos) => directed(1.0),
+        (ElementKind::DashPot { .. }, Mode::SlipNeg) => directed(-1.0),
+        (ElementKind::Stop { side, .. }, Mode::Contact) => side_sign(side) * f,
+        (
+            ElementKind::Stop {
+                side,
+                kind: StopKind::Rigid { .. },
+                ..
+            },
+            Mode::Free,
+        ) => {
+            if gap(element, qc) > 0.0 {
+                f64::INFINITY
+            } else {
+                // Gap rate −s v_c, gap acceleration −s a_c.
+                directed(-side_sign(side))
+            }
+        }
+        (
+            ElementKind::Stop {
+                kind: StopKind::SpringBacked { .. },
+                ..
+            },
+            Mode::Free | Mode::Compressed,
+        ) => f64::INFINITY,
+        _ => f64::NEG_INFINITY,
+    }
+}
+
+/// The elements that take part in a mode selection, each with its candidate modes.
+pub(crate) type Choices = Vec<(usize, Vec<Mode>)>;
+
+/// Relative tolerance of the consistency margins: a margin within `MARGIN_TOL · scale`
+/// of zero counts as on the boundary.
+const MARGIN_TOL: f64 = 1e-9;
+
+/// Largest number of mode combinations enumerated (`3^k`, so up to 9 dash-pots at once).
+const MAX_COMBINATIONS: usize = 20_000;
+
+/// Selects the modes of the elements in `choices` (the others keep `modes`) at
+/// `(q, v)`: enumerates every combination of their candidate modes, evaluates the
+/// dynamics and the margins, and returns the unique consistent combination.
+///
+/// Combinations within the tolerance of the boundary are consistent; if more than
+/// one is consistent with a margin above the tolerance, the choice is not unique and
+/// an error (the text of [`ErrorKind::IllPosedMode`](crate::ErrorKind)) is returned;
+/// otherwise the largest margin wins (at a switching instant located to round-off, the
+/// old mode and the new one may both sit on the boundary; the new one has the larger
+/// margin on the far side of the located root).
+pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
+    system: &S,
+    elements: &[Element],
+    modes: &[Mode],
+    choices: &Choices,
+    q: &SVector<f64, N>,
+    v: &SVector<f64, N>,
+    tau: &SVector<f64, N>,
+) -> Result<Vec<Mode>, String> {
+    if choices.is_empty() {
+        return Ok(modes.to_vec());
+    }
+    let total: usize = choices.iter().map(|(_, c)| c.len()).product();
+    if total == 0 {
+        return Err("an element has no admissible mode".into());
+    }
+    if total > MAX_COMBINATIONS {
+        return Err(format!(
+            "{total} mode combinations: too many elements switch at once"
+        ));
+    }
+    let w = system.inverse_mass_matrix(q);
+    // Scale of the margins: the largest critical force and the largest force needed
+    // to hold a switching coordinate at rest.
+    let mut free_modes = modes.to_vec();
+    for (e, _) in choices {
+        free_modes[*e] = match elements[*e].kind {
+            ElementKind::DashPot { .. } => Mode::SlipPos,
+            ElementKind::Stop { .. } => Mode::Free,
+        };
+    }
+    let mut scale: f64 = 1.0;
+    if let Some(ev) = evaluate(system, elements, &free_modes, q, v, tau) {
+        for (e, _) in choices {
+            let c = elements[*e].coordinate;
+            scale = scale.max((ev.a[c] / w[(c, c)]).abs());
+        }
+    }
+    for el in elements {
+        if let ElementKind::DashPot { f_crit, .. } = el.kind {
+            scale = scale.max(f_crit);
+        }
+    }
+    let tol = MARGIN_TOL * scale;
+    let mut consistent: Vec<(f64, Vec<Mode>)> = Vec::new();
+    let mut best_violation: Option<(f64, Vec<Mode>)> = None;
+    let mut trial = modes.to_vec();
+    for index in 0..total {
+        let mut rest = index;
+        for (e, cands) in choices {
+            trial[*e] = cands[rest % cands.len()];
+            rest /= cands.len();
+        }
+        let Some(ev) = evaluate(system, elements, &trial, q, v, tau) else {
+            continue;
+        };
+        let m = choices
+            .iter()
+            .map(|(e, _)| {
+                let c = elements[*e].coordinate;
+                margin(
+                    &elements[*e],
+                    trial[*e],
+                    q[c],
+                    v[c],
+                    ev.a[c],
+                    ev.f[*e],
+                    w[(c, c)],
+                )
+            })
+            .fold(f64::INFINITY, f64::min);
+        if m >= -tol {
+            consistent.push((m, trial.clone()));
+        } else if best_violation.as_ref().is_none_or(|(b, _)| m > *b) {
+            best_violation = Some((m, trial.clone()));
+        }
+    }
+    let describe = |ms: &[Mode]| {
+        choices
+            .iter()
+            .map(|(e, _)| format!("{}: {:?}", elements[*e].name, ms[*e]))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let robust: Vec<_> = consistent.iter().filter(|(m, _)| *m > tol).collect();
+    if robust.len() > 1 {
+        let list: Vec<String> = robust
+            .iter()
+            .map(|(_, ms)| format!("[{}]", describe(ms)))
+            .collect();
+        return Err(format!(
+            "several modes are consistent (non-unique): {}",
+            list.join(" or ")
+        ));
+    }
+    match consistent.into_iter().max_by(|a, b| a.0.total_cmp(&b.0)) {
+        Some((_, ms)) => Ok(ms),
+        None => Err(match best_violation {
+            Some((m, ms)) => format!(
+                "no mode is consistent (Painlevé-type); least violated [{}] by {m:e}",
+                describe(&ms)
+            ),
+            None => "no mode has independent constraints".into(),
+        }),
+    }
+}

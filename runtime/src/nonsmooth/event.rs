@@ -41,6 +41,11 @@
 //!   cluster's duration), counted in [`Stats::zeno_handovers`], and the event-driven
 //!   integration resumes from its final state with a fresh consistent initialisation.
 //!
+//! Statistics: `steps`, `rejected_steps`, `rhs_evaluations`, … add up every smooth
+//! window, including the steps taken past an event and then discarded (they were paid
+//! for), plus the time-stepping of handed-over spans; `events` counts switching
+//! instants, `mode_changes` element mode changes (also on resuming after a handover).
+//!
 //! The output has the components `q<i>`, `v<i>` and `f_<element>`; at every event two
 //! rows share the event time (before and after the switch), so jumps show in plots.
 //! It interpolates with cubic Hermite (the force rows with zero slopes).
@@ -745,7 +750,14 @@ where
             }
         }
         let resume = NonSmoothProblem::new(t, t, q, v);
-        self.initialise(&resume)
+        let before = self.modes.clone();
+        self.initialise(&resume)?;
+        self.out.stats.mode_changes += before
+            .iter()
+            .zip(&self.modes)
+            .filter(|(a, b)| a != b)
+            .count();
+        Ok(())
     }
 }
 

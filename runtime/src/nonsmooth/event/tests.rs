@@ -494,6 +494,7 @@ fn bouncing_on_a_rigid_stop_hands_the_zeno_span_to_time_stepping() {
     eprintln!("Zeno: {}", traj.stats);
     assert_eq!(traj.stats.zeno_detected, 1);
     assert_eq!(traj.stats.zeno_handovers, 1);
+    assert_eq!(traj.stats.mode_changes, 1, "free → contact on resuming");
     let ev = events(&traj);
     assert!((ev[0].0 - 2f64.sqrt()).abs() < 1e-9);
     let (t, last) = traj.last().unwrap();

@@ -38,6 +38,7 @@ pub use control::PiController;
 pub use error::{ErrorKind, SolveError};
 pub use mechanical::{InputFn, MechanicalSystem, NumericInputFn, NumericSystem};
 pub use method::tableau;
+pub use nonsmooth::{NonSmooth, NonSmoothMethod, NonSmoothProblem, SmoothMethod, solve_nonsmooth};
 pub use method::{Dopri5, Method, Rk4, Sdirk4, solve};
 pub use options::Options;
 pub use problem::{FnSystem, OdeSystem, Problem};

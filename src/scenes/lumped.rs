@@ -97,3 +97,49 @@ pub struct BouncingBall {
     pub g: f64,
     pub e: f64,
 }
+
+/// A Bingham dash-pot alone (no spring): under a constant force `F > f_crit` the
+/// velocity approaches `(F − f_crit)/η` (theory §5).
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[body(block, mass = m)]
+#[joint(x: prismatic(x), parent = world, child = block)]
+#[bingham(x, f_crit = f_crit, eta = eta)]
+pub struct BinghamBlock {
+    pub m: f64,
+    pub f_crit: f64,
+    pub eta: f64,
+}
+
+/// S7's elastic case: spring and spring-backed stop, no dash-pot (a bilinear
+/// oscillator with a closed-form period, theory §5).
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[body(block, mass = m)]
+#[joint(x: prismatic(x), parent = world, child = block)]
+#[spring(x, k = k)]
+#[stop(x, max = l, k_support = k_support)]
+pub struct BilinearOscillator {
+    pub m: f64,
+    pub k: f64,
+    pub l: f64,
+    pub k_support: f64,
+}
+
+/// Two blocks in a chain, each on a spring and with Coulomb friction on its own
+/// coordinate (the second coordinate is relative to the first): coupled stick–slip.
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[body(lower, mass = m1)]
+#[joint(x1: prismatic(x), parent = world, child = lower)]
+#[body(upper, mass = m2)]
+#[joint(x2: prismatic(x), parent = lower, child = upper)]
+#[spring(x1, k = k1)]
+#[spring(x2, k = k2)]
+#[friction(x1, f_crit = f1)]
+#[friction(x2, f_crit = f2)]
+pub struct FrictionChain {
+    pub m1: f64,
+    pub m2: f64,
+    pub k1: f64,
+    pub k2: f64,
+    pub f1: f64,
+    pub f2: f64,
+}

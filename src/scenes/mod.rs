@@ -11,8 +11,8 @@ mod tree;
 pub use arm3::PlanarArm3;
 pub use double_pendulum::DoublePendulum;
 pub use lumped::{
-    BinghamOscillator, BouncingBall, CoulombOscillator, CubicBingham, NonMonotoneMaxDissipation,
-    NonMonotoneNoJumps, SupportedStop,
+    BilinearOscillator, BinghamBlock, BinghamOscillator, BouncingBall, CoulombOscillator,
+    CubicBingham, FrictionChain, NonMonotoneMaxDissipation, NonMonotoneNoJumps, SupportedStop,
 };
 pub use panda::Panda;
 pub use tree::BranchedTree;

@@ -58,7 +58,11 @@ pub enum ElementKind {
     /// A dash-pot or friction element with critical force `f_crit ≥ 0`.
     DashPot { law: Law, f_crit: f64 },
     /// A unilateral stop at `position`.
-    Stop { side: Side, position: f64, kind: StopKind },
+    Stop {
+        side: Side,
+        position: f64,
+        kind: StopKind,
+    },
 }
 
 /// One element: name, the joint coordinate it acts on, and its kind.

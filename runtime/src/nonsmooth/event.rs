@@ -99,6 +99,14 @@ where
     S: NonSmooth<N>,
     F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
 {
+    // Parameters first: a non-positive mass or a negative critical force is reported by
+    // name before anything is integrated.
+    if let Err(e) = system.validate() {
+        return Err(SolveError {
+            kind: ErrorKind::InvalidInput(e.to_string()),
+            trajectory: Box::new(Trajectory::new(names::<S, N>(system), Interpolant::Hermite)),
+        });
+    }
     match *method {
         NonSmoothMethod::EventDriven { method, options } => {
             event_driven(system, input, problem, method, &options)
@@ -473,6 +481,17 @@ where
     fn transition(&mut self, t: f64, y: &[f64], triggered: &[usize]) -> Result<(), ErrorKind> {
         let mut q = SVector::<f64, N>::from_column_slice(&y[..N]);
         let mut v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
+        // A slipping element's event is its velocity zero: the located state has v_c = 0
+        // up to the root finder's round-off, which must not show (as a negative f·v) in
+        // the pre-switch row.
+        for &e in triggered {
+            let el = self.elements[e];
+            if matches!(el.kind, ElementKind::DashPot { .. })
+                && matches!(self.modes[e], Mode::SlipPos | Mode::SlipNeg)
+            {
+                v[el.coordinate] = 0.0;
+            }
+        }
         self.push_row(t, &q, &v)?;
         let old = self.modes.clone();
         let mut excluded: Vec<Option<Mode>> = vec![None; self.elements.len()];

@@ -19,7 +19,13 @@ pub struct NonSmoothProblem<const N: usize> {
 
 impl<const N: usize> NonSmoothProblem<N> {
     pub fn new(t0: f64, tf: f64, q0: SVector<f64, N>, v0: SVector<f64, N>) -> Self {
-        NonSmoothProblem { t0, tf, q0, v0, forces0: Vec::new() }
+        NonSmoothProblem {
+            t0,
+            tf,
+            q0,
+            v0,
+            forces0: Vec::new(),
+        }
     }
 
     /// With initial element forces (see the type's documentation).
@@ -41,7 +47,10 @@ pub enum SmoothMethod {
 pub enum NonSmoothMethod {
     /// Event-driven: adaptive high order between switches, switches located on dense
     /// output, exact mode transitions; accumulating events hand over to time-stepping.
-    EventDriven { method: SmoothMethod, options: Options },
+    EventDriven {
+        method: SmoothMethod,
+        options: Options,
+    },
     /// Implicit (Moreau-type) θ-method time-stepping with fixed step `h`: each step
     /// intersects the discrete momentum line with the constitutive graphs. First order,
     /// robust, never chatters.
@@ -52,6 +61,9 @@ impl Default for NonSmoothMethod {
     /// Event-driven with DOPRI5 at `rtol = 1e-8`, `atol = 1e-10`: exact switch times and
     /// sticking, high order between events.
     fn default() -> Self {
-        NonSmoothMethod::EventDriven { method: SmoothMethod::Dopri5, options: Options::tolerances(1e-8, 1e-10) }
+        NonSmoothMethod::EventDriven {
+            method: SmoothMethod::Dopri5,
+            options: Options::tolerances(1e-8, 1e-10),
+        }
     }
 }

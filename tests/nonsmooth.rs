@@ -1,0 +1,379 @@
+//! The derived lumped scenes (generated kernels) through both non-smooth integrators,
+//! against the closed forms of theory.md §5.
+
+use filippov::nalgebra::SVector;
+use filippov::runtime::nonsmooth::event_driven;
+use filippov::runtime::{
+    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Trajectory, solve_nonsmooth,
+};
+use filippov::scenes::{
+    BilinearOscillator, BinghamBlock, BinghamOscillator, CoulombOscillator, FrictionChain,
+};
+
+type V1 = SVector<f64, 1>;
+
+fn unforced<const N: usize>(
+    _t: f64,
+    _q: &SVector<f64, N>,
+    _v: &SVector<f64, N>,
+) -> SVector<f64, N> {
+    SVector::zeros()
+}
+
+fn tight() -> NonSmoothMethod {
+    NonSmoothMethod::EventDriven {
+        method: SmoothMethod::Dopri5,
+        options: Options::tolerances(1e-12, 1e-14),
+    }
+}
+
+/// Times `t` at which component `v` of the trajectory crosses or reaches zero from a
+/// non-zero value (the velocity zeros), with the position there.
+fn velocity_zeros(traj: &Trajectory, x: usize, v: usize) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    for i in 1..traj.len() {
+        let (a, b) = (traj.state(i - 1)[v], traj.state(i)[v]);
+        if a != 0.0 && (b == 0.0 || a.signum() != b.signum()) {
+            let t = traj.times()[i];
+            if out.last().is_none_or(|(tl, _)| t - tl > 1e-6) {
+                out.push((t, traj.state(i)[x]));
+            }
+        }
+    }
+    out
+}
+
+/// S6: turning points (−1)ⁿ (x0 − 2n x_F) at t = nπ/ω, motion stops at the first turning
+/// point with |x| ≤ x_F; afterwards the velocity is exactly zero.
+#[test]
+fn s6_coulomb_free_decay_event_driven_matches_closed_form() {
+    let s = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+    };
+    let p = NonSmoothProblem::new(0.0, 30.0, V1::new(1.0), V1::new(0.0));
+    let traj = solve_nonsmooth(&s, &unforced::<1>, &p, &tight()).expect("S6 integrates");
+    let zeros = velocity_zeros(&traj, 0, 1);
+    let expected: Vec<(f64, f64)> = (1..=5)
+        .map(|n| {
+            (
+                n as f64 * std::f64::consts::PI,
+                (-1f64).powi(n) * (1.0 - 0.2 * n as f64),
+            )
+        })
+        .collect();
+    assert_eq!(zeros.len(), expected.len(), "turning points {zeros:?}");
+    for ((t, x), (te, xe)) in zeros.iter().zip(&expected) {
+        assert!((t - te).abs() <= 1e-9 * te, "turning time {t} vs {te}");
+        assert!((x - xe).abs() <= 1e-9, "turning point {x} vs {xe}");
+    }
+    let stop = expected[4].0;
+    for i in 0..traj.len() {
+        if traj.times()[i] > stop + 1e-6 {
+            assert_eq!(
+                traj.state(i)[1],
+                0.0,
+                "stuck velocity must be exactly zero at t = {}",
+                traj.times()[i]
+            );
+            assert!(
+                traj.state(i)[2].abs() <= 0.1,
+                "stuck force within the dead zone"
+            );
+        }
+    }
+}
+
+/// S1: between velocity zeros, m ẍ + η ẋ + k x = −f_crit sgn ẋ; velocity zeros lie exactly
+/// π/ω_d apart and the mass sticks for good at the first one with |k x| ≤ f_crit.
+#[test]
+fn s1_bingham_free_decay_event_driven_matches_closed_form() {
+    let (m, k, fc, eta) = (1.0, 1.0, 0.1, 0.2);
+    let s = BinghamOscillator {
+        m,
+        k,
+        f_crit: fc,
+        eta,
+    };
+    let p = NonSmoothProblem::new(0.0, 30.0, V1::new(1.0), V1::new(0.0));
+    let traj = solve_nonsmooth(&s, &unforced::<1>, &p, &tight()).expect("S1 integrates");
+    let zeta = eta / (2.0 * m);
+    let wd = (k / m - zeta * zeta).sqrt();
+    let decay = (-zeta * std::f64::consts::PI / wd).exp();
+    let mut expected = Vec::new();
+    let mut x = 1.0f64;
+    let mut n = 0;
+    while x.abs() * k > fc {
+        let offset = x.signum() * fc / k; // moving towards the origin: offset −sgn(v) f_c/k
+        x = offset - (x - offset) * decay;
+        n += 1;
+        expected.push((n as f64 * std::f64::consts::PI / wd, x));
+    }
+    let zeros = velocity_zeros(&traj, 0, 1);
+    assert_eq!(
+        zeros.len(),
+        expected.len(),
+        "velocity zeros {zeros:?} vs {expected:?}"
+    );
+    for ((t, x), (te, xe)) in zeros.iter().zip(&expected) {
+        assert!((t - te).abs() <= 1e-9 * te, "switch time {t} vs {te}");
+        assert!((x - xe).abs() <= 1e-9, "position {x} vs {xe}");
+    }
+    assert_eq!(traj.last().unwrap().1[1], 0.0, "sticks for good");
+}
+
+/// Time-stepping converges at order one on S6 (x at the turning times and at rest).
+#[test]
+fn s6_time_stepping_converges_at_order_one() {
+    let s = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+    };
+    let p = NonSmoothProblem::new(0.0, 30.0, V1::new(1.0), V1::new(0.0));
+    let errs: Vec<f64> = [2e-2, 1e-2, 5e-3]
+        .iter()
+        .map(|&h| {
+            let traj = solve_nonsmooth(
+                &s,
+                &unforced::<1>,
+                &p,
+                &NonSmoothMethod::TimeStepping { h, theta: 1.0 },
+            )
+            .expect("integrates");
+            (1..=5)
+                .map(|n| {
+                    let t = n as f64 * std::f64::consts::PI;
+                    let xe = (-1f64).powi(n) * (1.0 - 0.2 * n as f64);
+                    (traj.at(t).unwrap()[0] - xe).abs()
+                })
+                .fold(0.0, f64::max)
+        })
+        .collect();
+    let slope = (errs[0] / errs[2]).log2() / 2.0;
+    assert!(
+        (0.8..=1.3).contains(&slope),
+        "observed order {slope} from errors {errs:?}"
+    );
+}
+
+/// A Bingham block under a constant force F > f_crit: v(t) = (F − f_crit)/η (1 − e^(−ηt/m));
+/// with F ≤ f_crit it stays at rest exactly.
+#[test]
+fn bingham_block_under_constant_force() {
+    let (m, fc, eta) = (2.0, 0.3, 0.5);
+    let s = BinghamBlock { m, f_crit: fc, eta };
+    for force in [1.1, 0.2] {
+        let input = move |_t: f64, _q: &V1, _v: &V1| V1::new(force);
+        let p = NonSmoothProblem::new(0.0, 10.0, V1::new(0.0), V1::new(0.0));
+        let traj = event_driven(
+            &s,
+            &input,
+            &p,
+            SmoothMethod::Dopri5,
+            &Options::tolerances(1e-11, 1e-13),
+        )
+        .expect("integrates");
+        for i in 0..traj.len() {
+            let t = traj.times()[i];
+            let v = traj.state(i)[1];
+            let exact = if force > fc {
+                (force - fc) / eta * (1.0 - (-eta * t / m).exp())
+            } else {
+                0.0
+            };
+            if force > fc {
+                assert!((v - exact).abs() <= 1e-9, "v({t}) = {v}, exact {exact}");
+            } else {
+                assert_eq!(v, 0.0, "at rest exactly");
+            }
+        }
+    }
+}
+
+/// S7's elastic case against its closed-form period T = 5.8620872 (theory §5).
+#[test]
+fn bilinear_oscillator_period() {
+    let s = BilinearOscillator {
+        m: 1.0,
+        k: 1.0,
+        l: 0.5,
+        k_support: 1.0,
+    };
+    let p = NonSmoothProblem::new(0.0, 20.0, V1::new(0.0), V1::new(1.0));
+    let traj = solve_nonsmooth(&s, &unforced::<1>, &p, &tight()).expect("integrates");
+    // Upward zero crossings of x, located on the dense output by bisection.
+    let mut ups = Vec::new();
+    for i in 1..traj.len() {
+        let (t0, t1) = (traj.times()[i - 1], traj.times()[i]);
+        if traj.state(i - 1)[0] < 0.0 && traj.state(i)[0] >= 0.0 {
+            let (mut a, mut b) = (t0, t1);
+            for _ in 0..80 {
+                let c = 0.5 * (a + b);
+                if traj.at(c).unwrap()[0] < 0.0 {
+                    a = c
+                } else {
+                    b = c
+                }
+            }
+            ups.push(0.5 * (a + b));
+        }
+    }
+    // Closed form of theory §5, computed here.
+    let (w1, w2) = (1.0f64, 2f64.sqrt());
+    let a1 = 1.0f64; // √(2E/k) with E = ½
+    let xe: f64 = 0.5 * 1.0 / 2.0;
+    let vl = w1 * (a1 * a1 - 0.25f64).sqrt();
+    let a2 = ((0.5 - xe).powi(2) + (vl / w2).powi(2)).sqrt();
+    let period =
+        2.0 * (std::f64::consts::PI - (0.5 / a1).acos()) / w1 + 2.0 * ((0.5 - xe) / a2).acos() / w2;
+    assert!((period - 5.8620872).abs() < 1e-7, "closed form {period}");
+    assert!(ups.len() >= 3, "crossings {ups:?}");
+    for w in ups.windows(2) {
+        // Dense output is cubic Hermite between rows: accurate to ~1e-8 at this tolerance.
+        assert!(
+            (w[1] - w[0] - period).abs() < 1e-7,
+            "period {} vs {period}",
+            w[1] - w[0]
+        );
+    }
+}
+
+/// Two friction elements on a chain: the event-driven and time-stepping integrators
+/// agree, with the time-stepping error falling at order one.
+#[test]
+fn friction_chain_both_integrators_agree() {
+    let s = FrictionChain {
+        m1: 1.0,
+        m2: 0.5,
+        k1: 1.0,
+        k2: 2.0,
+        f1: 0.4,
+        f2: 0.15,
+    };
+    let input = |t: f64, _q: &SVector<f64, 2>, _v: &SVector<f64, 2>| {
+        SVector::<f64, 2>::new(1.5 * (0.8 * t).sin(), 0.0)
+    };
+    let p = NonSmoothProblem::new(0.0, 12.0, SVector::zeros(), SVector::zeros());
+    let ed = solve_nonsmooth(&s, &input, &p, &tight()).expect("event-driven");
+    assert!(ed.stats.events > 2, "the chain switches: {}", ed.stats);
+    let reference = ed.last().unwrap().1.to_vec();
+    let errs: Vec<f64> = [4e-3, 2e-3, 1e-3]
+        .iter()
+        .map(|&h| {
+            let ts = solve_nonsmooth(
+                &s,
+                &input,
+                &p,
+                &NonSmoothMethod::TimeStepping { h, theta: 1.0 },
+            )
+            .expect("time-stepping");
+            let y = ts.last().unwrap().1;
+            (0..4)
+                .map(|i| (y[i] - reference[i]).abs())
+                .fold(0.0, f64::max)
+        })
+        .collect();
+    assert!(
+        errs[2] < 1e-2,
+        "time-stepping h = 1e-3 vs event-driven: {errs:?}"
+    );
+    let slope = (errs[0] / errs[2]).log2() / 2.0;
+    assert!((0.7..=1.4).contains(&slope), "order {slope} from {errs:?}");
+    // While stuck, each force lies within its dead zone. At a stick→slip event row the
+    // force sits on the boundary up to the event-location tolerance (1e-12·t in time,
+    // |ḟ| ≤ 2 here): 1e-10 covers it.
+    for i in 0..ed.len() {
+        let y = ed.state(i);
+        for (e, fc) in [(0usize, 0.4), (1, 0.15)] {
+            if y[2 + e] == 0.0 {
+                assert!(
+                    y[4 + e].abs() <= fc + 1e-10,
+                    "stuck force {} beyond {fc}",
+                    y[4 + e]
+                );
+            }
+        }
+    }
+}
+
+/// Energy balance on S5 (forced Coulomb stick–slip): E(t) − E(0) = ∫ F v dt − ∫ f v dt,
+/// with the dissipation f·v ≥ 0 at every row. The integrals use the dense output on a
+/// fine grid (trapezoidal rule, error ~1e-7 here).
+#[test]
+fn s5_energy_balance_and_dissipation_sign() {
+    use filippov::Mechanism;
+    let s = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.5,
+    };
+    let force = |t: f64| 1.2 * (0.5 * t).sin();
+    let input = move |t: f64, _q: &V1, _v: &V1| V1::new(force(t));
+    let p = NonSmoothProblem::new(0.0, 30.0, V1::new(0.25), V1::new(0.0))
+        .with_forces(vec![Some(-0.25)]);
+    let traj = solve_nonsmooth(&s, &input, &p, &tight()).expect("S5 integrates");
+    assert!(traj.stats.events >= 4, "stick–slip cycles: {}", traj.stats);
+    for i in 0..traj.len() {
+        let y = traj.state(i);
+        assert!(
+            y[2] * y[1] >= 0.0,
+            "dissipation f·v = {} < 0 at t = {}",
+            y[2] * y[1],
+            traj.times()[i]
+        );
+    }
+    let energy = |y: &[f64]| {
+        s.kinetic_energy(&V1::new(y[0]), &V1::new(y[1])) + s.potential_energy(&V1::new(y[0]))
+    };
+    let e0 = energy(traj.state(0));
+    let dt = 1e-3;
+    let (mut work, mut dissipated) = (0.0, 0.0);
+    let mut prev = traj.at(0.0).unwrap();
+    let mut t = 0.0;
+    let mut worst = 0.0f64;
+    while t + dt <= 30.0 {
+        let y = traj.at(t + dt).unwrap();
+        work += 0.5 * dt * (force(t) * prev[1] + force(t + dt) * y[1]);
+        dissipated += 0.5 * dt * 0.5 * (prev[1].abs() + y[1].abs()); // f·v = f_crit |v| when slipping, 0 when stuck
+        t += dt;
+        prev = y;
+        worst = worst.max((energy(&prev) - e0 - work + dissipated).abs());
+    }
+    assert!(worst < 1e-5, "energy balance residual {worst:.3e}");
+}
+
+/// Bad parameters are typed errors naming the parameter, before any integration.
+#[test]
+fn bad_parameters_are_reported_not_integrated() {
+    use filippov::runtime::ErrorKind;
+    let s = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: -0.1,
+    };
+    let p = NonSmoothProblem::new(0.0, 1.0, V1::new(1.0), V1::new(0.0));
+    for method in [
+        tight(),
+        NonSmoothMethod::TimeStepping {
+            h: 1e-2,
+            theta: 1.0,
+        },
+    ] {
+        let err = solve_nonsmooth(&s, &unforced::<1>, &p, &method).expect_err("negative f_crit");
+        match &err.kind {
+            ErrorKind::InvalidInput(msg) => {
+                assert!(msg.contains("f_crit of `friction_x`"), "{msg}")
+            }
+            other => panic!("expected InvalidInput, got {other:?}"),
+        }
+        assert!(err.trajectory.is_empty());
+    }
+    let s = CoulombOscillator {
+        m: f64::NAN,
+        k: 1.0,
+        f_crit: 0.1,
+    };
+    assert!(solve_nonsmooth(&s, &unforced::<1>, &p, &tight()).is_err());
+}

@@ -1,0 +1,517 @@
+//! Work-precision of the non-smooth scenes (theory S1, S5, S6, S7) with the event-driven
+//! and the time-stepping integrators, against closed forms (S1, S6, S7 elastic) or a
+//! semi-analytic piecewise solution (S5, linear in every mode); then the stiff and
+//! extreme suite.
+
+use std::f64::consts::PI;
+
+use filippov::nalgebra::SVector;
+use filippov::runtime::{
+    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Trajectory, solve_nonsmooth,
+};
+use filippov::scenes::{
+    BilinearOscillator, BinghamOscillator, BouncingBall, CoulombOscillator, SupportedStop,
+};
+
+use super::config::Config;
+use super::markdown::{Page, sci};
+use super::support::{Scale, Series, line_plot};
+use super::timing::median;
+use super::workprecision::Section;
+
+type V1 = SVector<f64, 1>;
+
+fn unforced(_t: f64, _q: &V1, _v: &V1) -> V1 {
+    V1::zeros()
+}
+
+/// Velocity zeros (time, position) of a 1-dof trajectory [x, v, f…].
+fn velocity_zeros(traj: &Trajectory) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    for i in 1..traj.len() {
+        let (a, b) = (traj.state(i - 1)[1], traj.state(i)[1]);
+        if a != 0.0 && (b == 0.0 || a.signum() != b.signum()) {
+            // Locate on the dense output when the row is not exactly at the zero.
+            let (mut lo, mut hi) = (traj.times()[i - 1], traj.times()[i]);
+            if b != 0.0 {
+                for _ in 0..60 {
+                    let c = 0.5 * (lo + hi);
+                    let vc = traj.at(c).map_or(0.0, |y| y[1]);
+                    if vc.signum() == a.signum() && vc != 0.0 {
+                        lo = c
+                    } else {
+                        hi = c
+                    }
+                }
+            }
+            let t = hi;
+            if out.last().is_none_or(|(tl, _)| t - tl > 1e-3) {
+                out.push((t, traj.at(t).map_or(f64::NAN, |y| y[0])));
+            }
+        }
+    }
+    out
+}
+
+/// Errors of a run against reference switch points and a reference final position:
+/// (max switch-time error, max switch-position error, final-position error).
+fn switch_errors(traj: &Trajectory, reference: &[(f64, f64)], x_final: f64) -> (f64, f64, f64) {
+    let zeros = velocity_zeros(traj);
+    let mut dt = 0.0f64;
+    let mut dx = 0.0f64;
+    for (i, (te, xe)) in reference.iter().enumerate() {
+        match zeros.get(i) {
+            Some((t, x)) => {
+                dt = dt.max((t - te).abs());
+                dx = dx.max((x - xe).abs());
+            }
+            None => {
+                dt = f64::INFINITY;
+                dx = f64::INFINITY;
+            }
+        }
+    }
+    let xf = traj.last().map_or(f64::NAN, |(_, y)| y[0]);
+    (dt, dx, (xf - x_final).abs())
+}
+
+/// S6 closed form: turning points (−1)ⁿ (x0 − 2n x_F) at nπ until |x| ≤ x_F.
+fn s6_reference() -> Vec<(f64, f64)> {
+    (1..=5)
+        .map(|n| (n as f64 * PI, (-1f64).powi(n) * (1.0 - 0.2 * n as f64)))
+        .collect()
+}
+
+/// S1 closed form: damped half-cycles about the offset sgn(x) f_c/k, π/ω_d long.
+fn s1_reference() -> Vec<(f64, f64)> {
+    let (zeta, fc) = (0.1f64, 0.1);
+    let wd = (1.0 - zeta * zeta).sqrt();
+    let decay = (-zeta * PI / wd).exp();
+    let mut x = 1.0f64;
+    let mut out = Vec::new();
+    while x.abs() > fc {
+        let off = x.signum() * fc;
+        x = off - (x - off) * decay;
+        out.push(((out.len() + 1) as f64 * PI / wd, x));
+    }
+    out
+}
+
+struct Row {
+    method: String,
+    setting: String,
+    outcome: Result<(f64, f64, f64, f64, String), String>, // (dt, dx, final, time, stats)
+}
+
+fn sweep<S: filippov::runtime::NonSmooth<1>>(
+    config: &Config,
+    sys: &S,
+    problem: &NonSmoothProblem<1>,
+    input: &dyn Fn(f64, &V1, &V1) -> V1,
+    reference: &[(f64, f64)],
+    x_final: f64,
+) -> Vec<Row> {
+    let mut rows = Vec::new();
+    let mut methods: Vec<(String, String, NonSmoothMethod)> = config
+        .tolerances
+        .iter()
+        .filter(|t| **t >= 1e-11)
+        .map(|&t| {
+            (
+                "event-driven (DOPRI5)".to_string(),
+                format!("rtol = {t:.0e}"),
+                NonSmoothMethod::EventDriven {
+                    method: SmoothMethod::Dopri5,
+                    options: Options::tolerances(t, t * 1e-2),
+                },
+            )
+        })
+        .collect();
+    for n in &config.rk4_steps {
+        let h = 0.5 / *n as f64;
+        methods.push((
+            "time-stepping (θ = 1)".into(),
+            format!("h = {}", sci(h)),
+            NonSmoothMethod::TimeStepping { h, theta: 1.0 },
+        ));
+    }
+    for (method, setting, m) in methods {
+        let (time, result) = median(config.repeats, || solve_nonsmooth(sys, &input, problem, &m));
+        let outcome = match result {
+            Ok(traj) => {
+                let (dt, dx, df) = switch_errors(&traj, reference, x_final);
+                let s = &traj.stats;
+                Ok((
+                    dt,
+                    dx,
+                    df,
+                    time,
+                    format!(
+                        "{} steps, {} evals, {} events",
+                        s.steps, s.rhs_evaluations, s.events
+                    ),
+                ))
+            }
+            Err(e) => Err(e.to_string()),
+        };
+        rows.push(Row {
+            method,
+            setting,
+            outcome,
+        });
+    }
+    rows
+}
+
+fn table(page: &mut Page, rows: &[Row]) {
+    let body: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| match &r.outcome {
+            Ok((dt, dx, df, time, stats)) => vec![
+                r.method.clone(),
+                r.setting.clone(),
+                sci(*dt),
+                sci(*dx),
+                if df.is_nan() { "—".into() } else { sci(*df) },
+                format!("{:.3}", time * 1e3),
+                stats.clone(),
+            ],
+            Err(e) => vec![
+                r.method.clone(),
+                r.setting.clone(),
+                format!("**failed**: {e}"),
+                String::new(),
+                String::new(),
+                String::new(),
+                String::new(),
+            ],
+        })
+        .collect();
+    page.table(
+        &[
+            "method",
+            "setting",
+            "switch-time error",
+            "switch-position error",
+            "final error",
+            "time [ms]",
+            "work",
+        ],
+        &body,
+    );
+}
+
+fn plot(config: &Config, file: &str, title: &str, rows: &[Row]) {
+    let mut curves = Vec::new();
+    for m in ["event-driven (DOPRI5)", "time-stepping (θ = 1)"] {
+        let pts: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r.method == m)
+            .filter_map(|r| {
+                r.outcome
+                    .as_ref()
+                    .ok()
+                    .map(|(dt, dx, _, t, _)| (t * 1e3, dt.max(*dx)))
+            })
+            .collect();
+        curves.push(Series::new(m, pts));
+    }
+    line_plot(
+        &config.out_dir.join(file),
+        title,
+        "run time [ms]",
+        "max switch error (time or position)",
+        &curves,
+        Scale::Log,
+        Scale::Log,
+    );
+}
+
+fn summarize(name: &str, rows: &[Row], summary: &mut Vec<String>) {
+    let best = |m: &str| {
+        rows.iter()
+            .filter(|r| r.method.starts_with(m))
+            .filter_map(|r| r.outcome.as_ref().ok())
+            .filter(|(dt, dx, ..)| dt.max(*dx) <= 1e-3)
+            .map(|o| o.3)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (ed, ts) = (best("event"), best("time"));
+    if ed.is_finite() && ts.is_finite() {
+        summary.push(format!("{name}: to switch errors ≤ 1e-3, event-driven takes {:.3} ms, time-stepping {:.3} ms ({:.1}×)", ed * 1e3, ts * 1e3, ts / ed));
+    } else if ed.is_finite() {
+        summary.push(format!("{name}: event-driven reaches switch errors ≤ 1e-3 in {:.3} ms; time-stepping does not within the swept steps", ed * 1e3));
+    }
+    let failures = rows.iter().filter(|r| r.outcome.is_err()).count();
+    if failures > 0 {
+        summary.push(format!("{name}: {failures} run(s) failed (see the table)"));
+    }
+}
+
+pub fn nonsmooth(config: &Config) -> Section {
+    let mut page = Page::empty();
+    let mut summary = Vec::new();
+    page.h2("Work-precision: non-smooth scenes");
+    page.para("Event-driven (DOPRI5 between switches, tolerance sweep) against Moreau time-stepping (θ = 1, step sweep). Switch errors compare the velocity zeros (turning points, stick onsets) with the closed forms of theory §5; the final error is x(tf). Times are medians.");
+    let tf = 30.0 * config.horizon.max(0.34);
+    let p = NonSmoothProblem::new(0.0, tf, V1::new(1.0), V1::new(0.0));
+    let keep = |r: Vec<(f64, f64)>| r.into_iter().filter(|(t, _)| *t <= tf).collect::<Vec<_>>();
+
+    page.h3("S6: Coulomb free decay (closed form)");
+    let reference = keep(s6_reference());
+    let x_final = if tf >= 5.0 * PI { 0.0 } else { f64::NAN };
+    let rows = sweep(
+        config,
+        &CoulombOscillator {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 0.1,
+        },
+        &p,
+        &unforced,
+        &reference,
+        x_final,
+    );
+    table(&mut page, &rows);
+    plot(
+        config,
+        "ns_s6.svg",
+        "S6 Coulomb free decay: switch error against run time",
+        &rows,
+    );
+    page.image("S6", "ns_s6.svg");
+    summarize("S6", &rows, &mut summary);
+
+    page.h3("S1: linear Bingham free decay (closed form)");
+    let reference = keep(s1_reference());
+    let x_final = reference.last().map_or(f64::NAN, |r| r.1);
+    let rows = sweep(
+        config,
+        &BinghamOscillator {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 0.1,
+            eta: 0.2,
+        },
+        &p,
+        &unforced,
+        &reference,
+        if tf >= 25.0 { x_final } else { f64::NAN },
+    );
+    table(&mut page, &rows);
+    plot(
+        config,
+        "ns_s1.svg",
+        "S1 Bingham free decay: switch error against run time",
+        &rows,
+    );
+    page.image("S1", "ns_s1.svg");
+    summarize("S1", &rows, &mut summary);
+
+    page.h3("S7 elastic: bilinear oscillator (closed-form period 5.8620872)");
+    let bil = BilinearOscillator {
+        m: 1.0,
+        k: 1.0,
+        l: 0.5,
+        k_support: 1.0,
+    };
+    let p7 = NonSmoothProblem::new(
+        0.0,
+        2.0 * 5.8620872 * config.horizon.max(0.5) + 0.5,
+        V1::new(0.0),
+        V1::new(1.0),
+    );
+    // Velocity zeros of the bilinear oscillator: the turning points, alternately at
+    // x = +A2 + x_e side and −A1, every half-period of each side.
+    let (w1, w2) = (1.0f64, 2f64.sqrt());
+    let xe = 0.25f64;
+    let vl = (1.0f64 - 0.25).sqrt();
+    let a2 = ((0.5 - xe).powi(2) + (vl / w2).powi(2)).sqrt();
+    let t_l = (0.5f64).asin() / w1; // reach x = L
+    let t_top = t_l + (((0.5 - xe) / a2).acos()) / w2;
+    let half = 2.0 * (PI - 0.5f64.acos()) / w1 + 2.0 * ((0.5 - xe) / a2).acos() / w2;
+    let mut reference = Vec::new();
+    let mut k = 0;
+    loop {
+        let t_max = t_top + k as f64 * half;
+        let t_min = t_top
+            + (2.0 * ((0.5 - xe) / a2).acos() / w2) / 2.0
+            + (PI - 0.5f64.acos()) / w1
+            + k as f64 * half;
+        if t_max > p7.tf {
+            break;
+        }
+        reference.push((t_max, xe + a2));
+        if t_min <= p7.tf {
+            reference.push((t_min, -1.0));
+        }
+        k += 1;
+    }
+    let rows = sweep(config, &bil, &p7, &unforced, &reference, f64::NAN);
+    table(&mut page, &rows);
+    plot(
+        config,
+        "ns_s7.svg",
+        "S7 elastic (bilinear): turning-point error against run time",
+        &rows,
+    );
+    page.image("S7 elastic", "ns_s7.svg");
+    summarize("S7 elastic", &rows, &mut summary);
+
+    page.h2("Stiff and extreme cases");
+    let mut rows = Vec::new();
+    let ed = NonSmoothMethod::EventDriven {
+        method: SmoothMethod::Dopri5,
+        options: Options::tolerances(1e-8, 1e-10),
+    };
+    let ts = NonSmoothMethod::TimeStepping {
+        h: 1e-3,
+        theta: 1.0,
+    };
+    let mut record = |case: String,
+                      method: &str,
+                      run: &dyn Fn() -> Result<Trajectory, filippov::runtime::SolveError>,
+                      check: &dyn Fn(&Trajectory) -> String| {
+        let (time, r) = median(config.repeats.min(3), run);
+        let (status, detail) = match r {
+            Ok(traj) => (
+                "completed".to_string(),
+                format!(
+                    "{}; {} steps, {} events, {} Zeno handovers",
+                    check(&traj),
+                    traj.stats.steps,
+                    traj.stats.events,
+                    traj.stats.zeno_handovers
+                ),
+            ),
+            Err(e) => (
+                format!("typed error: {}", e.kind),
+                format!("{} rows kept", e.trajectory.len()),
+            ),
+        };
+        rows.push(vec![
+            case,
+            method.into(),
+            status,
+            detail,
+            format!("{:.2}", time * 1e3),
+        ]);
+    };
+    let short = 10.0 * config.horizon.max(0.2);
+    for ks in [1e3, 1e6, 1e9, 1e12] {
+        let s = SupportedStop {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 0.1,
+            eta: 0.2,
+            l: 0.5,
+            k_support: ks,
+        };
+        let p = NonSmoothProblem::new(0.0, short, V1::new(0.0), V1::new(1.0));
+        let check = |t: &Trajectory| {
+            format!(
+                "max x = {:.6} (stop at 0.5)",
+                (0..t.len()).map(|i| t.state(i)[0]).fold(f64::MIN, f64::max)
+            )
+        };
+        for (name, m) in [("event-driven", ed), ("time-stepping h = 1e-3", ts)] {
+            record(
+                format!("S7, k_support = {ks:.0e} (stiffness ratio {ks:.0e})"),
+                name,
+                &|| solve_nonsmooth(&s, &unforced, &p, &m),
+                &check,
+            );
+        }
+    }
+    for m in [1e-3, 1e-6, 1e-12] {
+        let s = CoulombOscillator {
+            m,
+            k: 1.0,
+            f_crit: 0.1,
+        };
+        let p = NonSmoothProblem::new(0.0, 30.0 * m.sqrt(), V1::new(1.0), V1::new(0.0));
+        let check = |t: &Trajectory| {
+            format!(
+                "final x = {:.6} (closed form 0)",
+                t.last().map_or(f64::NAN, |r| r.1[0])
+            )
+        };
+        record(
+            format!("S6 with mass {m:.0e} (horizon 30√m)"),
+            "event-driven",
+            &|| solve_nonsmooth(&s, &unforced, &p, &ed),
+            &check,
+        );
+    }
+    for fc in [1e-9, 1e3] {
+        let s = CoulombOscillator {
+            m: 1.0,
+            k: 1.0,
+            f_crit: fc,
+        };
+        let p = NonSmoothProblem::new(0.0, short, V1::new(1.0), V1::new(0.0));
+        let check =
+            |t: &Trajectory| format!("final x = {:.6}", t.last().map_or(f64::NAN, |r| r.1[0]));
+        record(
+            format!("S6 with f_crit = {fc:.0e}"),
+            "event-driven",
+            &|| solve_nonsmooth(&s, &unforced, &p, &ed),
+            &check,
+        );
+    }
+    for eps in [1e-12, -1e-12] {
+        let s = CoulombOscillator {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 0.5,
+        };
+        let force = 0.5 * (1.0 + eps);
+        let input = move |_t: f64, _q: &V1, _v: &V1| V1::new(force);
+        let p = NonSmoothProblem::new(0.0, 5.0, V1::new(0.0), V1::new(0.0));
+        let check = |t: &Trajectory| {
+            format!(
+                "final x = {:.3e}, v = {:.3e}",
+                t.last().map_or(f64::NAN, |r| r.1[0]),
+                t.last().map_or(f64::NAN, |r| r.1[1])
+            )
+        };
+        record(
+            format!(
+                "applied force f_crit·(1 {} 1e-12), from rest",
+                if eps > 0.0 { "+" } else { "−" }
+            ),
+            "event-driven",
+            &|| solve_nonsmooth(&s, &input, &p, &ed),
+            &check,
+        );
+    }
+    for e in [0.5, 0.9, 0.99] {
+        let s = BouncingBall { m: 1.0, g: 9.81, e };
+        // Drop from 1 m: accumulation time √(2/g)·(1 + e)/(1 − e).
+        let t_acc = (2.0f64 / 9.81).sqrt() * (1.0 + e) / (1.0 - e);
+        let p = NonSmoothProblem::new(0.0, 1.5 * t_acc, V1::new(1.0), V1::new(0.0));
+        let check = move |t: &Trajectory| {
+            let y = t.last().map_or(vec![f64::NAN; 3], |r| r.1.to_vec());
+            format!(
+                "accumulation at {t_acc:.3}; at tf: x = {:.2e}, v = {:.2e}",
+                y[0], y[1]
+            )
+        };
+        for (name, m) in [("event-driven", ed), ("time-stepping h = 1e-3", ts)] {
+            record(
+                format!("Zeno bouncing, e = {e}, run to 1.5× accumulation"),
+                name,
+                &|| solve_nonsmooth(&s, &unforced, &p, &m),
+                &check,
+            );
+        }
+    }
+    page.para("Each case reports whether it completed or ended with a typed error, what it computed, and its run time (median).");
+    page.table(&["case", "method", "outcome", "result", "time [ms]"], &rows);
+    let errors = rows
+        .iter()
+        .filter(|r| r[2].starts_with("typed error"))
+        .count();
+    summary.push(format!("Stiff and extreme suite: {} of {} cases completed, {errors} ended with a typed error (none panicked)", rows.len() - errors, rows.len()));
+    Section { page, summary }
+}

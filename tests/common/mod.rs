@@ -1,7 +1,11 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod random_trees;
+
+use filippov::Mechanism;
 use filippov::nalgebra::{DMatrix, DVector, SMatrix, SVector};
+use filippov::runtime::numeric;
 
 /// A small deterministic generator (SplitMix64), so tests need no RNG dependency and
 /// every failure reproduces.
@@ -54,4 +58,199 @@ pub fn assert_close(a: &[f64], b: &[f64], tol: f64, floor: f64, what: &str) {
         "{what}: relative difference {:.3e} (‖b‖ = {norm:.3e})\n a = {a:?}\n b = {b:?}",
         diff / norm.max(floor)
     );
+}
+
+/// Every identity a generated mechanism must satisfy, on random states (see
+/// `tests/identities.rs`).
+pub const STATES: usize = 25;
+
+pub fn check<S: Mechanism<N>, const N: usize>(sys: &S, seed: u64) {
+    let model = sys.model();
+    let mut rng = Rng::new(seed);
+    for _ in 0..STATES {
+        let q: SVector<f64, N> = rng.vector(3.0);
+        let v: SVector<f64, N> = rng.vector(2.0);
+        let a: SVector<f64, N> = rng.vector(2.0);
+        let tau: SVector<f64, N> = rng.vector(5.0);
+        let (qd, vd) = (dvec(&q), dvec(&v));
+
+        // Against the numeric implementation (≤ 1e-12 relative).
+        let m = sys.mass_matrix(&q);
+        assert_close(
+            m.as_slice(),
+            numeric::crba(&model, &qd).as_slice(),
+            1e-12,
+            1e-12,
+            "M vs CRBA",
+        );
+        let c = sys.coriolis_matrix(&q, &v);
+        let cn = numeric::coriolis_matrix(&model, &qd, &vd);
+        assert_close(
+            c.as_slice(),
+            cn.as_slice(),
+            1e-12,
+            1e-9,
+            "C vs numeric Christoffel",
+        );
+        let g = sys.gravity(&q);
+        assert_close(
+            g.as_slice(),
+            numeric::gravity(&model, &qd).as_slice(),
+            1e-12,
+            1e-12,
+            "g",
+        );
+        let b = sys.bias(&q, &v);
+        assert_close(
+            b.as_slice(),
+            numeric::bias(&model, &qd, &vd).as_slice(),
+            1e-12,
+            1e-12,
+            "bias",
+        );
+        let id = sys.inverse_dynamics(&q, &v, &a);
+        let idn = numeric::inverse_dynamics(&model, &qd, &vd, &dvec(&a));
+        assert_close(
+            id.as_slice(),
+            idn.as_slice(),
+            1e-12,
+            1e-12,
+            "inverse dynamics",
+        );
+        let fd = sys.forward_dynamics(&q, &v, &tau);
+        let fdn = numeric::forward_dynamics(&model, &qd, &vd, &dvec(&tau));
+        assert_close(
+            fd.as_slice(),
+            fdn.as_slice(),
+            1e-11,
+            1e-12,
+            "forward dynamics",
+        );
+        let p = sys.passive_forces(&q, &v);
+        assert_close(
+            p.as_slice(),
+            numeric::passive_forces(&model, &qd, &vd).as_slice(),
+            1e-14,
+            1e-14,
+            "passive",
+        );
+        let ke = sys.kinetic_energy(&q, &v);
+        assert_close(
+            &[ke],
+            &[numeric::kinetic_energy(&model, &qd, &vd)],
+            1e-12,
+            1e-12,
+            "kinetic energy",
+        );
+        let pe = sys.potential_energy(&q);
+        assert_close(
+            &[pe],
+            &[numeric::potential_energy(&model, &qd)],
+            1e-12,
+            1e-9,
+            "potential energy",
+        );
+
+        // Christoffel symbols assemble the Coriolis matrix.
+        let gam = sys.christoffel_symbols(&q);
+        for i in 0..N {
+            let row: Vec<f64> = (0..N)
+                .map(|j| (0..N).map(|k| gam[i][(j, k)] * v[k]).sum())
+                .collect();
+            let crow: Vec<f64> = (0..N).map(|j| c[(i, j)]).collect();
+            assert_close(&row, &crow, 1e-13, 1e-12, "Σ c_ijk v_k = C_ij");
+        }
+
+        // M symmetric positive definite.
+        assert_eq!(m, m.transpose(), "M must be exactly symmetric");
+        assert!(m.cholesky().is_some(), "M must be positive definite");
+
+        // C v + g = bias.
+        assert_close(
+            (c * v + g).as_slice(),
+            b.as_slice(),
+            1e-12,
+            1e-12,
+            "C v + g vs RNEA bias",
+        );
+
+        // Ṁ − 2C skew-symmetric, Ṁ by central differences along v.
+        let h = 1e-6;
+        let mdot = (sys.mass_matrix(&(q + v * h)) - sys.mass_matrix(&(q - v * h))) / (2.0 * h);
+        let s = mdot - c * 2.0;
+        let skew = s + s.transpose();
+        assert!(
+            skew.norm() <= 1e-6 * (1.0 + mdot.norm()),
+            "Ṁ − 2C not skew: ‖S + Sᵀ‖ = {:.3e}",
+            skew.norm()
+        );
+
+        // inverse ∘ forward = identity.
+        let back = sys.inverse_dynamics(&q, &v, &fd);
+        assert_close(
+            back.as_slice(),
+            tau.as_slice(),
+            1e-10,
+            1e-10,
+            "ID(FD(τ)) = τ",
+        );
+
+        // Symbolic Jacobian against central finite differences.
+        let jac = sys.forward_dynamics_jacobian(&q, &v, &tau);
+        assert_close(
+            jac.acceleration.as_slice(),
+            fd.as_slice(),
+            1e-13,
+            1e-13,
+            "Jacobian's acceleration",
+        );
+        let eps = 1e-6;
+        let mut dq = dmat(&jac.d_dq) * 0.0;
+        let mut dv = dq.clone();
+        for k in 0..N {
+            let mut e = SVector::<f64, N>::zeros();
+            e[k] = eps;
+            let col_q = (sys.forward_dynamics(&(q + e), &v, &tau)
+                - sys.forward_dynamics(&(q - e), &v, &tau))
+                / (2.0 * eps);
+            let col_v = (sys.forward_dynamics(&q, &(v + e), &tau)
+                - sys.forward_dynamics(&q, &(v - e), &tau))
+                / (2.0 * eps);
+            dq.set_column(k, &dvec(&col_q));
+            dv.set_column(k, &dvec(&col_v));
+        }
+        assert_close(
+            jac.d_dq.as_slice(),
+            dq.as_slice(),
+            1e-6,
+            1.0,
+            "∂v̇/∂q vs finite differences",
+        );
+        assert_close(
+            jac.d_dv.as_slice(),
+            dv.as_slice(),
+            1e-6,
+            1.0,
+            "∂v̇/∂v vs finite differences",
+        );
+
+        // Power balance: d(T + U)/dt = vᵀ (τ + τ_damping), by central differences along
+        // the flow (q̇ = v, v̇ = FD).
+        let energy = |q: &SVector<f64, N>, v: &SVector<f64, N>| {
+            sys.kinetic_energy(q, v) + sys.potential_energy(q)
+        };
+        let dt = 1e-6;
+        let de = (energy(&(q + v * dt), &(v + fd * dt)) - energy(&(q - v * dt), &(v - fd * dt)))
+            / (2.0 * dt);
+        let damping: f64 = model
+            .dampers
+            .iter()
+            .map(|d| -d.damping * v[d.coordinate] * v[d.coordinate])
+            .sum();
+        let power = v.dot(&tau) + damping;
+        assert!(
+            (de - power).abs() <= 1e-5 * (1.0 + power.abs()),
+            "dE/dt = {de}, power = {power}"
+        );
+    }
 }

@@ -37,7 +37,7 @@ pub fn source() -> String {
         out += &format!("#[mechanism(gravity = [{}, {}, {}])]\n", g[0], g[1], g[2]);
         let mut moving = Vec::new();
         for i in 0..n {
-            let parent = if i == 0 || rng.next_u64() % 4 == 0 {
+            let parent = if i == 0 || rng.next_u64().is_multiple_of(4) {
                 "world".to_string()
             } else {
                 format!("b{}", rng.next_u64() as usize % i)
@@ -98,7 +98,7 @@ pub fn source() -> String {
         }
         if moving.is_empty() {
             // At least one coordinate: make the first joint's child move too.
-            out = out.replace(&format!("#[joint(j0: fixed"), "#[joint(j0: revolute(z)");
+            out = out.replace("#[joint(j0: fixed", "#[joint(j0: revolute(z)");
             moving.push(0);
         }
         for &i in &moving {

@@ -4,6 +4,9 @@
 //! checked against the numeric implementation and the identities of
 //! `common::check`.
 
+// clippy's duplicated_attributes misreads repeated derive-helper attributes.
+#![allow(clippy::duplicated_attributes)]
+
 mod common;
 
 use filippov::Mechanism;

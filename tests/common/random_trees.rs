@@ -24,6 +24,8 @@ pub fn source() -> String {
          //! springs and dampers, random gravity) whose expansions are compiled here and\n\
          //! checked against the numeric implementation and the identities of\n\
          //! `common::check`.\n\n\
+         // clippy's duplicated_attributes misreads repeated derive-helper attributes.\n\
+         #![allow(clippy::duplicated_attributes)]\n\n\
          mod common;\n\nuse filippov::Mechanism;\n\n",
     );
     for t in 0..TREES {

@@ -33,7 +33,13 @@
 //! - `#[joint(name: revolute(axis) | prismatic(axis) | fixed, parent = world | body,
 //!   child = body, origin = [x, y, z], rpy = [roll, pitch, yaw])]` — URDF convention;
 //!   the axis is `x`, `y`, `z`, `-x`, … or three numbers.
-//! - `#[spring(joint, k = …, rest = …)]`, `#[damper(joint, c = …)]` on joint coordinates.
+//! - `#[spring(joint, k = …, rest = …)]` or `#[spring(joint, potential = U(x))]` (a
+//!   non-linear spring by its energy in the coordinate `x`; force `−dU/dx` derived
+//!   symbolically), `#[damper(joint, c = …)]` on joint coordinates.
+//! - Non-smooth elements: `#[friction(joint, f_crit = …)]` (Coulomb),
+//!   `#[bingham(joint, f_crit = …, eta = …)]`, `#[bingham(joint, f_crit = …, law = φ(f))]`
+//!   (`select = no_jumps | max_dissipation` for a non-monotone law),
+//!   `#[stop(joint, max = L | min = L, restitution = e | k_support = k)]`.
 //!
 //! Values are expressions over the struct's `f64` fields, numbers, `PI`, `+ - * /`,
 //! `sqrt`, `sin`, `cos`, `exp`, `ln` and `powi`.

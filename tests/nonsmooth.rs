@@ -377,3 +377,55 @@ fn bad_parameters_are_reported_not_integrated() {
     };
     assert!(solve_nonsmooth(&s, &unforced::<1>, &p, &tight()).is_err());
 }
+
+/// A spring declared by its potential: force −dU/dx and energy in closed form, and the
+/// energy balance E(t) − E(0) = −∫ f v dt of the Bingham dash-pot along a run.
+#[test]
+fn duffing_spring_from_its_potential() {
+    use filippov::Mechanism;
+    use filippov::scenes::DuffingBingham;
+    let s = DuffingBingham {
+        m: 1.0,
+        k: 1.0,
+        k3: 4.0,
+        f_crit: 0.05,
+        eta: 0.1,
+    };
+    for x in [-1.3, -0.2, 0.0, 0.7, 2.1] {
+        let (q, z) = (V1::new(x), V1::new(0.0));
+        let f = s.passive_forces(&q, &z)[0];
+        assert!(
+            (f + (x + 4.0 * x * x * x)).abs() <= 1e-14 * (1.0 + f.abs()),
+            "force {f} at {x}"
+        );
+        let u = s.potential_energy(&q);
+        assert!(
+            (u - (0.5 * x * x + x.powi(4))).abs() <= 1e-14 * (1.0 + u),
+            "energy {u} at {x}"
+        );
+    }
+    let p = NonSmoothProblem::new(0.0, 20.0, V1::new(1.5), V1::new(0.0));
+    let traj = solve_nonsmooth(&s, &unforced::<1>, &p, &tight()).expect("integrates");
+    let energy = |y: &[f64]| {
+        s.kinetic_energy(&V1::new(y[0]), &V1::new(y[1])) + s.potential_energy(&V1::new(y[0]))
+    };
+    let e0 = energy(traj.state(0));
+    // Dissipation f·v = (f_crit + η|v|)|v| while slipping, on the dense output.
+    let (dt, mut t, mut diss, mut worst) = (1e-3, 0.0, 0.0, 0.0f64);
+    let mut prev = traj.at(0.0).unwrap();
+    let power = |v: f64| {
+        if v == 0.0 {
+            0.0
+        } else {
+            (0.05 + 0.1 * v.abs()) * v.abs()
+        }
+    };
+    while t + dt <= 20.0 {
+        let y = traj.at(t + dt).unwrap();
+        diss += 0.5 * dt * (power(prev[1]) + power(y[1]));
+        t += dt;
+        prev = y;
+        worst = worst.max((energy(&prev) - e0 + diss).abs());
+    }
+    assert!(worst < 1e-5, "energy balance residual {worst:.3e}");
+}

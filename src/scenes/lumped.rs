@@ -143,3 +143,18 @@ pub struct FrictionChain {
     pub f1: f64,
     pub f2: f64,
 }
+
+/// A hardening (Duffing) spring declared by its potential, `U = ½ k x² + ¼ k3 x⁴`, with a
+/// linear Bingham dash-pot: the spring force `−dU/dx` is derived symbolically.
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[body(block, mass = m)]
+#[joint(x: prismatic(x), parent = world, child = block)]
+#[spring(x, potential = 0.5 * k * x * x + 0.25 * k3 * x.powi(4))]
+#[bingham(x, f_crit = f_crit, eta = eta)]
+pub struct DuffingBingham {
+    pub m: f64,
+    pub k: f64,
+    pub k3: f64,
+    pub f_crit: f64,
+    pub eta: f64,
+}

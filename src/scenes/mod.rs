@@ -12,7 +12,8 @@ pub use arm3::PlanarArm3;
 pub use double_pendulum::DoublePendulum;
 pub use lumped::{
     BilinearOscillator, BinghamBlock, BinghamOscillator, BouncingBall, CoulombOscillator,
-    CubicBingham, FrictionChain, NonMonotoneMaxDissipation, NonMonotoneNoJumps, SupportedStop,
+    CubicBingham, DuffingBingham, FrictionChain, NonMonotoneMaxDissipation, NonMonotoneNoJumps,
+    SupportedStop,
 };
 pub use panda::Panda;
 pub use tree::BranchedTree;

@@ -86,6 +86,17 @@ impl PExpr {
         }
     }
 
+    /// Adds the expression to the graph with [`PExpr::Var`] standing for `var`.
+    pub fn lower_var(&self, g: &mut Graph, var: Id) -> Id {
+        let mut memo = std::collections::HashMap::new();
+        let x0 = g.input(crate::sym::InputKind::Q, 0);
+        let e = self.lower(g);
+        if x0 == var {
+            return e;
+        }
+        g.substitute(e, &std::collections::HashMap::from([(x0, var)]), &mut memo)
+    }
+
     /// Adds the expression to the graph.
     pub fn lower(&self, g: &mut Graph) -> Id {
         match self {
@@ -157,6 +168,14 @@ pub struct Spring {
     pub rest: PExpr,
 }
 
+/// A non-linear spring given by its potential energy `U(x)` in the coordinate `x`
+/// ([`PExpr::Var`]); its force is `−dU/dx`.
+#[derive(Clone, Debug)]
+pub struct Potential {
+    pub coordinate: usize,
+    pub u: PExpr,
+}
+
 /// A viscous damper on a joint coordinate: `τ = −c q̇`.
 #[derive(Clone, Debug)]
 pub struct Damper {
@@ -179,6 +198,8 @@ pub struct Model {
     pub inputs: Vec<usize>,
     /// Non-smooth elements (dash-pots, friction, stops).
     pub elements: Vec<Element>,
+    /// Non-linear springs by their potentials.
+    pub potentials: Vec<Potential>,
 }
 
 /// Which velocity a non-monotone law's branch takes where several forces fit.

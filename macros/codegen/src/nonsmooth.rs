@@ -182,31 +182,7 @@ fn read_bingham(
 
 /// `law = …` is an expression in the force `f` (and the fields).
 fn lower_law(e: &Expr, names: &[String], diag: &mut Diagnostics) -> Option<PExpr> {
-    if names.iter().any(|n| n == LAW_VAR) {
-        diag.error_at(
-            e,
-            "a field named `f` would shadow the law's force variable `f`; rename the field",
-        );
-        return None;
-    }
-    let mut with_var = names.to_vec();
-    with_var.push(LAW_VAR.to_string());
-    let var = (with_var.len() - 1) as u16;
-    lower(e, &with_var, diag).map(|p| replace_var(p, var))
-}
-
-fn replace_var(p: PExpr, var: u16) -> PExpr {
-    match p {
-        PExpr::Param(i) if i == var => PExpr::Var,
-        PExpr::Neg(x) => PExpr::Neg(Box::new(replace_var(*x, var))),
-        PExpr::Bin(op, a, b) => PExpr::Bin(
-            op,
-            Box::new(replace_var(*a, var)),
-            Box::new(replace_var(*b, var)),
-        ),
-        PExpr::Call(f, x) => PExpr::Call(f, Box::new(replace_var(*x, var))),
-        other => other,
-    }
+    crate::parse::expr::lower_with_var(e, names, LAW_VAR, diag)
 }
 
 fn read_stop(

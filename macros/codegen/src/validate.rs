@@ -6,8 +6,9 @@ use std::collections::HashMap;
 use syn::{Data, DeriveInput, Expr, Fields, Ident, Type};
 
 use crate::diag::Diagnostics;
-use crate::model::{Damper, JointKind, Link, Mat3, Model, PExpr, Spring, Vec3};
-use crate::parse::{self, Family, RawAttr, array, expr::lower, ident_of, strip};
+use crate::model::{Damper, JointKind, Link, Mat3, Model, PExpr, Potential, Spring, Vec3};
+use crate::parse::expr::{lower, lower_with_var};
+use crate::parse::{self, Family, RawAttr, array, ident_of, strip};
 
 /// The most coordinates a scene may have (dependency masks are 64-bit).
 pub const MAX_DOF: usize = 64;
@@ -75,7 +76,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     if diag.has_errors() {
         return None;
     }
-    let (springs, dampers) = springs_dampers;
+    let (springs, dampers, potentials) = springs_dampers;
     Some(Model {
         ident: input.ident.clone(),
         params: fields,
@@ -85,6 +86,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         dampers,
         inputs,
         elements,
+        potentials,
     })
 }
 
@@ -652,8 +654,9 @@ fn read_elements(
     links: &[Link],
     names: &[String],
     diag: &mut Diagnostics,
-) -> (Vec<Spring>, Vec<Damper>) {
+) -> (Vec<Spring>, Vec<Damper>, Vec<Potential>) {
     let mut springs = Vec::new();
+    let mut potentials = Vec::new();
     let mut dampers = Vec::new();
     for mut raw in raws {
         let Some(joint) = raw.name.clone() else {
@@ -687,10 +690,25 @@ fn read_elements(
                 None => Some(PExpr::zero()),
             }
         };
-        if raw.family == Family::Spring {
+        if raw.family == Family::Spring && raw.args.iter().any(|(k, _)| k == "potential") {
+            // A non-linear spring declared by its energy U(x), x the coordinate; its
+            // force −dU/dx comes from symbolic differentiation, so energy is exact.
+            let u = raw
+                .take("potential", diag)
+                .and_then(|(_, e)| lower_with_var(&e, names, "x", diag));
+            for key in ["k", "rest"] {
+                if let Some((k, _)) = raw.take(key, diag) {
+                    diag.error_at(k, "a spring is either linear (`k = …, rest = …`) or given by its `potential = U(x)`, not both");
+                }
+            }
+            raw.reject_rest(&["potential"], diag);
+            if let (Some(coordinate), Some(u)) = (coord, u) {
+                potentials.push(Potential { coordinate, u });
+            }
+        } else if raw.family == Family::Spring {
             let k = value("k", &mut raw, true);
             let rest = value("rest", &mut raw, false);
-            raw.reject_rest(&["k", "rest"], diag);
+            raw.reject_rest(&["k", "rest", "potential"], diag);
             if let (Some(coordinate), Some(k), Some(rest)) = (coord, k, rest) {
                 springs.push(Spring {
                     coordinate,
@@ -706,7 +724,7 @@ fn read_elements(
             }
         }
     }
-    (springs, dampers)
+    (springs, dampers, potentials)
 }
 
 /// `inputs = [joint, …]` names the actuated coordinates: each must be a moving joint,

@@ -1,5 +1,7 @@
 //! `Mechanism::model()`: the scene as a plain numeric description for the independent
-//! numeric implementation in the runtime. Parameter expressions are evaluated as written
+//! numeric implementation in the runtime. Non-linear spring potentials (`#[spring(j,
+//! potential = …)]`) are not part of that description (it holds numbers, not
+//! expressions); everything else is. Parameter expressions are evaluated as written
 //! (no symbolic processing), so a mistake in the symbolic pipeline cannot hide in both.
 
 use proc_macro2::{Literal, TokenStream};

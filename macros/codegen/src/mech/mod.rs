@@ -154,6 +154,10 @@ impl Kernels {
                 }
             }
         }
+        for p in &model.potentials {
+            let u = p.u.lower_var(&mut g, q[p.coordinate]);
+            potential = g.add(potential, u);
+        }
         for s in &model.springs {
             let k = s.k.lower(&mut g);
             let rest = s.rest.lower(&mut g);
@@ -193,6 +197,17 @@ fn passive_forces(g: &mut Graph, model: &Model, q: &[Id], v: &[Id]) -> Vec<Id> {
         let d = g.sub(q[s.coordinate], rest);
         let f = g.mul(k, d);
         out[s.coordinate] = g.sub(out[s.coordinate], f);
+    }
+    for p in &model.potentials {
+        let u = p.u.lower_var(g, q[p.coordinate]);
+        let du = g.diff(
+            u,
+            Input {
+                kind: InputKind::Q,
+                index: p.coordinate as u16,
+            },
+        );
+        out[p.coordinate] = g.sub(out[p.coordinate], du);
     }
     for d in &model.dampers {
         let c = d.c.lower(g);

@@ -195,3 +195,35 @@ fn func_list() -> String {
         .collect::<Vec<_>>()
         .join(", ")
 }
+
+/// Lowers an expression in one free variable `var` (the force `f` of a law, the
+/// coordinate `x` of a spring potential) besides the fields.
+pub fn lower_with_var(
+    e: &Expr,
+    fields: &[String],
+    var: &str,
+    diag: &mut Diagnostics,
+) -> Option<PExpr> {
+    if fields.iter().any(|n| n == var) {
+        diag.error_at(e, format_args!("a field named `{var}` would shadow the variable `{var}` of this expression; rename the field"));
+        return None;
+    }
+    let mut with_var = fields.to_vec();
+    with_var.push(var.to_string());
+    let index = (with_var.len() - 1) as u16;
+    lower(e, &with_var, diag).map(|p| replace_var(p, index))
+}
+
+fn replace_var(p: PExpr, var: u16) -> PExpr {
+    match p {
+        PExpr::Param(i) if i == var => PExpr::Var,
+        PExpr::Neg(x) => PExpr::Neg(Box::new(replace_var(*x, var))),
+        PExpr::Bin(op, a, b) => PExpr::Bin(
+            op,
+            Box::new(replace_var(*a, var)),
+            Box::new(replace_var(*b, var)),
+        ),
+        PExpr::Call(f, x) => PExpr::Call(f, Box::new(replace_var(*x, var))),
+        other => other,
+    }
+}

@@ -429,3 +429,76 @@ fn duffing_spring_from_its_potential() {
     }
     assert!(worst < 1e-5, "energy balance residual {worst:.3e}");
 }
+
+/// The emitted Delassus operator, momentum residual and switching functions against
+/// the runtime's own quantities and direct formulas.
+#[test]
+fn emitted_element_kernels() {
+    use filippov::Mechanism;
+    use filippov::runtime::NonSmooth;
+    use filippov::scenes::SupportedStop;
+    type V2 = SVector<f64, 2>;
+    let chain = FrictionChain {
+        m1: 1.0,
+        m2: 0.5,
+        k1: 1.0,
+        k2: 2.0,
+        f1: 0.4,
+        f2: 0.15,
+    };
+    for (q, v, tau, f) in [
+        (
+            V2::new(0.3, -0.2),
+            V2::new(0.5, 1.0),
+            V2::new(0.7, -0.1),
+            V2::new(0.2, -0.1),
+        ),
+        (
+            V2::new(-1.0, 0.4),
+            V2::new(0.0, -2.0),
+            V2::new(0.0, 0.3),
+            V2::new(-0.4, 0.15),
+        ),
+    ] {
+        // W = J M⁻¹ Jᵀ: elements on coordinates 0 and 1.
+        let w = chain.delassus(&q);
+        let inv = chain.inverse_mass_matrix(&q);
+        assert_eq!(w, inv, "both coordinates carry an element");
+        // The residual vanishes at the acceleration the forces produce.
+        let a = chain.forward_dynamics(&q, &v, &(tau - f));
+        let r = chain.momentum_residual(&q, &v, &a, &tau, &f);
+        assert!(r.norm() < 1e-13, "residual {r}");
+        let r2 = chain.momentum_residual(&q, &v, &(a * 1.1), &tau, &f);
+        assert!(r2.norm() > 1e-3, "a wrong acceleration leaves a residual");
+        let s = chain.switching_functions(&q, &v, &f);
+        let expect = [
+            v[0],
+            0.4f64.powi(2) - f[0] * f[0],
+            v[1],
+            0.15f64.powi(2) - f[1] * f[1],
+        ];
+        for (a, b) in s.iter().zip(expect) {
+            assert!((a - b).abs() < 1e-15, "{s} vs {expect:?}");
+        }
+    }
+    let stop = SupportedStop {
+        m: 2.0,
+        k: 1.0,
+        f_crit: 0.1,
+        eta: 0.2,
+        l: 0.5,
+        k_support: 100.0,
+    };
+    assert_eq!(SupportedStop::ELEMENTS, 2);
+    let q = V1::new(0.7);
+    let w = stop.delassus(&q);
+    assert!(
+        (w - filippov::nalgebra::SMatrix::<f64, 2, 2>::repeat(0.5)).norm() < 1e-15,
+        "{w}"
+    );
+    let s = stop.switching_functions(&q, &V1::new(0.3), &SVector::<f64, 2>::new(0.25, 20.0));
+    assert!(
+        (s[2] - (0.5 - 0.7)).abs() < 1e-15 && s[3] == 20.0,
+        "stop gap and force: {s}"
+    );
+}

@@ -25,6 +25,10 @@ pub struct Signature {
     pub inputs: Vec<InputKind>,
     pub ret: TokenStream,
     pub doc: String,
+    /// `pub` for inherent methods, empty for trait methods.
+    pub vis: TokenStream,
+    /// Length of the element-force argument `f` (when `inputs` has [`InputKind::F`]).
+    pub elements: usize,
 }
 
 /// A generated method and the helper chunks it calls.
@@ -47,6 +51,7 @@ fn arg_name(k: InputKind) -> Ident {
             InputKind::V => "v",
             InputKind::A => "a",
             InputKind::Tau => "tau",
+            InputKind::F => "f",
         },
         Span::call_site(),
     )
@@ -201,7 +206,12 @@ pub fn emit(
         .iter()
         .map(|k| {
             let a = arg_name(*k);
-            quote!(#a: &::filippov::nalgebra::SVector<f64, #dof>)
+            let len = if *k == InputKind::F {
+                sig.elements
+            } else {
+                dof
+            };
+            quote!(#a: &::filippov::nalgebra::SVector<f64, #len>)
         })
         .collect();
     let arg_names: Vec<Ident> = sig.inputs.iter().map(|k| arg_name(*k)).collect();
@@ -270,12 +280,12 @@ pub fn emit(
     } else {
         quote!()
     };
-    let (name, ret, doc) = (&sig.name, &sig.ret, &sig.doc);
+    let (name, ret, doc, vis) = (&sig.name, &sig.ret, &sig.doc, &sig.vis);
     let method = quote! {
         #[doc = #doc]
         #[inline]
         #[allow(unused_variables, clippy::all)]
-        fn #name(&self, #(#args),*) -> #ret {
+        #vis fn #name(&self, #(#args),*) -> #ret {
             #scratch
             #calls
             #main_body

@@ -24,7 +24,7 @@ pub struct FnStats {
     pub lets: usize,
 }
 
-fn vector(outs: Vec<TokenStream>, n: usize) -> TokenStream {
+pub(crate) fn vector(outs: Vec<TokenStream>, n: usize) -> TokenStream {
     quote!(::filippov::nalgebra::SVector::<f64, #n>::from([#(#outs),*]))
 }
 
@@ -58,6 +58,8 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
                    asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
                    doc: &str| {
         let sig = Signature {
+            vis: quote!(),
+            elements: 0,
             name: format_ident!("{}", name),
             inputs,
             ret,

@@ -54,6 +54,8 @@ pub fn nonsmooth_impl(
                         );
                         let hname = format_ident!("__law_{}", i);
                         let sig = Signature {
+                            vis: quote!(),
+                            elements: 0,
                             name: hname.clone(),
                             inputs: vec![InputKind::Q],
                             ret: quote!((f64, f64)),
@@ -122,6 +124,8 @@ pub fn nonsmooth_impl(
     let count = model.elements.len();
     let inv_flat: Vec<_> = inv.iter().flatten().copied().collect();
     let sig = Signature {
+        vis: quote!(),
+        elements: 0,
         name: format_ident!("inverse_mass_matrix"),
         inputs: vec![InputKind::Q],
         ret: quote!(::filippov::nalgebra::SMatrix<f64, #n, #n>),
@@ -135,6 +139,7 @@ pub fn nonsmooth_impl(
     });
     helpers.extend(e.helpers);
     let inv_method = e.method;
+    helpers.extend(element_kernels(model, k, stats));
     let law_fn = if law_arms.is_empty() {
         quote! {
             #[inline]
@@ -169,4 +174,76 @@ pub fn nonsmooth_impl(
         }
     };
     (imp, helpers)
+}
+
+/// Inherent methods: the Delassus operator, the momentum balance's DAE residual and the
+/// switching functions of every element.
+fn element_kernels(model: &Model, k: &Kernels, stats: &mut Vec<FnStats>) -> TokenStream {
+    let Some(ek) = &k.elements else {
+        return TokenStream::new();
+    };
+    let (n, m) = (k.dof, model.elements.len());
+    let p = &model.params;
+    let mut out = TokenStream::new();
+    let mut add = |name: &'static str,
+                   inputs: Vec<InputKind>,
+                   ret: TokenStream,
+                   outs: Vec<crate::sym::Id>,
+                   asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
+                   doc: String| {
+        let sig = Signature {
+            vis: quote!(pub),
+            elements: m,
+            name: format_ident!("{}", name),
+            inputs,
+            ret,
+            doc,
+        };
+        let e = emit(&k.graph, p, n, &sig, &outs, asm);
+        stats.push(FnStats {
+            name,
+            ops: k.graph.count_ops(&outs),
+            lets: e.lets,
+        });
+        out.extend(e.method);
+        out.extend(e.helpers);
+    };
+    let names: Vec<String> = model
+        .elements
+        .iter()
+        .map(|e| format!("`{}`", e.name))
+        .collect();
+    let flat: Vec<_> = ek.delassus.iter().flatten().copied().collect();
+    add(
+        "delassus",
+        vec![InputKind::Q],
+        quote!(::filippov::nalgebra::SMatrix<f64, #m, #m>),
+        flat,
+        &|o| matrix(o, m),
+        format!(
+            " Delassus operator `W = J M⁻¹ Jᵀ` of the elements ({}), in that order.",
+            names.join(", ")
+        ),
+    );
+    add(
+        "momentum_residual",
+        vec![InputKind::Q, InputKind::V, InputKind::A, InputKind::Tau, InputKind::F],
+        quote!(::filippov::nalgebra::SVector<f64, #n>),
+        ek.momentum_residual.clone(),
+        &|o| super::vector(o, n),
+        " DAE residual of the momentum balance, `M a + C v + g − τ − τ_p + Σ_e f_e e_c`, with `a = v̇` and the element forces `f` (zero on a solution).".into(),
+    );
+    let s = ek.switching.len();
+    add(
+        "switching_functions",
+        vec![InputKind::Q, InputKind::V, InputKind::F],
+        quote!(::filippov::nalgebra::SVector<f64, #s>),
+        ek.switching.clone(),
+        &|o| super::vector(o, s),
+        format!(
+            " Switching functions, two per element ({}): a dash-pot gives `[v_c, f_crit² − f²]` (slip→stick, stick→slip), a stop `[gap, f]` (contact, release; the gap is positive on the admissible side).",
+            names.join(", ")
+        ),
+    );
+    out
 }

@@ -43,6 +43,19 @@ pub struct Kernels {
     /// `M⁻¹` (row-major), built only for scenes with non-smooth elements (their Delassus
     /// operator is its submatrix).
     pub inverse_mass: Option<Vec<Vec<Id>>>,
+    /// For scenes with non-smooth elements: see [`ElementKernels`].
+    pub elements: Option<ElementKernels>,
+}
+
+/// What the derive emits for non-smooth elements besides their parameters.
+pub struct ElementKernels {
+    /// `W = J M⁻¹ Jᵀ` (row-major, `K × K`).
+    pub delassus: Vec<Vec<Id>>,
+    /// DAE residual of the momentum balance `M a + C v + g − τ − τ_p + Σ f_e e_c`.
+    pub momentum_residual: Vec<Id>,
+    /// Two per element: dash-pot `[v_c, f_crit² − f_e²]` (slip→stick, stick→slip); stop
+    /// `[gap, f_e]` (contact, release), the gap positive on the admissible side.
+    pub switching: Vec<Id>,
 }
 
 impl Kernels {
@@ -168,6 +181,57 @@ impl Kernels {
             potential = g.add(potential, e);
         }
 
+        let elements = inverse_mass.as_ref().map(|inv: &Vec<Vec<Id>>| {
+            use crate::model::ElementKind;
+            let f: Vec<Id> = (0..model.elements.len())
+                .map(|e| g.input(InputKind::F, e))
+                .collect();
+            let delassus = model
+                .elements
+                .iter()
+                .map(|a| {
+                    model
+                        .elements
+                        .iter()
+                        .map(|b| inv[a.coordinate][b.coordinate])
+                        .collect()
+                })
+                .collect();
+            let mut momentum_residual: Vec<Id> =
+                (0..n).map(|i| g.sub(inverse[i], tau[i])).collect();
+            let mut switching = Vec::new();
+            for (e, el) in model.elements.iter().enumerate() {
+                let c = el.coordinate;
+                momentum_residual[c] = g.add(momentum_residual[c], f[e]);
+                match &el.kind {
+                    ElementKind::DashPot { f_crit, .. } => {
+                        let fc = f_crit.lower(&mut g);
+                        let fc2 = g.mul(fc, fc);
+                        let f2 = g.mul(f[e], f[e]);
+                        switching.push(v[c]);
+                        switching.push(g.sub(fc2, f2));
+                    }
+                    ElementKind::Stop {
+                        upper, position, ..
+                    } => {
+                        let l = position.lower(&mut g);
+                        let gap = if *upper {
+                            g.sub(l, q[c])
+                        } else {
+                            g.sub(q[c], l)
+                        };
+                        switching.push(gap);
+                        switching.push(f[e]);
+                    }
+                }
+            }
+            ElementKernels {
+                delassus,
+                momentum_residual,
+                switching,
+            }
+        });
+
         Kernels {
             graph: g,
             dof: n,
@@ -184,6 +248,7 @@ impl Kernels {
             kinetic,
             potential,
             inverse_mass,
+            elements,
         }
     }
 }

@@ -16,7 +16,9 @@ impl Graph {
         let depends = match x.kind {
             InputKind::Q => deps.q & bit != 0,
             InputKind::V => deps.v & bit != 0,
-            InputKind::A | InputKind::Tau => panic!("differentiation only in q and v"),
+            InputKind::A | InputKind::Tau | InputKind::F => {
+                panic!("differentiation only in q and v")
+            }
         };
         if !depends {
             return self.zero();

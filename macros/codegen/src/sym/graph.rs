@@ -23,6 +23,8 @@ pub enum InputKind {
     A,
     /// Applied generalised force `tau[i]`.
     Tau,
+    /// Force `f[e]` of non-smooth element `e`.
+    F,
 }
 
 /// An input symbol: `kind[index]`.
@@ -128,7 +130,7 @@ impl Graph {
                     v: 1 << index,
                     ..Deps::default()
                 },
-                InputKind::A | InputKind::Tau => Deps {
+                InputKind::A | InputKind::Tau | InputKind::F => Deps {
                     other: true,
                     ..Deps::default()
                 },

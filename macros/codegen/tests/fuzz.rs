@@ -33,8 +33,8 @@ fn tree() -> impl Strategy<Value = String> {
                 for i in 0..n {
                     let parent = if i == 0 || parents[i] % 4 == 0 { "world".to_string() } else { format!("b{}", parents[i] % i) };
                     let kind = match kinds[i] {
-                        0 | 1 | 2 => format!("revolute({})", axes[(i + kinds[i]) % axes.len()]),
-                        3 | 4 => format!("prismatic({})", axes[i % axes.len()]),
+                        0..=2 => format!("revolute({})", axes[(i + kinds[i]) % axes.len()]),
+                        3..=4 => format!("prismatic({})", axes[i % axes.len()]),
                         _ => "fixed".to_string(),
                     };
                     let x = nums[i];

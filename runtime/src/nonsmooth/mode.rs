@@ -152,14 +152,14 @@ pub(crate) fn slip_force<S: NonSmooth<N>, const N: usize>(
             if d * vc <= 0.0 {
                 d * f_crit
             } else {
-                d * invert_monotone(|f| system.law(index, d * f), f_crit, d * vc)
+                d * invert_monotone(|f| system.law(index, f), f_crit, d * vc)
             }
         }
     }
 }
 
 /// Solves `d φ(d f) = w` for `f > f_crit` with `w > 0` (so `φ` on the positive branch),
-/// `phi(f) = (d φ(d f), φ'(d f))`: bracket by doubling, then Newton kept inside the
+/// `phi(f) = (d φ(d f), φ'(d f))`, which for an odd law is `(φ(f), φ'(f))`: bracket by doubling, then Newton kept inside the
 /// bracket, bisecting whenever the Newton point leaves it (a "safeguarded" Newton,
 /// Press et al., *Numerical Recipes*, 3rd ed., §9.4, `rtsafe`).
 fn invert_monotone<P: Fn(f64) -> (f64, f64)>(phi: P, f_crit: f64, w: f64) -> f64 {

@@ -248,6 +248,144 @@ fn summarize(name: &str, rows: &[Row], summary: &mut Vec<String>) {
     }
 }
 
+/// Max |x(t) − x_ref(t)| over a grid of 300 times and |x(tf) − x_ref(tf)|.
+fn grid_errors(traj: &Trajectory, reference: &Trajectory, tf: f64) -> (f64, f64) {
+    let mut worst = 0.0f64;
+    for i in 0..=300 {
+        let t = tf * i as f64 / 300.0;
+        match (traj.at(t), reference.at(t)) {
+            (Some(a), Some(b)) => worst = worst.max((a[0] - b[0]).abs()),
+            _ => return (f64::INFINITY, f64::INFINITY),
+        }
+    }
+    let fin = (traj.last().map_or(f64::NAN, |r| r.1[0])
+        - reference.last().map_or(f64::NAN, |r| r.1[0]))
+    .abs();
+    (worst, fin)
+}
+
+/// A sweep against reference runs of a *different* method: event-driven DOPRI5 rows
+/// against event-driven SDIRK4 at rtol 1e-12, time-stepping rows against event-driven
+/// DOPRI5 at rtol 1e-12.
+fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
+    config: &Config,
+    page: &mut Page,
+    summary: &mut Vec<String>,
+    name: &str,
+    sys: &S,
+    problem: &NonSmoothProblem<1>,
+    input: &dyn Fn(f64, &V1, &V1) -> V1,
+) {
+    let tight = |m| NonSmoothMethod::EventDriven {
+        method: m,
+        options: Options::tolerances(1e-12, 1e-14),
+    };
+    let (ref_sdirk, ref_dopri) = (
+        solve_nonsmooth(sys, &input, problem, &tight(SmoothMethod::Sdirk4)),
+        solve_nonsmooth(sys, &input, problem, &tight(SmoothMethod::Dopri5)),
+    );
+    let (Ok(ref_sdirk), Ok(ref_dopri)) = (ref_sdirk, ref_dopri) else {
+        page.para("**The reference runs failed**; no work-precision data for this scene.");
+        summary.push(format!("{name}: reference runs failed"));
+        return;
+    };
+    let tf = problem.tf;
+    let agree = grid_errors(&ref_dopri, &ref_sdirk, tf).0;
+    page.para(&format!("References: event-driven SDIRK4 and DOPRI5 at rtol 1e-12; they agree to {} in x over the run.", sci(agree)));
+    let mut rows = Vec::new();
+    let mut curves = vec![
+        Series::new("event-driven (DOPRI5)", Vec::new()),
+        Series::new("time-stepping (θ = 1)", Vec::new()),
+    ];
+    let mut best = [f64::INFINITY; 2];
+    let mut runs: Vec<(usize, String, NonSmoothMethod)> = config
+        .tolerances
+        .iter()
+        .filter(|t| **t >= 1e-11)
+        .map(|&t| {
+            (
+                0,
+                format!("rtol = {t:.0e}"),
+                NonSmoothMethod::EventDriven {
+                    method: SmoothMethod::Dopri5,
+                    options: Options::tolerances(t, t * 1e-2),
+                },
+            )
+        })
+        .collect();
+    for n in &config.rk4_steps {
+        let h = 0.5 / *n as f64;
+        runs.push((
+            1,
+            format!("h = {}", sci(h)),
+            NonSmoothMethod::TimeStepping { h, theta: 1.0 },
+        ));
+    }
+    for (kind, setting, m) in runs {
+        let reference = if kind == 0 { &ref_sdirk } else { &ref_dopri };
+        let (time, result) = median(config.repeats, || solve_nonsmooth(sys, &input, problem, &m));
+        let label = curves[kind].label.clone();
+        match result {
+            Ok(traj) => {
+                let (grid, fin) = grid_errors(&traj, reference, tf);
+                let s = &traj.stats;
+                rows.push(vec![
+                    label,
+                    setting,
+                    sci(grid),
+                    sci(fin),
+                    format!("{:.3}", time * 1e3),
+                    format!(
+                        "{} steps, {} evals, {} events",
+                        s.steps, s.rhs_evaluations, s.events
+                    ),
+                ]);
+                curves[kind].points.push((time * 1e3, grid));
+                if grid <= 1e-3 {
+                    best[kind] = best[kind].min(time);
+                }
+            }
+            Err(e) => rows.push(vec![
+                label,
+                setting,
+                format!("**failed**: {e}"),
+                String::new(),
+                String::new(),
+                String::new(),
+            ]),
+        }
+    }
+    page.table(
+        &[
+            "method",
+            "setting",
+            "max error in x (grid)",
+            "final error",
+            "time [ms]",
+            "work",
+        ],
+        &rows,
+    );
+    let file = format!("ns_{}.svg", name.to_lowercase().replace(' ', "_"));
+    line_plot(
+        &config.out_dir.join(&file),
+        &format!("{name}: error against run time"),
+        "run time [ms]",
+        "max |x − x_ref| over the run",
+        &curves,
+        Scale::Log,
+        Scale::Log,
+    );
+    page.image(name, &file);
+    if best[0].is_finite() && best[1].is_finite() {
+        summary.push(format!("{name}: to an error ≤ 1e-3, event-driven takes {:.3} ms, time-stepping {:.3} ms ({:.1}×)", best[0] * 1e3, best[1] * 1e3, best[1] / best[0]));
+    }
+    let failures = rows.iter().filter(|r| r[2].starts_with("**failed")).count();
+    if failures > 0 {
+        summary.push(format!("{name}: {failures} run(s) failed (see the table)"));
+    }
+}
+
 pub fn nonsmooth(config: &Config) -> Section {
     let mut page = Page::empty();
     let mut summary = Vec::new();
@@ -357,6 +495,53 @@ pub fn nonsmooth(config: &Config) -> Section {
     );
     page.image("S7 elastic", "ns_s7.svg");
     summarize("S7 elastic", &rows, &mut summary);
+
+    let horizon = 30.0 * config.horizon.max(0.34);
+    page.h3("S2: cubic Bingham (thesis 4.7b), forced by 2 sin t (reference runs)");
+    let cubic = filippov::scenes::CubicBingham {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 1.0,
+        gamma: 1.0,
+    };
+    let p2 = NonSmoothProblem::new(0.0, horizon, V1::new(0.0), V1::new(0.0));
+    sweep_vs_reference(
+        config,
+        &mut page,
+        &mut summary,
+        "S2",
+        &cubic,
+        &p2,
+        &|t, _q, _v| V1::new(2.0 * t.sin()),
+    );
+    page.h3("S3: cubic Bingham, free from x0 = 2 (reference runs)");
+    let p3 = NonSmoothProblem::new(0.0, horizon, V1::new(2.0), V1::new(0.0));
+    sweep_vs_reference(
+        config,
+        &mut page,
+        &mut summary,
+        "S3",
+        &cubic,
+        &p3,
+        &unforced,
+    );
+    page.h3("S5: Coulomb stick–slip forced by 1.2 sin(0.5 t), starting stuck with f = −f_crit/2 (reference runs)");
+    let coulomb = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.5,
+    };
+    let p5 = NonSmoothProblem::new(0.0, horizon, V1::new(0.25), V1::new(0.0))
+        .with_forces(vec![Some(-0.25)]);
+    sweep_vs_reference(
+        config,
+        &mut page,
+        &mut summary,
+        "S5",
+        &coulomb,
+        &p5,
+        &|t, _q, _v| V1::new(1.2 * (0.5 * t).sin()),
+    );
 
     page.h2("Stiff and extreme cases");
     let mut rows = Vec::new();

@@ -88,6 +88,11 @@ where
         let v = S::JOINTS.iter().map(|j| format!("v_{j}"));
         q.chain(v).collect()
     }
+
+    /// The mechanism's parameters ([`Mechanism::validate`]).
+    fn validate(&self) -> Result<(), String> {
+        self.mechanism.validate().map_err(|e| e.to_string())
+    }
 }
 
 /// The baseline: a [`Model`] integrated with the plain numeric dynamics of

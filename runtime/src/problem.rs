@@ -25,6 +25,12 @@ pub trait OdeSystem {
     fn names(&self) -> Vec<String> {
         (0..self.dim()).map(|i| format!("y{i}")).collect()
     }
+
+    /// Checks the system's own parameters before anything is integrated; an error
+    /// message becomes [`ErrorKind::InvalidInput`](crate::ErrorKind::InvalidInput).
+    fn validate(&self) -> Result<(), String> {
+        Ok(())
+    }
 }
 
 /// An [`OdeSystem`] from a closure `f(t, y, dy)`, for small problems and tests.

@@ -84,6 +84,7 @@ impl<'a, S: OdeSystem + ?Sized> Run<'a, S> {
                 system.dim()
             )));
         }
+        system.validate().map_err(invalid)?;
         problem.validate(system.dim()).map_err(invalid)?;
         if let Some(options) = options {
             options.validate().map_err(invalid)?;

@@ -50,19 +50,44 @@
 //! rows share the event time (before and after the switch), so jumps show in plots.
 //! It interpolates with cubic Hermite (the force rows with zero slopes).
 //!
-//! Not supported: non-monotone laws (fold and plateau modes; rejected with
-//! [`ErrorKind::InvalidInput`]), two constrained elements on one coordinate (their
-//! Delassus matrix is singular), impacts of several stops at the same instant (applied
-//! one after the other).
+//! **Non-monotone laws** (theory.md §3, 4.9b). The increasing pieces of `v = φ(f)`
+//! between its folds are *branches* ([`Graph::branches`]); a slip mode carries its
+//! branch, and while slipping the force is the inverse of `φ` on that branch
+//! (safeguarded Newton inside the branch's force interval, bracketed by the folds;
+//! clamped to the fold force just past the branch's end, so the right-hand side stays
+//! continuous for the root finder). The switching function is the distance of `|v_c|`
+//! to the nearer end of the branch's velocity range (with a relative slack
+//! [`BRANCH_END_SLACK`](mode::BRANCH_END_SLACK) at ends `≠ 0`: a branch entered at its
+//! end, as when leaving a plateau, departs from it only quadratically in time and must
+//! not switch back on round-off; the event state is set to the end exactly).
+//!
+//! * Approach 1 ([`Selection::NoVelocityJumps`]): at a fold's velocity the force jumps
+//!   to the next branch at the same velocity (hysteresis: inner → outer at `v_max`,
+//!   outer → inner at `v_min`); `v` is continuous bit for bit.
+//! * Approach 2 ([`Selection::MaximalDissipation`]): the branches the envelope
+//!   `ψ(f) = inf_{g ≥ f} φ(g)` touches, joined by *plateau* modes
+//!   ([`Mode::PlateauPos`]/[`Mode::PlateauNeg`]): `v_c = ±v_min` exactly, the force from
+//!   the Delassus system like a stuck element's, switching when it leaves the interval
+//!   between the two branch forces at `v_min`. At `|v_c| = v_min` the branch below, the
+//!   plateau and the branch above are selected among like the modes at rest.
+//!
+//! Not supported: two constrained elements on one coordinate (their Delassus matrix is
+//! singular), impacts of several stops at the same instant (applied one after the
+//! other), non-monotone laws whose folds do not alternate maximum, minimum, … ending
+//! with a minimum ([`ErrorKind::InvalidInput`]).
 
 use std::collections::VecDeque;
 
 use nalgebra::SVector;
 
+use super::law::{Branches, Graph};
 use super::mode::{self, Choices, Mode};
 use super::rootfind::find_root;
 use super::time_stepping;
-use super::{ElementKind, NonSmooth, NonSmoothMethod, NonSmoothProblem, SmoothMethod, StopKind};
+use super::{
+    ElementKind, Law, NonSmooth, NonSmoothMethod, NonSmoothProblem, Selection, SmoothMethod,
+    StopKind,
+};
 use crate::nonsmooth::Element;
 use crate::{
     Dopri5, ErrorKind, Interpolant, OdeSystem, Options, Problem, Sdirk4, SolveError, Stats,
@@ -135,6 +160,8 @@ where
     let mut driver = Driver {
         system,
         input,
+        branches: vec![Branches::default(); elements.len()],
+        hints: vec![None; elements.len()],
         elements,
         modes: Vec::new(),
         t: problem.t0,
@@ -146,7 +173,10 @@ where
         options: *options,
         span: problem.tf - problem.t0,
     };
-    if let Err(msg) = driver.validate(problem) {
+    if let Err(msg) = driver
+        .validate(problem)
+        .and_then(|()| driver.build_branches())
+    {
         driver.out.stats = Stats::default();
         return Err(SolveError {
             kind: ErrorKind::InvalidInput(msg),
@@ -174,6 +204,7 @@ struct ModeSystem<'a, S, F, const N: usize> {
     system: &'a S,
     input: &'a F,
     elements: &'a [Element],
+    branches: &'a [Branches],
     modes: &'a [Mode],
 }
 
@@ -190,7 +221,15 @@ where
         let q = SVector::<f64, N>::from_column_slice(&y[..N]);
         let v = SVector::<f64, N>::from_column_slice(&y[N..]);
         let tau = (self.input)(t, &q, &v);
-        match mode::evaluate(self.system, self.elements, self.modes, &q, &v, &tau) {
+        match mode::evaluate(
+            self.system,
+            self.elements,
+            self.branches,
+            self.modes,
+            &q,
+            &v,
+            &tau,
+        ) {
             Some(ev) => {
                 dy[..N].copy_from_slice(v.as_slice());
                 dy[N..].copy_from_slice(ev.a.as_slice());
@@ -206,6 +245,11 @@ struct Driver<'a, S, F, const N: usize> {
     system: &'a S,
     input: &'a F,
     elements: Vec<Element>,
+    /// Slip branches and plateaus of non-monotone laws (empty for the others).
+    branches: Vec<Branches>,
+    /// Forces that tell approach-1 elements which branch they are on when the modes are
+    /// initialised again after a hand-over.
+    hints: Vec<Option<f64>>,
     modes: Vec<Mode>,
     t: f64,
     q: SVector<f64, N>,
@@ -259,6 +303,22 @@ where
         }
         for el in &self.elements {
             mode::validate_element(el, N)?;
+        }
+        Ok(())
+    }
+
+    /// The branches of the non-monotone laws (their folds located once).
+    fn build_branches(&mut self) -> Result<(), String> {
+        for (e, el) in self.elements.iter().enumerate() {
+            if let ElementKind::DashPot {
+                law: Law::BinghamNonMonotone { .. },
+                ..
+            } = el.kind
+            {
+                self.branches[e] = Graph::new(self.system, e)
+                    .and_then(|g| g.branches(self.system))
+                    .map_err(|err| err.to_string())?;
+            }
         }
         Ok(())
     }
@@ -335,12 +395,19 @@ where
         v: &SVector<f64, N>,
     ) -> Result<(), ErrorKind> {
         let tau = (self.input)(t, q, v);
-        let ev = mode::evaluate(self.system, &self.elements, &self.modes, q, v, &tau).ok_or_else(
-            || ErrorKind::IllPosedMode {
-                t,
-                detail: "constraints of the current modes are dependent".into(),
-            },
-        )?;
+        let ev = mode::evaluate(
+            self.system,
+            &self.elements,
+            &self.branches,
+            &self.modes,
+            q,
+            v,
+            &tau,
+        )
+        .ok_or_else(|| ErrorKind::IllPosedMode {
+            t,
+            detail: "constraints of the current modes are dependent".into(),
+        })?;
         let mut y: Vec<f64> = q.iter().chain(v.iter()).copied().collect();
         y.extend_from_slice(&ev.f);
         let mut dy: Vec<f64> = v.iter().chain(ev.a.iter()).copied().collect();
@@ -356,6 +423,7 @@ where
             system: self.system,
             input: self.input,
             elements: &self.elements,
+            branches: &self.branches,
             modes: &self.modes,
         };
         let y0: Vec<f64> = self.q.iter().chain(self.v.iter()).copied().collect();
@@ -388,14 +456,22 @@ where
         let q = SVector::<f64, N>::from_column_slice(&y[..N]);
         let v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
         let tau = (self.input)(t, &q, &v);
-        match mode::evaluate(self.system, &self.elements, &self.modes, &q, &v, &tau) {
+        match mode::evaluate(
+            self.system,
+            &self.elements,
+            &self.branches,
+            &self.modes,
+            &q,
+            &v,
+            &tau,
+        ) {
             Some(ev) => self
                 .elements
                 .iter()
                 .enumerate()
                 .map(|(e, el)| {
                     let c = el.coordinate;
-                    mode::switching(el, self.modes[e], q[c], v[c], ev.f[e])
+                    mode::switching(el, &self.branches[e], self.modes[e], q[c], v[c], ev.f[e])
                 })
                 .collect(),
             None => vec![f64::NAN; self.elements.len()],
@@ -481,15 +557,16 @@ where
     fn transition(&mut self, t: f64, y: &[f64], triggered: &[usize]) -> Result<(), ErrorKind> {
         let mut q = SVector::<f64, N>::from_column_slice(&y[..N]);
         let mut v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
-        // A slipping element's event is its velocity zero: the located state has v_c = 0
-        // up to the root finder's round-off, which must not show (as a negative f·v) in
-        // the pre-switch row.
+        // A slipping element's event is its velocity reaching zero (or, on a branch of a
+        // non-monotone law, a fold's velocity or approach 2's plateau speed): the located
+        // state has it up to the root finder's round-off, which must not show (as a
+        // negative f·v, or a velocity jump) in the pre-switch row, and the plateau speed
+        // must hold exactly.
         for &e in triggered {
             let el = self.elements[e];
-            if matches!(el.kind, ElementKind::DashPot { .. })
-                && matches!(self.modes[e], Mode::SlipPos | Mode::SlipNeg)
-            {
-                v[el.coordinate] = 0.0;
+            if let (ElementKind::DashPot { .. }, Some((d, k))) = (el.kind, self.modes[e].slip()) {
+                let c = el.coordinate;
+                v[c] = d * mode::branch_end(&self.branches[e], k, d * v[c]);
             }
         }
         self.push_row(t, &q, &v)?;
@@ -500,9 +577,22 @@ where
             let el = self.elements[e];
             let c = el.coordinate;
             match (el.kind, self.modes[e]) {
-                (ElementKind::DashPot { .. }, Mode::SlipPos | Mode::SlipNeg) => {
-                    v[c] = 0.0;
-                    excluded[e] = Some(self.modes[e]);
+                (ElementKind::DashPot { law, .. }, Mode::SlipPos(k) | Mode::SlipNeg(k)) => {
+                    let (d, w) = (v[c].signum(), v[c].abs());
+                    let approach1 = law
+                        == Law::BinghamNonMonotone {
+                            selection: Selection::NoVelocityJumps,
+                        };
+                    if w != 0.0 && approach1 {
+                        // A fold: the force jumps to the next branch, v continuous.
+                        let up = w == self.branches[e].slip[k].v_hi;
+                        self.modes[e] =
+                            Mode::slipping(d, mode::fold_jump(&self.branches[e], k, up));
+                    } else {
+                        // Rest (selected at v_c = 0) or approach 2's plateau speed
+                        // (selected among the two branches and the plateau there).
+                        excluded[e] = Some(self.modes[e]);
+                    }
                 }
                 (
                     ElementKind::Stop {
@@ -570,6 +660,24 @@ where
         let mut choices: Choices = Vec::new();
         for (e, el) in self.elements.iter().enumerate() {
             let c = el.coordinate;
+            let branches = &self.branches[e];
+            // Approach 2 at exactly a plateau speed: the branch below, the plateau and
+            // the branch above are the candidates.
+            if let (ElementKind::DashPot { .. }, Some(i)) =
+                (el.kind, mode::plateau_at(branches, v[c].abs()))
+            {
+                let d = v[c].signum();
+                let cands = [
+                    Mode::slipping(d, i),
+                    Mode::on_plateau(d, i),
+                    Mode::slipping(d, i + 1),
+                ]
+                .into_iter()
+                .filter(|m| Some(*m) != excluded[e])
+                .collect();
+                choices.push((e, cands));
+                continue;
+            }
             let at_rest_on_surface = match el.kind {
                 ElementKind::DashPot { .. } => v[c] == 0.0,
                 ElementKind::Stop {
@@ -585,11 +693,19 @@ where
                     .filter(|m| Some(*m) != excluded[e])
                     .collect();
                 choices.push((e, cands));
-            } else if jumped || matches!(self.modes[e], Mode::Stick | Mode::Contact) {
-                // Moving off a surface: the direction decides.
+            } else if jumped || self.modes[e].is_constraint() {
+                // Moving off a surface: the direction (and for non-monotone laws the
+                // speed, and the branch the element was on) decides.
+                let hint = self.hints[e].or_else(|| {
+                    self.modes[e]
+                        .slip()
+                        .and_then(|(_, k)| branches.slip.get(k))
+                        .map(|b| 0.5 * (b.f_lo + b.f_hi.min(2.0 * b.f_lo + 1.0)))
+                });
+                let k = mode::branch_of(branches, v[c].abs(), hint);
                 self.modes[e] = match el.kind {
-                    ElementKind::DashPot { .. } if v[c] > 0.0 => Mode::SlipPos,
-                    ElementKind::DashPot { .. } => Mode::SlipNeg,
+                    ElementKind::DashPot { .. } if v[c] > 0.0 => Mode::SlipPos(k),
+                    ElementKind::DashPot { .. } => Mode::SlipNeg(k),
                     ElementKind::Stop {
                         kind: StopKind::Rigid { .. },
                         ..
@@ -602,6 +718,7 @@ where
         self.modes = mode::select(
             self.system,
             &self.elements,
+            &self.branches,
             &self.modes,
             &choices,
             q,
@@ -770,7 +887,12 @@ where
         }
         let resume = NonSmoothProblem::new(t, t, q, v);
         let before = self.modes.clone();
-        self.initialise(&resume)?;
+        self.hints = (0..self.elements.len())
+            .map(|e| Some(y[2 * N + e]))
+            .collect();
+        let resumed = self.initialise(&resume);
+        self.hints = vec![None; self.elements.len()];
+        resumed?;
         self.out.stats.mode_changes += before
             .iter()
             .zip(&self.modes)

@@ -100,6 +100,36 @@ pub struct Fold {
     pub minimum: bool,
 }
 
+/// An increasing piece of a non-monotone slip law on the positive side (`f > f_crit`;
+/// the law is odd), as the event-driven integrator slips on it: while slipping with
+/// `|v| ∈ [v_lo, v_hi]` the force `|f| ∈ [f_lo, f_hi]` is the inverse of `φ` there.
+/// `f_hi = v_hi = ∞` for the last piece.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Branch {
+    pub f_lo: f64,
+    pub f_hi: f64,
+    pub v_lo: f64,
+    pub v_hi: f64,
+}
+
+/// Approach 2's constant-speed mode between two branches: `|v| = velocity` exactly, the
+/// force anywhere in `[f_lo, f_hi]` (the two branch forces at that speed).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlateauLevel {
+    pub velocity: f64,
+    pub f_lo: f64,
+    pub f_hi: f64,
+}
+
+/// The branches a selection rule slips on, by increasing force, and (approach 2) the
+/// plateaus between consecutive ones: `plateaus[i]` joins `slip[i]` (its top) and
+/// `slip[i + 1]` (its bottom). Empty for every law but the non-monotone one.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Branches {
+    pub slip: Vec<Branch>,
+    pub plateaus: Vec<PlateauLevel>,
+}
+
 /// Why a graph could not be built or evaluated.
 #[derive(Clone, Debug, PartialEq)]
 pub enum LawError {
@@ -155,6 +185,99 @@ impl Graph {
     /// (empty for every other element). The negative side mirrors them (odd law).
     pub fn folds(&self) -> &[Fold] {
         &self.folds
+    }
+
+    /// The slip branches of a non-monotone law under its selection rule (empty
+    /// [`Branches`] for every other element).
+    ///
+    /// The increasing pieces of `φ` lie between the folds: `(f_crit, max₁)`,
+    /// `(min₁, max₂)`, …, `(min_last, ∞)`. Approach 1 slips on all of them (the force
+    /// jumps between pieces at a fold's velocity). Approach 2 keeps, besides the first,
+    /// the pieces whose local minimum lies strictly below every later minimum (the
+    /// pieces the envelope `ψ` touches), each up to the velocity of the next kept
+    /// minimum, where a plateau joins it to the next kept piece.
+    ///
+    /// Errors with [`LawError::InvalidElement`] unless the folds alternate maximum,
+    /// minimum, …, minimum (the law increases from `f_crit` and beyond its last fold).
+    pub fn branches<S: NonSmooth<N>, const N: usize>(
+        &self,
+        system: &S,
+    ) -> Result<Branches, LawError> {
+        let ElementKind::DashPot {
+            law: Law::BinghamNonMonotone { selection },
+            f_crit,
+        } = self.element.kind
+        else {
+            return Ok(Branches::default());
+        };
+        let alternating = self
+            .folds
+            .iter()
+            .enumerate()
+            .all(|(i, fold)| fold.minimum == (i % 2 == 1));
+        if !alternating || self.folds.len() % 2 == 1 {
+            return Err(LawError::InvalidElement(format!(
+                "element `{}`: the non-monotone law must increase from f_crit and beyond its \
+                 last fold (folds found: {:?})",
+                self.element.name, self.folds
+            )));
+        }
+        let phi = |x: f64| side_phi(system, self.index, 1.0, x);
+        // The increasing pieces.
+        let mut pieces = vec![Branch {
+            f_lo: f_crit,
+            f_hi: f64::INFINITY,
+            v_lo: 0.0,
+            v_hi: f64::INFINITY,
+        }];
+        for pair in self.folds.chunks(2) {
+            let (max, min) = (pair[0], pair[1]);
+            let last = pieces.last_mut().expect("one piece at least");
+            last.f_hi = max.force;
+            last.v_hi = max.velocity;
+            pieces.push(Branch {
+                f_lo: min.force,
+                f_hi: f64::INFINITY,
+                v_lo: min.velocity,
+                v_hi: f64::INFINITY,
+            });
+        }
+        if selection == Selection::NoVelocityJumps {
+            return Ok(Branches {
+                slip: pieces,
+                plateaus: Vec::new(),
+            });
+        }
+        // Approach 2: the pieces whose minimum is a strict suffix minimum.
+        let mut kept: Vec<usize> = Vec::new();
+        let mut below = f64::INFINITY;
+        for k in (1..pieces.len()).rev() {
+            if pieces[k].v_lo < below {
+                kept.push(k);
+                below = pieces[k].v_lo;
+            }
+        }
+        kept.push(0);
+        kept.reverse();
+        let mut slip = Vec::with_capacity(kept.len());
+        let mut plateaus = Vec::with_capacity(kept.len() - 1);
+        for (i, &k) in kept.iter().enumerate() {
+            let mut b = pieces[k];
+            if let Some(&next) = kept.get(i + 1) {
+                let level = pieces[next].v_lo;
+                // φ rises from b.v_lo to the maximum b.v_hi > level on the piece.
+                let f_top = bisect(|x| phi(x) - level, b.f_lo, b.f_hi)?;
+                b.f_hi = f_top;
+                b.v_hi = level;
+                plateaus.push(PlateauLevel {
+                    velocity: level,
+                    f_lo: f_top,
+                    f_hi: pieces[next].f_lo,
+                });
+            }
+            slip.push(b);
+        }
+        Ok(Branches { slip, plateaus })
     }
 
     /// Dash-pots: the velocity of a force, `v = Φ(f)` (`0` in the dead zone). `None` for

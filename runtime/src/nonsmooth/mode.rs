@@ -19,6 +19,7 @@
 
 use nalgebra::{DMatrix, DVector, SVector};
 
+use super::law::{Branch, Branches};
 use super::{Element, ElementKind, Law, NonSmooth, Side, StopKind};
 
 /// The state of one element's constitutive relation.
@@ -26,10 +27,18 @@ use super::{Element, ElementKind, Law, NonSmooth, Side, StopKind};
 pub enum Mode {
     /// Dash-pot stuck: `v_c = 0`, force from the constraint, `|f| ≤ f_crit`.
     Stick,
-    /// Dash-pot slipping with `v_c > 0` (force `≥ f_crit`).
-    SlipPos,
-    /// Dash-pot slipping with `v_c < 0`.
-    SlipNeg,
+    /// Dash-pot slipping with `v_c > 0` (force `≥ f_crit`) on branch `k` of its law
+    /// (always `0` for monotone laws; non-monotone laws: the index into
+    /// [`Branches::slip`] of the selection rule).
+    SlipPos(usize),
+    /// Dash-pot slipping with `v_c < 0` on branch `k`.
+    SlipNeg(usize),
+    /// Non-monotone law, approach 2: moving at exactly `v_c = +v` of plateau `i`
+    /// ([`Branches::plateaus`]), force from the constraint, between the two branch
+    /// forces at that speed.
+    PlateauPos(usize),
+    /// As [`Mode::PlateauPos`] with `v_c = −v`.
+    PlateauNeg(usize),
     /// Stop open: gap `> 0` (or `= 0` and opening), no force.
     Free,
     /// Rigid stop closed: gap `= 0`, `v_c = 0`, `λ ≥ 0` from the constraint.
@@ -39,17 +48,112 @@ pub enum Mode {
 }
 
 impl Mode {
-    /// Whether the mode is a velocity constraint `v_c = 0`.
+    /// Whether the mode is a velocity constraint (`v_c = 0`, or `v_c = ±v` on a plateau).
     pub fn is_constraint(self) -> bool {
-        matches!(self, Mode::Stick | Mode::Contact)
+        matches!(
+            self,
+            Mode::Stick | Mode::Contact | Mode::PlateauPos(_) | Mode::PlateauNeg(_)
+        )
     }
+
+    /// `(direction ±1, branch)` of a slip mode.
+    pub fn slip(self) -> Option<(f64, usize)> {
+        match self {
+            Mode::SlipPos(k) => Some((1.0, k)),
+            Mode::SlipNeg(k) => Some((-1.0, k)),
+            _ => None,
+        }
+    }
+
+    /// `(direction ±1, plateau)` of a plateau mode.
+    pub fn plateau(self) -> Option<(f64, usize)> {
+        match self {
+            Mode::PlateauPos(i) => Some((1.0, i)),
+            Mode::PlateauNeg(i) => Some((-1.0, i)),
+            _ => None,
+        }
+    }
+
+    /// Slip mode in direction `d` on branch `k`.
+    pub fn slipping(d: f64, k: usize) -> Mode {
+        if d > 0.0 {
+            Mode::SlipPos(k)
+        } else {
+            Mode::SlipNeg(k)
+        }
+    }
+
+    /// Plateau mode in direction `d` at plateau `i`.
+    pub fn on_plateau(d: f64, i: usize) -> Mode {
+        if d > 0.0 {
+            Mode::PlateauPos(i)
+        } else {
+            Mode::PlateauNeg(i)
+        }
+    }
+}
+
+/// The branch a dash-pot slips on at speed `w = |v_c| > 0`: approach 2 the unique one
+/// whose range holds `w` (its top end excluded); approach 1 the lowest one whose range
+/// holds `w`, or, given a force `hint`, the one whose force range holds `|hint|` if its
+/// velocity range holds `w` (the branch is part of the state). `0` for monotone laws.
+pub(crate) fn branch_of(branches: &Branches, w: f64, hint: Option<f64>) -> usize {
+    let holds = |b: &Branch| b.v_lo <= w && w <= b.v_hi;
+    if let Some(f) = hint
+        && let Some(k) = branches
+            .slip
+            .iter()
+            .position(|b| b.f_lo <= f.abs() && f.abs() <= b.f_hi && holds(b))
+    {
+        return k;
+    }
+    branches
+        .slip
+        .iter()
+        .position(|b| b.v_lo <= w && w < b.v_hi)
+        .unwrap_or(0)
+}
+
+/// Approach 1's jump at a fold: the branch the force jumps to when branch `k` ends at
+/// its top (`up`: the lowest higher branch whose range holds `v_hi`) or bottom (the
+/// highest lower branch whose range holds `v_lo`).
+pub(crate) fn fold_jump(branches: &Branches, k: usize, up: bool) -> usize {
+    let b = branches.slip[k];
+    if up {
+        (k + 1..branches.slip.len())
+            .find(|&j| branches.slip[j].v_lo < b.v_hi && b.v_hi < branches.slip[j].v_hi)
+            .unwrap_or(k)
+    } else {
+        (0..k)
+            .rev()
+            .find(|&j| branches.slip[j].v_lo < b.v_lo && b.v_lo < branches.slip[j].v_hi)
+            .unwrap_or(k)
+    }
+}
+
+/// The end of branch `k`'s velocity range nearer to `w` (`0` for monotone laws).
+pub(crate) fn branch_end(branches: &Branches, k: usize, w: f64) -> f64 {
+    match branches.slip.get(k) {
+        Some(b) if b.v_hi.is_finite() && (w - b.v_hi).abs() < (w - b.v_lo).abs() => b.v_hi,
+        Some(b) => b.v_lo,
+        None => 0.0,
+    }
+}
+
+/// Relative slack of the ends `v_lo > 0`, `v_hi` of a non-monotone law's branch in its
+/// switching function (the end `v = 0` has none).
+pub(crate) const BRANCH_END_SLACK: f64 = 1e-10;
+
+/// The plateau at speed `w` exactly, if any.
+pub(crate) fn plateau_at(branches: &Branches, w: f64) -> Option<usize> {
+    branches.plateaus.iter().position(|p| p.velocity == w)
 }
 
 /// Every mode a dash-pot or a rigid stop can take at `v_c = 0` (spring-backed stops
 /// switch by the sign of the penetration rate and are not enumerated).
 pub(crate) fn candidates(element: &Element) -> &'static [Mode] {
     match element.kind {
-        ElementKind::DashPot { .. } => &[Mode::Stick, Mode::SlipPos, Mode::SlipNeg],
+        ElementKind::DashPot { .. } => &[Mode::Stick, Mode::SlipPos(0), Mode::SlipNeg(0)],
         ElementKind::Stop {
             kind: StopKind::Rigid { .. },
             ..
@@ -77,11 +181,6 @@ pub(crate) fn validate_element(e: &Element, dof: usize) -> Result<(), String> {
             match law {
                 Law::BinghamLinear { eta } if !(eta.is_finite() && eta > 0.0) => Err(format!(
                     "element `{}`: viscosity η = {eta} must be finite and > 0 (η = 0 is Coulomb)",
-                    e.name
-                )),
-                Law::BinghamNonMonotone { .. } => Err(format!(
-                    "element `{}`: non-monotone laws are not supported by the event-driven \
-                     integrator yet (fold and plateau modes); use time-stepping",
                     e.name
                 )),
                 _ => Ok(()),
@@ -131,49 +230,72 @@ pub(crate) fn gap(element: &Element, qc: f64) -> f64 {
     }
 }
 
-/// Slip force of dash-pot `index` slipping in direction `d = ±1` at velocity `vc`.
+/// Slip force of dash-pot `index` slipping in direction `d = ±1` on branch `k` at
+/// velocity `vc`.
 ///
 /// Coulomb: `d f_crit`. Linear Bingham: `d f_crit + η vc` (the mode's direction, not
 /// `sgn vc`, so the force stays smooth while a root finder looks just past `vc = 0`).
 /// Monotone user law: the `f` with `φ(f) = vc` on the branch `d f > f_crit`, by
-/// safeguarded Newton ([`invert_monotone`]); `d f_crit` where `d vc ≤ 0`.
+/// safeguarded Newton ([`invert_monotone`]); `d f_crit` where `d vc ≤ 0`. Non-monotone
+/// law: the same inside branch `k`'s force interval `[f_lo, f_hi]` (bracketed by its
+/// folds), clamped to its ends outside the branch's velocity range (so the force stays
+/// continuous while a root finder looks just past a fold).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn slip_force<S: NonSmooth<N>, const N: usize>(
     system: &S,
     index: usize,
     law: Law,
     f_crit: f64,
+    branches: &Branches,
+    k: usize,
     vc: f64,
     d: f64,
 ) -> f64 {
+    let w = d * vc;
     match law {
         Law::Coulomb => d * f_crit,
         Law::BinghamLinear { eta } => d * f_crit + eta * vc,
+        Law::BinghamNonMonotone { .. } if !branches.slip.is_empty() => {
+            let b = branches.slip[k];
+            if w <= b.v_lo {
+                d * b.f_lo
+            } else if w >= b.v_hi {
+                d * b.f_hi
+            } else {
+                d * invert_monotone(|f| system.law(index, f), b.f_lo, b.f_hi, w)
+            }
+        }
         Law::BinghamMonotone | Law::BinghamNonMonotone { .. } => {
-            if d * vc <= 0.0 {
+            if w <= 0.0 {
                 d * f_crit
             } else {
-                d * invert_monotone(|f| system.law(index, f), f_crit, d * vc)
+                d * invert_monotone(|f| system.law(index, f), f_crit, f64::INFINITY, w)
             }
         }
     }
 }
 
-/// Solves `d φ(d f) = w` for `f > f_crit` with `w > 0` (so `φ` on the positive branch),
-/// `phi(f) = (d φ(d f), φ'(d f))`, which for an odd law is `(φ(f), φ'(f))`: bracket by doubling, then Newton kept inside the
-/// bracket, bisecting whenever the Newton point leaves it (a "safeguarded" Newton,
-/// Press et al., *Numerical Recipes*, 3rd ed., §9.4, `rtsafe`).
-fn invert_monotone<P: Fn(f64) -> (f64, f64)>(phi: P, f_crit: f64, w: f64) -> f64 {
+/// Solves `φ(f) = w` for `f ∈ [lo, hi]` (`hi = ∞`: bracketed by doubling) where `φ`
+/// increases (`f > 0`: for an odd law the positive side serves both directions),
+/// `phi(f) = (φ(f), φ'(f))`: Newton kept inside the bracket, bisecting whenever the
+/// Newton point leaves it (a "safeguarded" Newton, Press et al., *Numerical Recipes*,
+/// 3rd ed., §9.4, `rtsafe`). At a fold end `φ' = 0` and the bisection takes over.
+fn invert_monotone<P: Fn(f64) -> (f64, f64)>(phi: P, lo: f64, hi: f64, w: f64) -> f64 {
     let value = |f: f64| phi(f);
-    let mut lo = f_crit;
-    let mut step = f_crit.max(1.0);
-    let mut hi = f_crit + step;
-    for _ in 0..200 {
-        if value(hi).0 >= w {
-            break;
+    let base = lo;
+    let mut lo = lo;
+    let mut hi = hi;
+    if !hi.is_finite() {
+        let mut step = base.max(1.0);
+        hi = base + step;
+        for _ in 0..200 {
+            if value(hi).0 >= w {
+                break;
+            }
+            lo = hi;
+            step *= 2.0;
+            hi = base + step;
         }
-        lo = hi;
-        step *= 2.0;
-        hi = f_crit + step;
     }
     let mut x = 0.5 * (lo + hi);
     for _ in 0..200 {
@@ -213,6 +335,7 @@ pub(crate) struct Evaluation<const N: usize> {
 pub(crate) fn evaluate<S: NonSmooth<N>, const N: usize>(
     system: &S,
     elements: &[Element],
+    branches: &[Branches],
     modes: &[Mode],
     q: &SVector<f64, N>,
     v: &SVector<f64, N>,
@@ -224,9 +347,13 @@ pub(crate) fn evaluate<S: NonSmooth<N>, const N: usize>(
     for (i, el) in elements.iter().enumerate() {
         let c = el.coordinate;
         match (el.kind, modes[i]) {
-            (ElementKind::DashPot { law, f_crit }, Mode::SlipPos | Mode::SlipNeg) => {
-                let d = if modes[i] == Mode::SlipPos { 1.0 } else { -1.0 };
-                f[i] = slip_force(system, i, law, f_crit, v[c], d);
+            (ElementKind::DashPot { law, f_crit }, Mode::SlipPos(k) | Mode::SlipNeg(k)) => {
+                let d = if matches!(modes[i], Mode::SlipPos(_)) {
+                    1.0
+                } else {
+                    -1.0
+                };
+                f[i] = slip_force(system, i, law, f_crit, &branches[i], k, v[c], d);
             }
             (
                 ElementKind::Stop {
@@ -238,7 +365,9 @@ pub(crate) fn evaluate<S: NonSmooth<N>, const N: usize>(
             ) => {
                 f[i] = side_sign(side) * stiffness * (-gap(el, q[c]));
             }
-            (_, Mode::Stick | Mode::Contact) => active.push(i),
+            (_, Mode::Stick | Mode::Contact | Mode::PlateauPos(_) | Mode::PlateauNeg(_)) => {
+                active.push(i)
+            }
             _ => {}
         }
         tau_net[c] -= f[i];
@@ -266,13 +395,45 @@ pub(crate) fn evaluate<S: NonSmooth<N>, const N: usize>(
 }
 
 /// Switching function of `element` in `mode`: positive while the mode holds, crossing
-/// zero where it ends (stick: `f_crit − |f|`; slip: `±v_c`; free: gap; contact: `λ`;
-/// compressed: penetration).
-pub(crate) fn switching(element: &Element, mode: Mode, qc: f64, vc: f64, f: f64) -> f64 {
+/// zero where it ends (stick: `f_crit − |f|`; slip: `±v_c`, and on a branch of a
+/// non-monotone law the distance of `±v_c` to the nearer end of the branch's velocity
+/// range (a fold, or approach 2's plateau speed); plateau: the distance of `±f` to the
+/// nearer end of its force interval; free: gap; contact: `λ`; compressed: penetration).
+pub(crate) fn switching(
+    element: &Element,
+    branches: &Branches,
+    mode: Mode,
+    qc: f64,
+    vc: f64,
+    f: f64,
+) -> f64 {
     match (element.kind, mode) {
         (ElementKind::DashPot { f_crit, .. }, Mode::Stick) => f_crit - f.abs(),
-        (_, Mode::SlipPos) => vc,
-        (_, Mode::SlipNeg) => -vc,
+        (_, Mode::SlipPos(k) | Mode::SlipNeg(k)) => {
+            let d = if matches!(mode, Mode::SlipPos(_)) {
+                1.0
+            } else {
+                -1.0
+            };
+            let w = d * vc;
+            match branches.slip.get(k) {
+                // The slack keeps a branch entered at its end (leaving a plateau, where the
+                // speed departs only quadratically in time) from switching back on the
+                // round-off of v; the event's state is set to the end exactly.
+                Some(b) => (w - b.v_lo * (1.0 - BRANCH_END_SLACK))
+                    .min(b.v_hi * (1.0 + BRANCH_END_SLACK) - w),
+                None => w,
+            }
+        }
+        (_, Mode::PlateauPos(i) | Mode::PlateauNeg(i)) => {
+            let d = if matches!(mode, Mode::PlateauPos(_)) {
+                1.0
+            } else {
+                -1.0
+            };
+            let p = branches.plateaus[i];
+            (d * f - p.f_lo).min(p.f_hi - d * f)
+        }
         (_, Mode::Free) => gap(element, qc),
         (ElementKind::Stop { side, .. }, Mode::Contact) => side_sign(side) * f,
         (_, Mode::Compressed) => -gap(element, qc),
@@ -283,11 +444,15 @@ pub(crate) fn switching(element: &Element, mode: Mode, qc: f64, vc: f64, f: f64)
 
 /// How consistently `mode` holds for `element` at an event, in force units: `≥ 0`
 /// consistent. Stick: `f_crit − |f|`; slip at `v_c = 0`: the acceleration in the slip
-/// direction divided by `W_cc`; contact: `λ`; free at gap `0` and rest: the gap
-/// acceleration divided by `W_cc`. States that already move in (out of) the mode's
-/// direction give `+∞` (`−∞`).
+/// direction divided by `W_cc`; slip on a non-monotone branch at an end of its velocity
+/// range: the acceleration into the range divided by `W_cc`; plateau at its speed: the
+/// distance of the constraint force to the ends of its interval; contact: `λ`; free at
+/// gap `0` and rest: the gap acceleration divided by `W_cc`. States that already move in
+/// (out of) the mode's direction or range give `+∞` (`−∞`).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn margin(
     element: &Element,
+    branches: &Branches,
     mode: Mode,
     qc: f64,
     vc: f64,
@@ -306,8 +471,39 @@ pub(crate) fn margin(
     };
     match (element.kind, mode) {
         (ElementKind::DashPot { f_crit, .. }, Mode::Stick) => f_crit - f.abs(),
-        (ElementKind::DashPot { .. }, Mode::SlipPos) => directed(1.0),
-        (ElementKind::DashPot { .. }, Mode::SlipNeg) => directed(-1.0),
+        (ElementKind::DashPot { .. }, Mode::SlipPos(k) | Mode::SlipNeg(k)) => {
+            let d = if matches!(mode, Mode::SlipPos(_)) {
+                1.0
+            } else {
+                -1.0
+            };
+            match branches.slip.get(k) {
+                None => directed(d),
+                Some(b) => {
+                    let w = d * vc;
+                    if w > b.v_lo && w < b.v_hi {
+                        f64::INFINITY
+                    } else if w == b.v_lo {
+                        d * ac / wcc
+                    } else if w == b.v_hi {
+                        -d * ac / wcc
+                    } else {
+                        f64::NEG_INFINITY
+                    }
+                }
+            }
+        }
+        (ElementKind::DashPot { .. }, Mode::PlateauPos(i) | Mode::PlateauNeg(i)) => {
+            let d = if matches!(mode, Mode::PlateauPos(_)) {
+                1.0
+            } else {
+                -1.0
+            };
+            match branches.plateaus.get(i) {
+                Some(p) if d * vc == p.velocity => (d * f - p.f_lo).min(p.f_hi - d * f),
+                _ => f64::NEG_INFINITY,
+            }
+        }
         (ElementKind::Stop { side, .. }, Mode::Contact) => side_sign(side) * f,
         (
             ElementKind::Stop {
@@ -355,9 +551,11 @@ const MAX_COMBINATIONS: usize = 20_000;
 /// otherwise the largest margin wins (at a switching instant located to round-off, the
 /// old mode and the new one may both sit on the boundary; the new one has the larger
 /// margin on the far side of the located root).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
     system: &S,
     elements: &[Element],
+    branches: &[Branches],
     modes: &[Mode],
     choices: &Choices,
     q: &SVector<f64, N>,
@@ -382,12 +580,12 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
     let mut free_modes = modes.to_vec();
     for (e, _) in choices {
         free_modes[*e] = match elements[*e].kind {
-            ElementKind::DashPot { .. } => Mode::SlipPos,
+            ElementKind::DashPot { .. } => Mode::SlipPos(0),
             ElementKind::Stop { .. } => Mode::Free,
         };
     }
     let mut scale: f64 = 1.0;
-    if let Some(ev) = evaluate(system, elements, &free_modes, q, v, tau) {
+    if let Some(ev) = evaluate(system, elements, branches, &free_modes, q, v, tau) {
         for (e, _) in choices {
             let c = elements[*e].coordinate;
             scale = scale.max((ev.a[c] / w[(c, c)]).abs());
@@ -408,7 +606,7 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
             trial[*e] = cands[rest % cands.len()];
             rest /= cands.len();
         }
-        let Some(ev) = evaluate(system, elements, &trial, q, v, tau) else {
+        let Some(ev) = evaluate(system, elements, branches, &trial, q, v, tau) else {
             continue;
         };
         let m = choices
@@ -417,6 +615,7 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
                 let c = elements[*e].coordinate;
                 margin(
                     &elements[*e],
+                    &branches[*e],
                     trial[*e],
                     q[c],
                     v[c],

@@ -545,22 +545,27 @@ fn bad_input_gives_typed_errors() {
         run(&oscillator(1.0, 1.0, dashpot(Law::Coulomb, 0.1)), &p),
         ErrorKind::InconsistentInitialData(_)
     ));
-    // forces0 of the wrong length, non-monotone law.
+    // forces0 of the wrong length.
     let p = problem1(1.0, 0.0, 0.0).with_forces(vec![None, None]);
     assert!(matches!(
         run(&oscillator(1.0, 1.0, dashpot(Law::Coulomb, 0.1)), &p),
         ErrorKind::InvalidInput(_)
     ));
+    // A non-monotone law that decreases beyond its last fold.
     let nm = dashpot(
         Law::BinghamNonMonotone {
             selection: crate::nonsmooth::Selection::MaximalDissipation,
         },
         1.0,
     );
-    assert!(matches!(
-        run(&oscillator(1.0, 1.0, nm), &problem1(1.0, 0.0, 0.0)),
-        ErrorKind::InvalidInput(_)
-    ));
+    let mut sys = oscillator(1.0, 1.0, nm);
+    sys.law = Some(|f| {
+        let x = f.abs() - 1.0;
+        (f.signum() * x * (2.0 - x), 1.0 - x)
+    });
+    assert!(
+        matches!(run(&sys, &problem1(1.0, 0.0, 0.0)), ErrorKind::InvalidInput(m) if m.contains("last fold"))
+    );
 }
 
 #[test]
@@ -622,4 +627,183 @@ fn monotone_user_law_is_inverted_exactly_and_rigid_contact_is_released() {
     // After release: x = (t − 1)³/6.
     let x_end = traj.last().unwrap().1[0];
     assert!((x_end - 8.0 / 6.0).abs() < 1e-6, "{x_end}");
+}
+
+/// The non-monotone law 4.9b (f_crit = 1): v = (1 + 0.1 (f² − 4)(f² − 9)) (f − sgn f).
+fn law_4_9b(f: f64) -> (f64, f64) {
+    let a = 1.0 + 0.1 * (f * f - 4.0) * (f * f - 9.0);
+    let da = 0.1 * (2.0 * f * (f * f - 9.0) + 2.0 * f * (f * f - 4.0));
+    (a * (f - f.signum()), da * (f - f.signum()) + a)
+}
+
+/// S4 (theory.md §4): m = k = 1, f_crit = 1, F = 3 sin(0.5 t), x0 = v0 = 0, t ∈ [0, 40].
+fn s4_system(selection: crate::nonsmooth::Selection) -> Lumped<1, 1> {
+    let mut sys = oscillator(
+        1.0,
+        1.0,
+        dashpot(Law::BinghamNonMonotone { selection }, 1.0),
+    );
+    sys.law = Some(law_4_9b);
+    sys
+}
+
+fn s4_input(t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>) -> SVector<f64, 1> {
+    SVector::from([3.0 * (0.5 * t).sin()])
+}
+
+fn s4_event_driven(selection: crate::nonsmooth::Selection) -> Trajectory {
+    event_driven(
+        &s4_system(selection),
+        &s4_input,
+        &problem1(40.0, 0.0, 0.0),
+        SmoothMethod::Dopri5,
+        &Options::tolerances(1e-10, 1e-12),
+    )
+    .unwrap()
+}
+
+/// Largest difference of x between a time-stepping run and the event-driven one at the
+/// time-stepping's grid points.
+fn s4_distance(ed: &Trajectory, ts: &Trajectory) -> f64 {
+    (0..ts.len())
+        .map(|i| {
+            let t = ts.times()[i];
+            (ts.state(i)[0] - ed.at(t).unwrap()[0]).abs()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// S4 with both selection rules: event-driven at tight tolerance against time-stepping
+/// (θ = 1/2) at h = 2e-3 and 1e-3. The time-stepping error is O(h), so the largest
+/// distance of x over the grid must halve with h (both converge to one solution); the
+/// two rules end on opposite sides (theory.md §3); no chattering and no Zeno hand-over.
+#[test]
+fn s4_non_monotone_event_driven_agrees_with_time_stepping() {
+    use crate::nonsmooth::Selection;
+    let mut ends = Vec::new();
+    for sel in [Selection::NoVelocityJumps, Selection::MaximalDissipation] {
+        let ed = s4_event_driven(sel);
+        let x_end = ed.last().unwrap().1[0];
+        let dist: Vec<f64> = [2e-3, 1e-3]
+            .iter()
+            .map(|&h| {
+                let ts = crate::nonsmooth::time_stepping(
+                    &s4_system(sel),
+                    &s4_input,
+                    &problem1(40.0, 0.0, 0.0),
+                    h,
+                    0.5,
+                )
+                .unwrap();
+                eprintln!(
+                    "S4 {sel:?}: time-stepping h = {h}: x(40) = {}",
+                    ts.last().unwrap().1[0]
+                );
+                s4_distance(&ed, &ts)
+            })
+            .collect();
+        eprintln!(
+            "S4 {sel:?}: event-driven x(40) = {x_end}, {} events, max |Δx| vs time-stepping \
+             {dist:?} (ratio {}), stats {:?}",
+            ed.stats.events,
+            dist[0] / dist[1],
+            ed.stats
+        );
+        let ratio = dist[0] / dist[1];
+        assert!((1.6..2.6).contains(&ratio), "{dist:?}");
+        assert!(dist[1] < 2e-3, "{dist:?}");
+        assert_eq!(ed.stats.zeno_detected, 0);
+        assert_eq!(ed.stats.zeno_handovers, 0);
+        assert!(
+            ed.stats.events > 10 && ed.stats.events < 60,
+            "{:?}",
+            ed.stats
+        );
+        // Off the plateaus every slipping row lies on the law.
+        let sys = s4_system(sel);
+        let branches = crate::nonsmooth::law::Graph::new(&sys, 0)
+            .unwrap()
+            .branches(&sys)
+            .unwrap();
+        let plateau = branches.plateaus.first().map_or(f64::NAN, |p| p.velocity);
+        for i in 0..ed.len() {
+            let s = ed.state(i);
+            if s[1] != 0.0 && s[1].abs() != plateau {
+                assert!((law_4_9b(s[2]).0 - s[1]).abs() < 1e-9, "{s:?}");
+            }
+        }
+        ends.push(x_end);
+    }
+    assert!(ends[0] * ends[1] < 0.0, "x(40) differ in sign: {ends:?}");
+}
+
+/// S4, approach 1: the force jumps at the folds (v = v_max: inner → outer branch,
+/// v = v_min: outer → inner) with the velocity continuous, bit for bit.
+#[test]
+fn s4_approach_1_hysteresis_at_the_folds() {
+    use crate::nonsmooth::Selection;
+    let ed = s4_event_driven(Selection::NoVelocityJumps);
+    let sys = s4_system(Selection::NoVelocityJumps);
+    let graph = crate::nonsmooth::law::Graph::new(&sys, 0).unwrap();
+    let (max, min) = (graph.folds()[0], graph.folds()[1]);
+    let (mut up, mut down) = (0usize, 0usize);
+    for (t, a, b) in events(&ed) {
+        assert_eq!(a[..2], b[..2], "state continuous at t = {t}");
+        if a[1].abs() == max.velocity {
+            up += 1;
+            assert!((a[2].abs() - max.force).abs() < 1e-9 && b[2].abs() > min.force);
+            assert!((law_4_9b(b[2]).0 - b[1]).abs() < 1e-12);
+        }
+        if a[1].abs() == min.velocity {
+            down += 1;
+            assert!((a[2].abs() - min.force).abs() < 1e-9 && b[2].abs() < max.force);
+            assert!((law_4_9b(b[2]).0 - b[1]).abs() < 1e-12);
+        }
+    }
+    eprintln!("S4 approach 1: {up} jumps up, {down} down");
+    assert!(up >= 4 && down >= 4 && up.abs_diff(down) <= 1);
+}
+
+/// S4, approach 2: the plateau rows move at |v| = v_min exactly with the force between
+/// the two branch forces there; the plateau is entered and left without chattering.
+#[test]
+fn s4_approach_2_plateau_is_exact() {
+    use crate::nonsmooth::Selection;
+    let ed = s4_event_driven(Selection::MaximalDissipation);
+    let sys = s4_system(Selection::MaximalDissipation);
+    let p = crate::nonsmooth::law::Graph::new(&sys, 0)
+        .unwrap()
+        .branches(&sys)
+        .unwrap()
+        .plateaus[0];
+    assert!((p.velocity - 0.571_87).abs() < 1e-5 && (p.f_hi - 2.499_09).abs() < 1e-5);
+    let mut rows = 0;
+    for i in 0..ed.len() {
+        let s = ed.state(i);
+        if s[1].abs() == p.velocity {
+            rows += 1;
+            let f = s[2].abs();
+            assert!(f >= p.f_lo - 1e-9 && f <= p.f_hi + 1e-9, "{s:?}");
+            assert_eq!(s[2].signum(), s[1].signum());
+        }
+    }
+    // Plateau rows between the events, and the plateau positions move at v_min.
+    let on_plateau = (1..ed.len())
+        .filter(|&i| {
+            let (a, b) = (ed.state(i - 1), ed.state(i));
+            a[1] == b[1] && b[1].abs() == p.velocity && ed.times()[i] > ed.times()[i - 1]
+        })
+        .map(|i| {
+            let (a, b) = (ed.state(i - 1), ed.state(i));
+            let dt = ed.times()[i] - ed.times()[i - 1];
+            ((b[0] - a[0]) - b[1] * dt).abs()
+        })
+        .collect::<Vec<_>>();
+    eprintln!(
+        "S4 approach 2: {rows} rows at |v| = v_min exactly, {} plateau steps, {} events",
+        on_plateau.len(),
+        ed.stats.events
+    );
+    assert!(on_plateau.len() > 10);
+    assert!(on_plateau.iter().all(|e| *e < 1e-12));
 }

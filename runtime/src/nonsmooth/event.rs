@@ -446,7 +446,25 @@ where
         };
         add_stats(&mut self.out.stats, &inner.stats);
         match failure {
-            Some(kind) => Err(kind),
+            Some(kind) => {
+                // Keep what was computed before the failure: the window's rows up to the
+                // first sign change of a switching function (past it, the mode would
+                // have changed, so later rows are not a solution).
+                if inner.len() > 1 {
+                    let start = self.switching_all(inner.times()[0], inner.state(0));
+                    for i in 1..inner.len() {
+                        let g = self.switching_all(inner.times()[i], inner.state(i));
+                        if g.iter()
+                            .zip(&start)
+                            .any(|(a, b)| !a.is_finite() || a.signum() != b.signum())
+                        {
+                            break;
+                        }
+                        self.push_inner(&inner, i)?;
+                    }
+                }
+                Err(kind)
+            }
             None => Ok(inner),
         }
     }
@@ -726,6 +744,8 @@ where
             &tau,
         )
         .map_err(|detail| ErrorKind::IllPosedMode { t, detail })?;
+        check_unique_forces(&self.elements, &self.modes, v)
+            .map_err(|detail| ErrorKind::IllPosedMode { t, detail })?;
         for (e, el) in self.elements.iter().enumerate() {
             if let (Mode::Contact, ElementKind::Stop { position, .. }) = (self.modes[e], el.kind) {
                 q[el.coordinate] = position;
@@ -915,3 +935,38 @@ fn add_stats(total: &mut Stats, s: &Stats) {
 
 #[cfg(test)]
 mod tests;
+
+/// Two elements on one coordinate, one holding it (stuck, in contact, on a plateau) and
+/// the other at rest on its slip boundary (v = 0): the coordinate does not move and any
+/// split of the holding force between them fits, so the element forces are not unique.
+/// This is reported as an ill-posed mode rather than integrated with an arbitrary split.
+fn check_unique_forces<const N: usize>(
+    elements: &[Element],
+    modes: &[Mode],
+    v: &SVector<f64, N>,
+) -> Result<(), String> {
+    let holds = |m: Mode| {
+        matches!(
+            m,
+            Mode::Stick | Mode::Contact | Mode::PlateauPos(_) | Mode::PlateauNeg(_)
+        )
+    };
+    for (a, ea) in elements.iter().enumerate() {
+        for (b, eb) in elements.iter().enumerate().skip(a + 1) {
+            if ea.coordinate != eb.coordinate {
+                continue;
+            }
+            let at_rest_slip = |m: Mode| {
+                matches!(m, Mode::SlipPos(_) | Mode::SlipNeg(_)) && v[ea.coordinate] == 0.0
+            };
+            let (ma, mb) = (modes[a], modes[b]);
+            if (holds(ma) && (holds(mb) || at_rest_slip(mb))) || (holds(mb) && at_rest_slip(ma)) {
+                return Err(format!(
+                    "elements `{}` and `{}` both hold coordinate {} at rest: their forces are not unique (only their sum is determined)",
+                    ea.name, eb.name, ea.coordinate
+                ));
+            }
+        }
+    }
+    Ok(())
+}

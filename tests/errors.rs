@@ -1,0 +1,257 @@
+//! Run-time failures are typed errors that keep the trajectory computed so far: bad
+//! parameters, non-finite initial data and forcing, step-size underflow, inconsistent
+//! initial data and ill-posed modes — on generated mechanisms, for every integrator.
+
+use filippov::Mechanism;
+use filippov::nalgebra::SVector;
+use filippov::runtime::{
+    ErrorKind, MechanicalSystem, Method, NonSmoothMethod, NonSmoothProblem, Options, Problem,
+    SmoothMethod, solve, solve_nonsmooth,
+};
+use filippov::scenes::{BouncingBall, CoulombOscillator, DoublePendulum};
+
+type V1 = SVector<f64, 1>;
+
+fn smooth_methods() -> [Method; 3] {
+    [
+        Method::Rk4 { h: 1e-2 },
+        Method::Dopri5(Options::default()),
+        Method::Sdirk4(Options::default()),
+    ]
+}
+
+fn nonsmooth_methods() -> [NonSmoothMethod; 2] {
+    [
+        NonSmoothMethod::default(),
+        NonSmoothMethod::TimeStepping {
+            h: 1e-3,
+            theta: 1.0,
+        },
+    ]
+}
+
+#[test]
+fn bad_parameters_are_invalid_input_naming_the_parameter() {
+    let p = DoublePendulum {
+        m2: -0.5,
+        g: f64::INFINITY,
+        ..DoublePendulum::default()
+    };
+    let problem = Problem::new(0.0, 1.0, [0.1, 0.2, 0.0, 0.0]);
+    for m in smooth_methods() {
+        let err = solve(&MechanicalSystem::unforced(&p), &problem, &m).expect_err("bad parameters");
+        match &err.kind {
+            ErrorKind::InvalidInput(msg) => {
+                assert!(
+                    msg.contains("mass of body `lower` (`m2`)") && msg.contains("field `g`"),
+                    "{msg}"
+                )
+            }
+            other => panic!("expected InvalidInput, got {other:?}"),
+        }
+        assert!(err.trajectory.is_empty(), "nothing integrated");
+    }
+}
+
+#[test]
+fn non_finite_initial_state_is_invalid_input() {
+    let p = DoublePendulum::default();
+    let problem = Problem::new(0.0, 1.0, [0.1, f64::NAN, 0.0, 0.0]);
+    for m in smooth_methods() {
+        let err = solve(&MechanicalSystem::unforced(&p), &problem, &m).expect_err("NaN state");
+        assert!(
+            matches!(err.kind, ErrorKind::InvalidInput(_)),
+            "{:?}",
+            err.kind
+        );
+    }
+    let s = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+    };
+    let problem = NonSmoothProblem::new(0.0, 1.0, V1::new(f64::INFINITY), V1::new(0.0));
+    for m in nonsmooth_methods() {
+        let err = solve_nonsmooth(&s, &|_t, _q: &V1, _v: &V1| V1::zeros(), &problem, &m)
+            .expect_err("infinite state");
+        assert!(
+            matches!(err.kind, ErrorKind::InvalidInput(_)),
+            "{:?}",
+            err.kind
+        );
+    }
+}
+
+/// Forcing that turns NaN at t = 0.5: the error names the time and component, and the
+/// trajectory up to there is kept.
+#[test]
+fn non_finite_forcing_is_reported_with_the_trajectory_so_far() {
+    let p = DoublePendulum::default();
+    let input = |t: f64, _q: &SVector<f64, 2>, _v: &SVector<f64, 2>| {
+        if t < 0.5 {
+            SVector::<f64, 2>::new(0.1, 0.0)
+        } else {
+            SVector::<f64, 2>::new(f64::NAN, 0.0)
+        }
+    };
+    let problem = Problem::new(0.0, 1.0, [0.1, 0.2, 0.0, 0.0]);
+    for m in smooth_methods() {
+        let err = solve(&MechanicalSystem::new(&p, input), &problem, &m).expect_err("NaN forcing");
+        match err.kind {
+            ErrorKind::NonFinite { t, .. } => assert!((0.45..=0.55).contains(&t), "at t = {t}"),
+            other => panic!("expected NonFinite, got {other:?}"),
+        }
+        let kept = err.trajectory.last().map_or(0.0, |(t, _)| t);
+        assert!(
+            kept > 0.4 && err.trajectory.len() > 2,
+            "trajectory kept up to {kept}"
+        );
+        assert!(
+            (0..err.trajectory.len()).all(|i| err
+                .trajectory
+                .state(i)
+                .iter()
+                .all(|x| x.is_finite()))
+        );
+    }
+    let s = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+    };
+    let input = |t: f64, _q: &V1, _v: &V1| V1::new(if t < 0.5 { 0.3 } else { f64::NAN });
+    let problem = NonSmoothProblem::new(0.0, 1.0, V1::new(0.0), V1::new(0.0));
+    for m in nonsmooth_methods() {
+        let err = solve_nonsmooth(&s, &input, &problem, &m).expect_err("NaN forcing");
+        assert!(
+            matches!(err.kind, ErrorKind::NonFinite { .. }),
+            "{:?}",
+            err.kind
+        );
+        assert!(
+            err.trajectory.len() > 1,
+            "{m:?}: rows before the failure are kept ({} rows, {:?})",
+            err.trajectory.len(),
+            err.kind
+        );
+    }
+}
+
+/// A force that blows up in finite time: x' = x² through the input; the adaptive
+/// methods report a step-size underflow (or a non-finite state) near the blow-up time
+/// rather than returning garbage.
+#[test]
+fn blow_up_is_step_size_underflow_or_non_finite() {
+    let p = DoublePendulum {
+        g: 0.0,
+        ..DoublePendulum::default()
+    };
+    let input = |_t: f64, _q: &SVector<f64, 2>, v: &SVector<f64, 2>| {
+        SVector::<f64, 2>::new(10.0 * v[0] * v[0], 0.0)
+    };
+    let problem = Problem::new(0.0, 10.0, [0.0, 0.0, 1.0, 0.0]);
+    for m in [
+        Method::Dopri5(Options::default()),
+        Method::Sdirk4(Options::default()),
+    ] {
+        let err = solve(&MechanicalSystem::new(&p, input), &problem, &m).expect_err("blow-up");
+        assert!(
+            matches!(
+                err.kind,
+                ErrorKind::StepSizeUnderflow { .. }
+                    | ErrorKind::NonFinite { .. }
+                    | ErrorKind::NewtonDivergence { .. }
+            ),
+            "{:?}",
+            err.kind
+        );
+        assert!(err.trajectory.len() > 1);
+    }
+}
+
+/// Starting below a rigid floor cannot be repaired.
+#[test]
+fn penetrating_initial_state_is_inconsistent_initial_data() {
+    let b = BouncingBall {
+        m: 1.0,
+        g: 9.81,
+        e: 0.5,
+    };
+    let problem = NonSmoothProblem::new(0.0, 1.0, V1::new(-0.1), V1::new(0.0));
+    let err = solve_nonsmooth(
+        &b,
+        &|_t, _q: &V1, _v: &V1| V1::zeros(),
+        &problem,
+        &NonSmoothMethod::default(),
+    )
+    .expect_err("penetration");
+    assert!(
+        matches!(err.kind, ErrorKind::InconsistentInitialData(_)),
+        "{:?}",
+        err.kind
+    );
+    // A given stuck force beyond f_crit.
+    let s = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+    };
+    let problem =
+        NonSmoothProblem::new(0.0, 1.0, V1::new(0.05), V1::new(0.0)).with_forces(vec![Some(0.3)]);
+    let err = solve_nonsmooth(
+        &s,
+        &|_t, _q: &V1, _v: &V1| V1::zeros(),
+        &problem,
+        &NonSmoothMethod::default(),
+    )
+    .expect_err("force beyond f_crit");
+    assert!(
+        matches!(err.kind, ErrorKind::InconsistentInitialData(_)),
+        "{:?}",
+        err.kind
+    );
+}
+
+/// Two friction elements on one coordinate, both stuck: any split of the holding force
+/// between them fits, so the stuck forces are not unique — an ill-posed mode.
+#[derive(Mechanism)]
+#[body(block, mass = m)]
+#[joint(x: prismatic(x), parent = world, child = block)]
+#[spring(x, k = 1.0)]
+#[friction(x, f_crit = 0.5)]
+#[bingham(x, f_crit = 0.3, eta = 1.0)]
+struct DoubleFriction {
+    m: f64,
+}
+
+#[test]
+fn non_unique_stuck_forces_are_an_ill_posed_mode() {
+    let s = DoubleFriction { m: 1.0 };
+    let method = NonSmoothMethod::EventDriven {
+        method: SmoothMethod::Dopri5,
+        options: Options::default(),
+    };
+    let none = |_t: f64, _q: &V1, _v: &V1| V1::zeros();
+    // At rest from the start: no initial mode with unique forces.
+    let problem = NonSmoothProblem::new(0.0, 2.0, V1::new(0.1), V1::new(0.0));
+    let err = solve_nonsmooth(&s, &none, &problem, &method).expect_err("non-unique forces at t0");
+    match &err.kind {
+        ErrorKind::InconsistentInitialData(detail) => {
+            assert!(detail.contains("not unique"), "{detail}")
+        }
+        other => panic!("expected InconsistentInitialData, got {other:?}"),
+    }
+    // Moving, then coming to rest inside the combined dead zone: reported when it sticks,
+    // with the motion before kept.
+    let problem = NonSmoothProblem::new(0.0, 5.0, V1::new(0.0), V1::new(0.5));
+    let err =
+        solve_nonsmooth(&s, &none, &problem, &method).expect_err("non-unique forces when sticking");
+    match &err.kind {
+        ErrorKind::IllPosedMode { t, detail } => {
+            assert!(*t > 0.1, "at t = {t}");
+            assert!(detail.contains("not unique"), "{detail}");
+        }
+        other => panic!("expected IllPosedMode, got {other:?}"),
+    }
+    assert!(err.trajectory.len() > 2, "the motion before is kept");
+}

@@ -509,19 +509,90 @@ fn emitted_element_kernels() {
 #[test]
 fn s3_cubic_bingham_both_integrators_agree() {
     use filippov::scenes::CubicBingham;
-    let s = CubicBingham { m: 1.0, k: 1.0, f_crit: 1.0, gamma: 1.0 };
+    let s = CubicBingham {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 1.0,
+        gamma: 1.0,
+    };
     let p = NonSmoothProblem::new(0.0, 30.0, V1::new(2.0), V1::new(0.0));
-    let ed = solve_nonsmooth(&s, &unforced::<1>, &p, &tight()).expect("event-driven handles the negative slip");
+    let ed = solve_nonsmooth(&s, &unforced::<1>, &p, &tight())
+        .expect("event-driven handles the negative slip");
     let x_ed = ed.last().unwrap().1[0];
     let errs: Vec<f64> = [2e-3, 1e-3, 5e-4]
         .iter()
         .map(|&h| {
-            let ts = solve_nonsmooth(&s, &unforced::<1>, &p, &NonSmoothMethod::TimeStepping { h, theta: 1.0 }).expect("time-stepping");
+            let ts = solve_nonsmooth(
+                &s,
+                &unforced::<1>,
+                &p,
+                &NonSmoothMethod::TimeStepping { h, theta: 1.0 },
+            )
+            .expect("time-stepping");
             (ts.last().unwrap().1[0] - x_ed).abs()
         })
         .collect();
     let slope = (errs[0] / errs[2]).log2() / 2.0;
     assert!((0.7..=1.4).contains(&slope), "order {slope} from {errs:?}");
     assert_eq!(ed.last().unwrap().1[1], 0.0, "comes to rest exactly");
-    assert!(x_ed.abs() <= 1.0 + 1e-9, "rests inside the dead zone |k x| ≤ f_crit: x = {x_ed}");
+    assert!(
+        x_ed.abs() <= 1.0 + 1e-9,
+        "rests inside the dead zone |k x| ≤ f_crit: x = {x_ed}"
+    );
+}
+
+/// S4 (non-monotone law 4.9b) with the default event-driven method, both approaches:
+/// time-stepping converges to it at order one, and x(40) differs in sign between the
+/// approaches (theory §3).
+#[test]
+fn s4_non_monotone_default_event_driven_and_time_stepping_agree() {
+    use filippov::runtime::NonSmooth;
+    use filippov::scenes::{NonMonotoneMaxDissipation, NonMonotoneNoJumps};
+    fn run<S: NonSmooth<1>>(s: &S) -> f64 {
+        let input = |t: f64, _q: &V1, _v: &V1| V1::new(3.0 * (0.5 * t).sin());
+        let p = NonSmoothProblem::new(0.0, 40.0, V1::new(0.0), V1::new(0.0));
+        let ed = solve_nonsmooth(s, &input, &p, &NonSmoothMethod::default())
+            .expect("event-driven at the default tolerance");
+        assert_eq!(ed.stats.zeno_detected, 0, "no chattering: {}", ed.stats);
+        let x = ed.last().unwrap().1[0];
+        let errs: Vec<f64> = [2e-3, 1e-3]
+            .iter()
+            .map(|&h| {
+                let ts = solve_nonsmooth(
+                    s,
+                    &input,
+                    &p,
+                    &NonSmoothMethod::TimeStepping { h, theta: 1.0 },
+                )
+                .expect("time-stepping");
+                // Max over a grid: the error at one instant can pass through zero.
+                (0..=4000)
+                    .map(|i| {
+                        (ts.at(i as f64 * 0.01).unwrap()[0] - ed.at(i as f64 * 0.01).unwrap()[0])
+                            .abs()
+                    })
+                    .fold(0.0, f64::max)
+            })
+            .collect();
+        let ratio = errs[0] / errs[1];
+        assert!(
+            (1.5..=2.7).contains(&ratio),
+            "time-stepping error ratio {ratio} from {errs:?}"
+        );
+        x
+    }
+    let x1 = run(&NonMonotoneNoJumps {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 1.0,
+    });
+    let x2 = run(&NonMonotoneMaxDissipation {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 1.0,
+    });
+    assert!(
+        x1 > 0.0 && x2 < 0.0,
+        "x(40): approach 1 {x1}, approach 2 {x2}"
+    );
 }

@@ -548,7 +548,8 @@ const MAX_COMBINATIONS: usize = 20_000;
 /// Combinations within the tolerance of the boundary are consistent; if more than
 /// one is consistent with a margin above the tolerance, the choice is not unique and
 /// an error (the text of [`ErrorKind::IllPosedMode`](crate::ErrorKind)) is returned;
-/// otherwise the largest margin wins (at a switching instant located to round-off, the
+/// otherwise the largest margin wins; when none is consistent, the least violated one
+/// is taken if it misses by less than `state_accuracy` (relative to the force scale) (at a switching instant located to round-off, the
 /// old mode and the new one may both sit on the boundary; the new one has the larger
 /// margin on the far side of the located root).
 #[allow(clippy::too_many_arguments)]
@@ -561,6 +562,7 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
     q: &SVector<f64, N>,
     v: &SVector<f64, N>,
     tau: &SVector<f64, N>,
+    state_accuracy: f64,
 ) -> Result<Vec<Mode>, String> {
     if choices.is_empty() {
         return Ok(modes.to_vec());
@@ -651,6 +653,16 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
     }
     match consistent.into_iter().max_by(|a, b| a.0.total_cmp(&b.0)) {
         Some((_, ms)) => Ok(ms),
+        // The event state is known only to the integrator's accuracy: at a transition
+        // whose margins all vanish there (entering a plateau of a non-monotone law, say)
+        // the best candidate may miss by that much. It is taken when it misses by less
+        // than `state_accuracy · scale`; beyond that, no mode fits.
+        None if best_violation
+            .as_ref()
+            .is_some_and(|(m, _)| *m >= -state_accuracy * scale) =>
+        {
+            Ok(best_violation.map(|(_, ms)| ms).unwrap_or_default())
+        }
         None => Err(match best_violation {
             Some((m, ms)) => format!(
                 "no mode is consistent (Painlevé-type); least violated [{}] by {m:e}",

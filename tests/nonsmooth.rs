@@ -596,3 +596,176 @@ fn s4_non_monotone_default_event_driven_and_time_stepping_agree() {
         "x(40): approach 1 {x1}, approach 2 {x2}"
     );
 }
+
+/// Energy balance on every lumped scene with time-stepping at a fine step: for the
+/// discrete scheme, E_n − E_0 = W_n − D_n + O(h) with W the work of the applied force and
+/// D = Σ h f_e v (the element forces' dissipation, f·v ≥ 0 at every step); the
+/// spring-backed stop's support energy ½ k_s (penetration)² is part of E.
+#[test]
+fn energy_balance_on_every_lumped_scene() {
+    use filippov::runtime::NonSmooth;
+    use filippov::runtime::nonsmooth::{ElementKind, Side, StopKind};
+    use filippov::scenes::{
+        CubicBingham, NonMonotoneMaxDissipation, NonMonotoneNoJumps, SupportedStop,
+    };
+    fn check<S: NonSmooth<1>>(
+        name: &str,
+        s: &S,
+        x0: f64,
+        v0: f64,
+        force: fn(f64) -> f64,
+        forces0: Vec<Option<f64>>,
+    ) {
+        let h = 1e-4;
+        let input = move |t: f64, _q: &V1, _v: &V1| V1::new(force(t));
+        let p = NonSmoothProblem::new(0.0, 20.0, V1::new(x0), V1::new(v0)).with_forces(forces0);
+        let traj = solve_nonsmooth(
+            s,
+            &input,
+            &p,
+            &NonSmoothMethod::TimeStepping { h, theta: 1.0 },
+        )
+        .expect(name);
+        let support = |x: f64| -> f64 {
+            (0..S::ELEMENTS)
+                .map(|e| match s.element(e).kind {
+                    ElementKind::Stop {
+                        side,
+                        position,
+                        kind: StopKind::SpringBacked { stiffness },
+                    } => {
+                        let pen = match side {
+                            Side::Upper => (x - position).max(0.0),
+                            Side::Lower => (position - x).max(0.0),
+                        };
+                        0.5 * stiffness * pen * pen
+                    }
+                    _ => 0.0,
+                })
+                .sum()
+        };
+        let energy = |y: &[f64]| {
+            s.kinetic_energy(&V1::new(y[0]), &V1::new(y[1]))
+                + s.potential_energy(&V1::new(y[0]))
+                + support(y[0])
+        };
+        let e0 = energy(traj.state(0));
+        let (mut work, mut diss, mut worst) = (0.0, 0.0, 0.0f64);
+        let mut scale = e0.abs();
+        for i in 1..traj.len() {
+            let (t, y) = (traj.times()[i], traj.state(i));
+            work += h * force(t) * y[1];
+            for e in 0..S::ELEMENTS {
+                if let ElementKind::DashPot { .. } = s.element(e).kind {
+                    let p = y[2 + e] * y[1];
+                    assert!(p >= -1e-12, "{name}: dissipation f·v = {p} < 0 at t = {t}");
+                    diss += h * p;
+                }
+            }
+            scale = scale.max(energy(y).abs()).max(work.abs());
+            worst = worst.max((energy(y) - e0 - work + diss).abs());
+        }
+        // First-order scheme: the residual is O(h) relative to the energy scale.
+        assert!(
+            worst <= 50.0 * h * scale,
+            "{name}: energy balance residual {worst:.3e} (scale {scale:.3})"
+        );
+    }
+    let none = |_t: f64| 0.0;
+    check(
+        "S1",
+        &BinghamOscillator {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 0.1,
+            eta: 0.2,
+        },
+        1.0,
+        0.0,
+        none,
+        vec![],
+    );
+    check(
+        "S2",
+        &CubicBingham {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 1.0,
+            gamma: 1.0,
+        },
+        0.0,
+        0.0,
+        |t| 2.0 * t.sin(),
+        vec![],
+    );
+    check(
+        "S3",
+        &CubicBingham {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 1.0,
+            gamma: 1.0,
+        },
+        2.0,
+        0.0,
+        none,
+        vec![],
+    );
+    check(
+        "S4a",
+        &NonMonotoneNoJumps {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 1.0,
+        },
+        0.0,
+        0.0,
+        |t| 3.0 * (0.5 * t).sin(),
+        vec![],
+    );
+    check(
+        "S4b",
+        &NonMonotoneMaxDissipation {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 1.0,
+        },
+        0.0,
+        0.0,
+        |t| 3.0 * (0.5 * t).sin(),
+        vec![],
+    );
+    check(
+        "S5",
+        &CoulombOscillator {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 0.5,
+        },
+        0.25,
+        0.0,
+        |t| 1.2 * (0.5 * t).sin(),
+        vec![Some(-0.25)],
+    );
+    check(
+        "S6",
+        &CoulombOscillator {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 0.1,
+        },
+        1.0,
+        0.0,
+        none,
+        vec![],
+    );
+    let s7 = SupportedStop {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+        eta: 0.2,
+        l: 0.5,
+        k_support: 100.0,
+    };
+    check("S7", &s7, 0.0, 1.0, none, vec![]);
+}

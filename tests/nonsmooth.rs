@@ -769,3 +769,94 @@ fn energy_balance_on_every_lumped_scene() {
     };
     check("S7", &s7, 0.0, 1.0, none, vec![]);
 }
+
+/// The emitted constitutive residuals vanish on the event-driven solution in the
+/// relation each row is in, and their derivatives match finite differences.
+#[test]
+fn constitutive_residuals_vanish_on_solutions() {
+    use filippov::runtime::nonsmooth::Relation;
+    use filippov::scenes::{CubicBingham, SupportedStop};
+    let z = V1::zeros();
+    // S1 (linear Bingham) and S3 (cubic law): slipping rows satisfy the slip law.
+    let s1 = BinghamOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+        eta: 0.2,
+    };
+    let s3 = CubicBingham {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 1.0,
+        gamma: 1.0,
+    };
+    let p = NonSmoothProblem::new(0.0, 10.0, V1::new(2.0), V1::new(0.0));
+    let t1 = solve_nonsmooth(&s1, &unforced::<1>, &p, &tight()).expect("S1");
+    let t3 = solve_nonsmooth(&s3, &unforced::<1>, &p, &tight()).expect("S3");
+    let mut checked = 0;
+    for (traj, res) in [
+        (
+            &t1,
+            &(|v: &V1, f: f64| s1.constitutive_residual(0, Relation::Slip, &z, v, &z, f))
+                as &dyn Fn(&V1, f64) -> (f64, [f64; 4]),
+        ),
+        (&t3, &|v: &V1, f: f64| {
+            s3.constitutive_residual(0, Relation::Slip, &z, v, &z, f)
+        }),
+    ] {
+        for i in 0..traj.len() {
+            let y = traj.state(i);
+            if y[1] != 0.0 {
+                let (r, d) = res(&V1::new(y[1]), y[2]);
+                assert!(
+                    r.abs() < 1e-9 * (1.0 + y[1].abs()),
+                    "slip residual {r} at t = {}",
+                    traj.times()[i]
+                );
+                let h = 1e-7;
+                let fd =
+                    (res(&V1::new(y[1]), y[2] + h).0 - res(&V1::new(y[1]), y[2] - h).0) / (2.0 * h);
+                assert!(
+                    (d[3] - fd).abs() < 1e-5 * (1.0 + fd.abs()),
+                    "∂r/∂f {} vs {fd}",
+                    d[3]
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 20, "slipping rows checked: {checked}");
+    // Hold: the residual is the acceleration; Coulomb slip: f − f_crit sgn v.
+    let c = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.5,
+    };
+    assert_eq!(
+        c.constitutive_residual(0, Relation::Hold, &z, &z, &V1::new(0.3), 0.1)
+            .0,
+        0.3
+    );
+    assert_eq!(
+        c.constitutive_residual(0, Relation::Slip, &z, &V1::new(-1.0), &z, -0.5)
+            .0,
+        0.0
+    );
+    assert!(
+        c.constitutive_residual(0, Relation::Free, &z, &z, &z, 0.0)
+            .0
+            .is_nan(),
+        "a dash-pot has no Free relation"
+    );
+    // Spring-backed stop pressed in: f = k_s (x − L).
+    let s7 = SupportedStop {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+        eta: 0.2,
+        l: 0.5,
+        k_support: 100.0,
+    };
+    let (r, d) = s7.constitutive_residual(1, Relation::Compressed, &V1::new(0.52), &z, &z, 2.0);
+    assert!(r.abs() < 1e-12 && d == [-100.0, 0.0, 0.0, 1.0], "{r} {d:?}");
+}

@@ -89,3 +89,19 @@ pub trait NonSmooth<const N: usize>: Mechanism<N> {
     /// `M(q)⁻¹`; its submatrix at the elements' coordinates is their Delassus operator.
     fn inverse_mass_matrix(&self, q: &SVector<f64, N>) -> SMatrix<f64, N, N>;
 }
+
+/// Which constitutive relation of an element a DAE residual is taken in (see the
+/// generated `constitutive_residual`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Relation {
+    /// The element holds its coordinate (stuck dash-pot, stop in contact, plateau):
+    /// the acceleration-level constraint `a_c = 0`.
+    Hold,
+    /// A dash-pot slipping: its slip law (`f = f_crit sgn v` for Coulomb, `v = φ(f)` for
+    /// Bingham laws).
+    Slip,
+    /// A stop not touching: `f = 0`.
+    Free,
+    /// A spring-backed stop pressed in: `f = k_support · penetration`.
+    Compressed,
+}

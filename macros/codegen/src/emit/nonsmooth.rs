@@ -140,6 +140,7 @@ pub fn nonsmooth_impl(
     helpers.extend(e.helpers);
     let inv_method = e.method;
     helpers.extend(element_kernels(model, k, stats));
+    helpers.extend(constitutive_residual(model, n));
     let law_fn = if law_arms.is_empty() {
         quote! {
             #[inline]
@@ -246,4 +247,108 @@ fn element_kernels(model: &Model, k: &Kernels, stats: &mut Vec<FnStats>) -> Toke
         ),
     );
     out
+}
+
+/// `constitutive_residual(element, relation, q, v, a, f) -> (r, [∂r/∂q_c, ∂r/∂v_c,
+/// ∂r/∂a_c, ∂r/∂f_e])`: the residual of one element's constitutive relation in the given
+/// relation, with its derivatives. The residuals of all elements together with
+/// `momentum_residual` are the DAE of a mode. The reduced equations of a mode (which
+/// elements hold their coordinates) are assembled at run time from these and the
+/// Delassus operator: there are 3^K modes, and for elements on coordinates each costs a
+/// few operations given `W`.
+fn constitutive_residual(model: &Model, n: usize) -> TokenStream {
+    let p = &model.params;
+    let rt: TokenStream = RT.parse().expect("path");
+    let mut arms = Vec::new();
+    for (i, el) in model.elements.iter().enumerate() {
+        let c = el.coordinate;
+        let hold = quote!(#rt::Relation::Hold => (a[#c], [0.0, 0.0, 1.0, 0.0]),);
+        let body = match &el.kind {
+            ElementKind::DashPot { law, f_crit } => {
+                let fc = expr(f_crit, p);
+                let slip = match law {
+                    Law::Coulomb => quote! {
+                        #rt::Relation::Slip => (f - #fc * v[#c].signum(), [0.0, 0.0, 0.0, 1.0]),
+                    },
+                    Law::BinghamLinear { eta } => {
+                        let eta = expr(eta, p);
+                        quote! {
+                            #rt::Relation::Slip => {
+                                let eta = #eta;
+                                (v[#c] - (f - f.signum() * #fc) / eta, [0.0, 1.0, 0.0, -1.0 / eta])
+                            }
+                        }
+                    }
+                    Law::User { .. } => quote! {
+                        #rt::Relation::Slip => {
+                            let (phi, dphi) = <Self as #rt::NonSmooth<#n>>::law(self, #i, f);
+                            (v[#c] - phi, [0.0, 1.0, 0.0, -dphi])
+                        }
+                    },
+                };
+                quote! {
+                    match relation {
+                        #hold
+                        #slip
+                        _ => (f64::NAN, [f64::NAN; 4]),
+                    }
+                }
+            }
+            ElementKind::Stop {
+                upper,
+                position,
+                kind,
+            } => {
+                let pos = expr(position, p);
+                let compressed = match kind {
+                    StopKind::SpringBacked { stiffness } => {
+                        let ks = expr(stiffness, p);
+                        // penetration = ±(q − L); f = k_s · penetration
+                        let (pen, dpen) = if *upper {
+                            (quote!(q[#c] - #pos), quote!(1.0))
+                        } else {
+                            (quote!(#pos - q[#c]), quote!(-1.0))
+                        };
+                        quote! {
+                            #rt::Relation::Compressed => {
+                                let ks = #ks;
+                                (f - ks * (#pen), [-ks * #dpen, 0.0, 0.0, 1.0])
+                            }
+                        }
+                    }
+                    StopKind::Rigid { .. } => quote!(),
+                };
+                quote! {
+                    match relation {
+                        #hold
+                        #rt::Relation::Free => (f, [0.0, 0.0, 0.0, 1.0]),
+                        #compressed
+                        _ => (f64::NAN, [f64::NAN; 4]),
+                    }
+                }
+            }
+        };
+        arms.push(quote!(#i => { #body }));
+    }
+    quote! {
+        /// Residual of element `element`'s constitutive relation `relation` at the
+        /// coordinate values `q`, `v`, acceleration `a` and its force `f`, with the
+        /// derivatives `[∂r/∂q_c, ∂r/∂v_c, ∂r/∂a_c, ∂r/∂f]`; NaN for a relation the
+        /// element does not have (a dash-pot is never `Free`).
+        #[allow(clippy::all, unused_variables)]
+        pub fn constitutive_residual(
+            &self,
+            element: usize,
+            relation: #rt::Relation,
+            q: &::filippov::nalgebra::SVector<f64, #n>,
+            v: &::filippov::nalgebra::SVector<f64, #n>,
+            a: &::filippov::nalgebra::SVector<f64, #n>,
+            f: f64,
+        ) -> (f64, [f64; 4]) {
+            match element {
+                #(#arms)*
+                _ => (f64::NAN, [f64::NAN; 4]),
+            }
+        }
+    }
 }

@@ -68,7 +68,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     page.append(c.page);
     page.h2("Not yet in this report");
     page.bullets(&[
-        "S4 (non-monotone law) in the work-precision section (the event-driven integrator is gaining its fold and plateau modes), S9 (arm with joint friction and stops); 10⁶ stick–slip cycles and the long chaotic pendulum in the extreme suite.".into(),
+        "S9 (arm with joint friction and stops); 10⁶ stick–slip cycles and the long chaotic pendulum in the extreme suite.".into(),
         "Lie-group scene S10 (issue 4).".into(),
         "Peers (diffsol, Pinocchio, SciPy, SymPy): not run yet; no peer figures are shown.".into(),
     ]);

@@ -543,6 +543,42 @@ pub fn nonsmooth(config: &Config) -> Section {
         &|t, _q, _v| V1::new(1.2 * (0.5 * t).sin()),
     );
 
+    page.h3("S4: non-monotone law (thesis 4.9b), approach 1 (no velocity jumps), forced by 3 sin(0.5 t) (reference runs)");
+    let p4 = NonSmoothProblem::new(
+        0.0,
+        40.0 * config.horizon.max(0.25),
+        V1::new(0.0),
+        V1::new(0.0),
+    );
+    let f4 = |t: f64, _q: &V1, _v: &V1| V1::new(3.0 * (0.5 * t).sin());
+    sweep_vs_reference(
+        config,
+        &mut page,
+        &mut summary,
+        "S4 approach 1",
+        &filippov::scenes::NonMonotoneNoJumps {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 1.0,
+        },
+        &p4,
+        &f4,
+    );
+    page.h3("S4: approach 2 (maximal dissipation, with the plateau mode) (reference runs)");
+    sweep_vs_reference(
+        config,
+        &mut page,
+        &mut summary,
+        "S4 approach 2",
+        &filippov::scenes::NonMonotoneMaxDissipation {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 1.0,
+        },
+        &p4,
+        &f4,
+    );
+
     page.h2("Stiff and extreme cases");
     let mut rows = Vec::new();
     let ed = NonSmoothMethod::EventDriven {

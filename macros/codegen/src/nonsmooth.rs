@@ -30,32 +30,7 @@ pub fn read(
         let Some(joint) = raw.name.clone() else {
             continue;
         };
-        let coordinate = match links.iter().find(|l| joint == l.joint_name) {
-            Some(l) => {
-                match l.coordinate {
-                    Some(c) => Some(c),
-                    None => {
-                        diag.error_at(&joint, format_args!("joint `{joint}` is fixed; a non-smooth element needs a moving joint"));
-                        None
-                    }
-                }
-            }
-            None => {
-                let known: Vec<String> = links
-                    .iter()
-                    .filter(|l| l.coordinate.is_some())
-                    .map(|l| format!("`{}`", l.joint_name))
-                    .collect();
-                diag.error_at(
-                    &joint,
-                    format_args!(
-                        "no joint named `{joint}`; elements act on a joint's coordinate: one of {}",
-                        known.join(", ")
-                    ),
-                );
-                None
-            }
-        };
+        let coordinate = crate::validate::coordinate_of(&joint, links, "non-smooth elements", diag);
         let (family, kind) = match raw.family {
             Family::Friction => ("friction", read_friction(&mut raw, &joint, names, diag)),
             Family::Bingham => ("bingham", read_bingham(&mut raw, &joint, names, diag)),

@@ -10,7 +10,7 @@ use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{MechanicalSystem, Method, Options, Problem, solve};
 use filippov::scenes::BranchedTree;
-use support::{Scale, Series, line_plot, plot_path};
+use support::{Scale, Series, line_plot, plot_over_time, plot_path, time_series};
 
 fn main() {
     let tree = BranchedTree::default();
@@ -40,29 +40,13 @@ fn main() {
         );
         drift_curve.push((rtol, drift));
         if rtol == 1e-9 {
-            let coords: Vec<Series> = (0..4)
-                .map(|j| {
-                    Series::new(
-                        BranchedTree::JOINTS[j],
-                        traj.times()
-                            .iter()
-                            .copied()
-                            .zip(traj.component(j))
-                            .collect(),
-                    )
-                })
-                .collect();
-            let path = plot_path("branched_tree_coordinates");
-            line_plot(
-                &path,
+            let coords = time_series(&traj, &BranchedTree::JOINTS);
+            plot_over_time(
+                "branched_tree_coordinates",
                 "Branched tree: coordinates",
-                "t [s]",
                 "q",
                 &coords,
-                Scale::Linear,
-                Scale::Linear,
             );
-            println!("wrote {}", path.display());
         }
     }
     let path = plot_path("branched_tree_energy_drift");

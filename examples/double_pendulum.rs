@@ -12,7 +12,7 @@ use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{MechanicalSystem, Method, Options, Problem, Trajectory, solve};
 use filippov::scenes::DoublePendulum;
-use support::{Scale, Series, line_plot, plot_path};
+use support::{Scale, Series, line_plot, plot_over_time, plot_path, time_series};
 
 fn energy(p: &DoublePendulum, y: &[f64]) -> f64 {
     let q = SVector::<f64, 2>::from_column_slice(&y[..2]);
@@ -97,28 +97,12 @@ fn main() {
     println!("wrote {}", path.display());
 
     if let Some(traj) = reference {
-        let angles: Vec<Series> = (0..2)
-            .map(|j| {
-                Series::new(
-                    format!("q{j} ({})", DoublePendulum::JOINTS[j]),
-                    traj.times()
-                        .iter()
-                        .copied()
-                        .zip(traj.component(j))
-                        .collect(),
-                )
-            })
-            .collect();
-        let path = plot_path("double_pendulum_angles");
-        line_plot(
-            &path,
+        let angles = time_series(&traj, &DoublePendulum::JOINTS);
+        plot_over_time(
+            "double_pendulum_angles",
             "Double pendulum: joint angles (DOPRI5, rtol 1e-10)",
-            "t [s]",
             "angle [rad]",
             &angles,
-            Scale::Linear,
-            Scale::Linear,
         );
-        println!("wrote {}", path.display());
     }
 }

@@ -15,7 +15,7 @@ use filippov::runtime::{
     MechanicalSystem, Method, NumericSystem, Options, Problem, numeric, solve,
 };
 use filippov::scenes::Panda;
-use support::{Scale, Series, line_plot, plot_path};
+use support::{plot_over_time, time_series};
 
 type V7 = SVector<f64, 7>;
 
@@ -68,27 +68,11 @@ fn main() {
         generated.as_secs_f64() * 1e3,
         numeric_time.as_secs_f64() * 1e3
     );
-    let angles: Vec<Series> = (0..7)
-        .map(|j| {
-            Series::new(
-                Panda::JOINTS[j],
-                traj.times()
-                    .iter()
-                    .copied()
-                    .zip(traj.component(j))
-                    .collect(),
-            )
-        })
-        .collect();
-    let path = plot_path("panda_angles");
-    line_plot(
-        &path,
+    let angles = time_series(&traj, &Panda::JOINTS);
+    plot_over_time(
+        "panda_angles",
         "Panda: joint angles under PD + gravity compensation",
-        "t [s]",
         "angle [rad]",
         &angles,
-        Scale::Linear,
-        Scale::Linear,
     );
-    println!("wrote {}", path.display());
 }

@@ -10,7 +10,7 @@ use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{MechanicalSystem, Method, Options, Problem, solve};
 use filippov::scenes::PlanarArm3;
-use support::{Scale, Series, line_plot, plot_path};
+use support::{Scale, Series, line_plot, plot_over_time, plot_path, time_series};
 
 fn main() {
     let arm = PlanarArm3::default();
@@ -64,25 +64,13 @@ fn main() {
         "max |E(t) + W_diss(t) − E(0)| = {balance:.3e} (trapezoidal quadrature of the dissipation)"
     );
 
-    let angles: Vec<Series> = (0..3)
-        .map(|j| {
-            Series::new(
-                PlanarArm3::JOINTS[j],
-                t.iter().copied().zip(traj.component(j)).collect(),
-            )
-        })
-        .collect();
-    let path = plot_path("planar_arm_angles");
-    line_plot(
-        &path,
+    let angles = time_series(&traj, &PlanarArm3::JOINTS);
+    plot_over_time(
+        "planar_arm_angles",
         "Planar 3-link arm: joint angles",
-        "t [s]",
         "angle [rad]",
         &angles,
-        Scale::Linear,
-        Scale::Linear,
     );
-    println!("wrote {}", path.display());
     let e: Vec<(f64, f64)> = (0..traj.len())
         .map(|i| (t[i], energy(traj.state(i))))
         .collect();

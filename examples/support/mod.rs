@@ -151,3 +151,37 @@ fn tick(v: f64) -> String {
         s.trim_end_matches('0').trim_end_matches('.').to_string()
     }
 }
+
+/// One series per label: component `j` of the trajectory against time, labelled
+/// `labels[j]`.
+pub fn time_series(traj: &filippov::runtime::Trajectory, labels: &[&str]) -> Vec<Series> {
+    labels
+        .iter()
+        .enumerate()
+        .map(|(j, l)| {
+            Series::new(
+                *l,
+                traj.times()
+                    .iter()
+                    .copied()
+                    .zip(traj.component(j))
+                    .collect(),
+            )
+        })
+        .collect()
+}
+
+/// A linear plot against time `t [s]`, written to `target/plots/<name>.svg` and announced.
+pub fn plot_over_time(name: &str, title: &str, y_label: &str, series: &[Series]) {
+    let path = plot_path(name);
+    line_plot(
+        &path,
+        title,
+        "t [s]",
+        y_label,
+        series,
+        Scale::Linear,
+        Scale::Linear,
+    );
+    println!("wrote {}", path.display());
+}

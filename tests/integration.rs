@@ -104,3 +104,24 @@ fn stiff_method_uses_symbolic_jacobian() {
         .fold(0.0, f64::max);
     assert!(diff < 1e-5, "SDIRK4 vs DOPRI5: {diff:.3e}");
 }
+
+/// The JSON export of a model is valid JSON with every link (checked with Python's
+/// json module when python3 is there; the structure is checked either way).
+#[test]
+fn model_json_export() {
+    let json = Panda::default().model().to_json();
+    assert_eq!(json.matches("\"joint\": \"revolute\"").count(), 7);
+    assert!(json.contains("\"gravity\": [0e0, 0e0, -9.81e0]"), "{json}");
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
+    let path = dir.join("panda.json");
+    std::fs::write(&path, &json).unwrap();
+    if let Ok(out) = std::process::Command::new("python3")
+        .args(["-c", "import json,sys; m=json.load(open(sys.argv[1])); print(len(m['links']), m['links'][6]['mass'])"])
+        .arg(&path)
+        .output()
+    {
+        if out.status.success() {
+            assert_eq!(String::from_utf8_lossy(&out.stdout).trim(), "7 0.735522");
+        }
+    }
+}

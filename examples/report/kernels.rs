@@ -22,7 +22,7 @@ fn row<S: Mechanism<N>, const N: usize>(
     s: &S,
     rows: &mut Vec<Vec<String>>,
     summary: &mut Vec<String>,
-) {
+) -> f64 {
     let q = SVector::<f64, N>::from_fn(|i, _| 0.3 + 0.7 * (i as f64).sin());
     let v = SVector::<f64, N>::from_fn(|i, _| 0.5 - 0.4 * (i as f64).cos());
     let tau = SVector::<f64, N>::from_fn(|i, _| 0.2 * i as f64);
@@ -72,34 +72,36 @@ fn row<S: Mechanism<N>, const N: usize>(
         fd.1,
         fd.1 / fd.0
     ));
+    fd.0
 }
 
-pub fn kernels(config: &Config) -> Section {
+/// The kernels section, with our forward-dynamics ns per call by model file name.
+pub struct Kernels {
+    pub page: Page,
+    pub summary: Vec<String>,
+    pub forward_ns: Vec<(&'static str, f64)>,
+}
+
+pub fn kernels(config: &Config) -> Kernels {
     let mut page = Page::empty();
     let mut rows = Vec::new();
     let mut summary = Vec::new();
-    row(
-        config,
-        "DoublePendulum",
-        &DoublePendulum::default(),
-        &mut rows,
-        &mut summary,
-    );
-    row(
-        config,
-        "PlanarArm3",
-        &PlanarArm3::default(),
-        &mut rows,
-        &mut summary,
-    );
-    row(
-        config,
-        "BranchedTree",
-        &BranchedTree::default(),
-        &mut rows,
-        &mut summary,
-    );
-    row(config, "Panda", &Panda::default(), &mut rows, &mut summary);
+    let (r, s) = (&mut rows, &mut summary);
+    let forward_ns = vec![
+        (
+            "double_pendulum",
+            row(config, "DoublePendulum", &DoublePendulum::default(), r, s),
+        ),
+        (
+            "planar_arm3",
+            row(config, "PlanarArm3", &PlanarArm3::default(), r, s),
+        ),
+        (
+            "branched_tree",
+            row(config, "BranchedTree", &BranchedTree::default(), r, s),
+        ),
+        ("panda", row(config, "Panda", &Panda::default(), r, s)),
+    ];
     page.h2("Kernels: generated against the numeric implementation");
     page.para(&format!(
         "ns per call, generated / numeric (speed-up), median of batches of up to {} calls. The numeric implementation \
@@ -119,7 +121,11 @@ pub fn kernels(config: &Config) -> Section {
         ],
         &rows,
     );
-    Section { page, summary }
+    Kernels {
+        page,
+        summary,
+        forward_ns,
+    }
 }
 
 fn scene_sources() -> Vec<(String, String)> {

@@ -53,6 +53,14 @@ impl Page {
         self.text += &format!("```text\n{t}\n```\n\n");
     }
 
+    /// Appends Markdown text as it is (e.g. a peer script's results).
+    pub fn append_raw(&mut self, text: &str) {
+        self.text += text;
+        if !text.ends_with("\n\n") {
+            self.text += "\n";
+        }
+    }
+
     pub fn append(&mut self, other: Page) {
         self.text += &other.text;
     }

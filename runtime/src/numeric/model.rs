@@ -62,3 +62,57 @@ pub struct Model {
     pub springs: Vec<Spring>,
     pub dampers: Vec<Damper>,
 }
+
+impl Model {
+    /// The model as JSON (no dependency: written by hand), for peer tools that build
+    /// the same mechanism from a file (the report's Pinocchio comparison). Joint axes,
+    /// origins and inertias are in the conventions documented on [`Link`].
+    pub fn to_json(&self) -> String {
+        fn v3(v: &Vector3<f64>) -> String {
+            format!("[{:e}, {:e}, {:e}]", v[0], v[1], v[2])
+        }
+        fn opt(i: Option<usize>) -> String {
+            i.map_or("null".into(), |i| i.to_string())
+        }
+        let links: Vec<String> = self
+            .links
+            .iter()
+            .map(|l| {
+                let (kind, axis) = match l.joint {
+                    JointKind::Revolute { axis } => ("revolute", v3(&axis)),
+                    JointKind::Prismatic { axis } => ("prismatic", v3(&axis)),
+                    JointKind::Fixed => ("fixed", "null".into()),
+                };
+                let i = &l.inertia;
+                format!(
+                    "{{\"name\": {:?}, \"parent\": {}, \"joint\": \"{kind}\", \"axis\": {axis}, \"coordinate\": {}, \"origin_xyz\": {}, \"origin_rpy\": {}, \"mass\": {:e}, \"com\": {}, \"inertia\": [[{:e}, {:e}, {:e}], [{:e}, {:e}, {:e}], [{:e}, {:e}, {:e}]]}}",
+                    l.name,
+                    opt(l.parent),
+                    opt(l.coordinate),
+                    v3(&l.origin_xyz),
+                    v3(&l.origin_rpy),
+                    l.mass,
+                    v3(&l.com),
+                    i[(0, 0)], i[(0, 1)], i[(0, 2)], i[(1, 0)], i[(1, 1)], i[(1, 2)], i[(2, 0)], i[(2, 1)], i[(2, 2)]
+                )
+            })
+            .collect();
+        let springs: Vec<String> = self
+            .springs
+            .iter()
+            .map(|s| format!("{{\"coordinate\": {}, \"stiffness\": {:e}, \"rest\": {:e}}}", s.coordinate, s.stiffness, s.rest))
+            .collect();
+        let dampers: Vec<String> = self
+            .dampers
+            .iter()
+            .map(|d| format!("{{\"coordinate\": {}, \"damping\": {:e}}}", d.coordinate, d.damping))
+            .collect();
+        format!(
+            "{{\n  \"gravity\": {},\n  \"links\": [\n    {}\n  ],\n  \"springs\": [{}],\n  \"dampers\": [{}]\n}}\n",
+            v3(&self.gravity),
+            links.join(",\n    "),
+            springs.join(", "),
+            dampers.join(", ")
+        )
+    }
+}

@@ -8,8 +8,9 @@
 //! subexpression elimination is free and the emitter only has to decide which shared
 //! nodes get a `let`.
 //!
-//! Passes over the DAG: [`diff`] (memoised differentiation), [`subst`] (substitution),
-//! [`count`] (operation counts).
+//! Passes over the DAG: `diff.rs` ([`Graph::diff`], memoised differentiation), `subst.rs`
+//! ([`Graph::substitute`]),
+//! `count.rs` ([`Graph::count_ops`], operation counts).
 
 mod count;
 mod diff;

@@ -9,6 +9,7 @@
 //!   [`Dopri5`], [`Sdirk4`], tableaus in [`tableau`]), their configuration
 //!   ([`Options`], [`PiController`]) and the result ([`Trajectory`], [`Stats`],
 //!   [`SolveError`]).
+//! * [`liegroup`]: Lie-group integration on SO(3)ᵐ × ℝⁿ ([`LieSystem`], [`Rkmk5`]).
 //!
 //! ```
 //! use filippov_runtime::{FnSystem, Method, Options, Problem, solve};
@@ -24,6 +25,7 @@
 //! ```
 mod control;
 mod error;
+pub mod liegroup;
 mod mechanical;
 mod method;
 pub mod nonsmooth;
@@ -36,6 +38,7 @@ mod trajectory;
 
 pub use control::PiController;
 pub use error::{ErrorKind, SolveError};
+pub use liegroup::{FnLieSystem, LieProblem, LieState, LieSystem, LieTrajectory, Rkmk5, UnitQuat};
 pub use mechanical::{InputFn, MechanicalSystem, NumericInputFn, NumericSystem};
 pub use method::tableau;
 pub use method::{Dopri5, Method, Rk4, Sdirk4, solve};

@@ -1,0 +1,566 @@
+//! Runge–Kutta–Munthe-Kaas (RKMK) on the Dormand–Prince 5(4) tableau.
+//!
+//! H. Munthe-Kaas, *Runge–Kutta methods on Lie groups*, BIT 38 (1998) 92–111, and *High
+//! order Runge–Kutta methods on manifolds*, Appl. Numer. Math. 29 (1999) 115–127;
+//! Iserles, Munthe-Kaas, Nørsett & Zanna, *Lie-group methods*, Acta Numerica 9 (2000),
+//! §4.2 (Algorithm 4.2, RKMK with the full `dexp⁻¹`).
+//!
+//! One step from `y₀ = (g₀, v₀)` writes the solution near `y₀` in local exponential
+//! coordinates `Θ = (θ_1, …, θ_m, δx, δv)`, `y = y₀ · exp(Θ)`, i.e.
+//! `R_k = R_k₀ exp(θ_k)`, `x = x₀ + δx`, `v = v₀ + δv`. In these coordinates the ODE is
+//! an ordinary one on a vector space starting at `Θ = 0`:
+//!
+//! ```text
+//! θ̇_k = J_r(θ_k)⁻¹ ω_k(y),   δẋ = u(y),   δv̇ = f(t, y),    y = y₀ · exp(Θ)
+//! ```
+//!
+//! (`J_r⁻¹` = [`so3::dexp_inv`], closed form: no truncation error from the series). The
+//! Dormand–Prince stages are taken on this ODE, so the method has the tableau's orders:
+//! 5 for the propagated solution, 4 for the embedded one, 4 for the continuous
+//! extension. The step ends with `g₁ = g₀ · exp(Θ₁)` and the next step re-centres the
+//! coordinates at `g₁`. FSAL carries over: the last stage is `f(t + h, y₁)`, and at the
+//! new centre `J_r(0)⁻¹ = I`, so the raw `f` is the next first stage.
+//!
+//! * Error control: the embedded estimate `h Σ (b_i − b̂_i) K_i` in local coordinates,
+//!   in the weighted RMS norm of [`Options`] with the scale `atol + rtol · 1` for the
+//!   rotation components (a rotation has magnitude one; `θ` itself starts at 0) and
+//!   the usual `atol + rtol · max(|y₀|, |y₁|)` for `x` and `v`. Steps whose stage
+//!   rotation vectors exceed `π` in norm are rejected before the estimate
+//!   (`J_r⁻¹` is singular at `2π`, and exp is not injective beyond `π`).
+//! * Dense output: the Dormand–Prince continuous extension of `Θ(t)` in each step's own
+//!   coordinates, then `y₀ · exp(Θ(t))` — it stays on the group.
+//! * Normalisation policy: the group update `q₀ ⊗ exp(θ)` is a product of unit
+//!   quaternions, unit up to round-off; every accepted state is normalised once (one
+//!   square root per rotation per step), so the drift never accumulates. Without it the
+//!   drift is a random walk of round-off (measured in
+//!   `so3::tests::product_drift_without_normalisation_is_round_off`: 1e-14 after 10⁵
+//!   updates) — the normalisation is hygiene, not a correction of the method.
+
+use super::so3::{self, UnitQuat};
+use super::{LieState, LieSystem};
+use crate::method::tableau::{DOPRI5, DOPRI5_DENSE, dopri5_dense};
+use crate::method::{error_norm, underflow};
+use crate::trajectory::Interpolant;
+use crate::{ErrorKind, Options, PiController, SolveError, Stats, Trajectory};
+use nalgebra::Vector3;
+
+/// An initial-value problem for a [`LieSystem`]: integrate from `(t0, y0)` to `tf ≥ t0`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LieProblem {
+    pub t0: f64,
+    pub tf: f64,
+    pub y0: LieState,
+}
+
+impl LieProblem {
+    pub fn new(t0: f64, tf: f64, y0: LieState) -> Self {
+        LieProblem { t0, tf, y0 }
+    }
+
+    fn validate<S: LieSystem + ?Sized>(&self, system: &S) -> Result<(), String> {
+        if !self.t0.is_finite() || !self.tf.is_finite() || self.tf < self.t0 {
+            return Err(format!(
+                "need finite t0 ≤ tf (t0 = {}, tf = {})",
+                self.t0, self.tf
+            ));
+        }
+        let y = &self.y0;
+        let (m, n) = (system.n_rot(), system.n_euclid());
+        if y.rotations.len() != m || y.euclid.len() != n || y.velocity.len() != 3 * m + n {
+            return Err(format!(
+                "y0 has {} rotations, {} Euclidean coordinates and {} velocities; the system \
+                 needs {m}, {n} and 3·{m} + {n} = {}",
+                y.rotations.len(),
+                y.euclid.len(),
+                y.velocity.len(),
+                3 * m + n
+            ));
+        }
+        let finite = |x: &[f64]| x.iter().all(|v| v.is_finite());
+        let quats_finite = y.rotations.iter().all(|q| finite(&q.coords()));
+        if !finite(&y.euclid) || !finite(&y.velocity) || !quats_finite {
+            return Err("y0 has a NaN or infinite component".into());
+        }
+        Ok(())
+    }
+}
+
+/// RKMK with the Dormand–Prince 5(4) tableau (see the module documentation), adaptive
+/// with a [`PiController`] or, with [`fixed`](Self::fixed), at a fixed step for
+/// convergence studies.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Rkmk5 {
+    /// Tolerances and step limits of the adaptive mode (`max_steps` also bounds the
+    /// fixed mode).
+    pub options: Options,
+    /// `Some(h)`: no error control, steps of `h` (the last one shortened to hit `tf`).
+    pub fixed_step: Option<f64>,
+}
+
+impl Rkmk5 {
+    /// Adaptive steps.
+    pub fn new(options: Options) -> Self {
+        Rkmk5 {
+            options,
+            fixed_step: None,
+        }
+    }
+
+    /// Fixed steps of `h`.
+    pub fn fixed(h: f64) -> Self {
+        Rkmk5 {
+            options: Options::default(),
+            fixed_step: Some(h),
+        }
+    }
+
+    /// Integrates `problem` for `system`. On failure the [`SolveError`] carries the
+    /// accepted steps as the flat trajectory ([`LieTrajectory::flat`]).
+    pub fn solve<S: LieSystem + ?Sized>(
+        &self,
+        system: &S,
+        problem: &LieProblem,
+    ) -> Result<LieTrajectory, SolveError> {
+        let traj = LieTrajectory::new(system.n_rot(), system.n_euclid());
+        let checked = self
+            .validate()
+            .and_then(|()| system.validate())
+            .and_then(|()| problem.validate(system));
+        if let Err(msg) = checked {
+            return Err(SolveError {
+                kind: ErrorKind::InvalidInput(msg),
+                trajectory: Box::new(traj.flat),
+            });
+        }
+        let mut run = LieRun { system, traj };
+        match self.integrate(&mut run, problem) {
+            Ok(()) => Ok(run.traj),
+            Err(kind) => Err(SolveError {
+                kind,
+                trajectory: Box::new(run.traj.flat),
+            }),
+        }
+    }
+
+    fn validate(&self) -> Result<(), String> {
+        match self.fixed_step {
+            Some(h) if !(h.is_finite() && h > 0.0) => {
+                Err(format!("fixed step h = {h} must be positive and finite"))
+            }
+            _ => self.options.validate(),
+        }
+    }
+
+    fn integrate<S: LieSystem + ?Sized>(
+        &self,
+        run: &mut LieRun<'_, S>,
+        problem: &LieProblem,
+    ) -> Result<(), ErrorKind> {
+        let opts = &self.options;
+        let mut st = Stages::new(&problem.y0);
+        let mut t = problem.t0;
+        let mut y = problem.y0.clone();
+        run.rhs(t, &y, &mut st.f0)?;
+        run.traj.push(&y, t, &st.f0);
+        if problem.tf == problem.t0 {
+            return Ok(());
+        }
+        let mut h = match self.fixed_step {
+            Some(h) => h,
+            None => initial_step(run, problem, &mut st, opts)?,
+        };
+        let mut controller = PiController::new(4);
+        let e = DOPRI5.error_weights();
+        let (mut err_vec, mut r5) = (st.theta.clone(), st.theta.clone());
+        let (mut mag0, mut mag1) = (st.theta.clone(), st.theta.clone());
+        let mut attempts = 0;
+        loop {
+            if attempts >= opts.max_steps {
+                return Err(ErrorKind::MaxSteps { t });
+            }
+            attempts += 1;
+            let last = match self.fixed_step {
+                Some(h_fixed) => {
+                    h = h_fixed;
+                    // Shorten the last step, and avoid a sliver from round-off.
+                    t + h * (1.0 + 1e-9) >= problem.tf
+                }
+                None => {
+                    h = h.min(opts.h_max);
+                    t + 1.01 * h >= problem.tf
+                }
+            };
+            if last {
+                h = problem.tf - t;
+            }
+            if underflow(t, h, opts) {
+                return Err(ErrorKind::StepSizeUnderflow { t, h });
+            }
+            if !stages(run, t, h, &y, &mut st)? {
+                if self.fixed_step.is_some() {
+                    return Err(ErrorKind::InvalidInput(format!(
+                        "fixed step h = {h} turns a body by more than π in one step at t = {t}"
+                    )));
+                }
+                run.traj.flat.stats.rejected_steps += 1;
+                h *= controller.reject(f64::INFINITY);
+                continue;
+            }
+            let err = if self.fixed_step.is_some() {
+                0.0
+            } else {
+                for (i, ei) in err_vec.iter_mut().enumerate() {
+                    *ei = h * (0..7).map(|j| e[j] * st.k[j][i]).sum::<f64>();
+                }
+                magnitudes(&y, &mut mag0);
+                magnitudes(&st.next, &mut mag1);
+                error_norm(&err_vec, &mag0, &mag1, opts)
+            };
+            if err <= 1.0 {
+                for (i, r) in r5.iter_mut().enumerate() {
+                    *r = h * (0..7).map(|j| DOPRI5_DENSE[j] * st.k[j][i]).sum::<f64>();
+                }
+                t = if last { problem.tf } else { t + h };
+                // The normalisation policy of the module documentation.
+                for q in &mut st.next.rotations {
+                    *q = q.normalised();
+                }
+                std::mem::swap(&mut y, &mut st.next);
+                std::mem::swap(&mut st.f0, &mut st.f1);
+                run.traj.push(&y, t, &st.f0);
+                run.traj.push_chart(&st.theta1, &st.k[0], &st.k[6], &r5);
+                run.traj.flat.stats.steps += 1;
+                if last {
+                    return Ok(());
+                }
+                h *= controller.accept(err);
+            } else {
+                run.traj.flat.stats.rejected_steps += 1;
+                h *= controller.reject(err);
+            }
+        }
+    }
+}
+
+/// One integration in progress.
+struct LieRun<'a, S: ?Sized> {
+    system: &'a S,
+    traj: LieTrajectory,
+}
+
+impl<S: LieSystem + ?Sized> LieRun<'_, S> {
+    /// `dv = f(t, y)`, counted and checked; a non-finite component is reported at its
+    /// index in the flat layout of [`LieTrajectory::flat`].
+    fn rhs(&mut self, t: f64, y: &LieState, dv: &mut [f64]) -> Result<(), ErrorKind> {
+        self.traj.flat.stats.rhs_evaluations += 1;
+        self.system.rhs(t, y, dv);
+        match dv.iter().position(|x| !x.is_finite()) {
+            Some(j) => Err(ErrorKind::NonFinite {
+                t,
+                component: 4 * y.rotations.len() + y.euclid.len() + j,
+            }),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Work vectors of one step. `k[s]` are the stage derivatives in local coordinates.
+struct Stages {
+    k: [Vec<f64>; 7],
+    theta: Vec<f64>,
+    theta1: Vec<f64>,
+    /// Raw `f` at the step's start (FSAL: at the end of the previous step).
+    f0: Vec<f64>,
+    f: Vec<f64>,
+    f1: Vec<f64>,
+    point: LieState,
+    next: LieState,
+}
+
+impl Stages {
+    fn new(y0: &LieState) -> Self {
+        let d = 3 * y0.rotations.len() + y0.euclid.len() + y0.velocity.len();
+        let nv = y0.velocity.len();
+        Stages {
+            k: std::array::from_fn(|_| vec![0.0; d]),
+            theta: vec![0.0; d],
+            theta1: vec![0.0; d],
+            f0: vec![0.0; nv],
+            f: vec![0.0; nv],
+            f1: vec![0.0; nv],
+            point: y0.clone(),
+            next: y0.clone(),
+        }
+    }
+}
+
+/// `y₀ · exp(Θ)` into `out` (same shapes as `base`).
+fn retract(base: &LieState, theta: &[f64], out: &mut LieState) {
+    let m = base.rotations.len();
+    for (k, (q, q0)) in out.rotations.iter_mut().zip(&base.rotations).enumerate() {
+        *q = *q0 * UnitQuat::exp(&Vector3::from_column_slice(&theta[3 * k..3 * k + 3]));
+    }
+    let rest = &theta[3 * m..];
+    let n = base.euclid.len();
+    for (x, (x0, d)) in out.euclid.iter_mut().zip(base.euclid.iter().zip(rest)) {
+        *x = x0 + d;
+    }
+    for (v, (v0, d)) in out
+        .velocity
+        .iter_mut()
+        .zip(base.velocity.iter().zip(&rest[n..]))
+    {
+        *v = v0 + d;
+    }
+}
+
+/// `Θ̇ = (J_r(θ_k)⁻¹ ω_k, u, f)` at `Θ` with `y = y₀ · exp(Θ)` and `f = f(t, y)`.
+fn chart_field(theta: &[f64], y: &LieState, f: &[f64], out: &mut [f64]) {
+    let m = y.rotations.len();
+    for k in 0..m {
+        let th = Vector3::from_column_slice(&theta[3 * k..3 * k + 3]);
+        let w = so3::dexp_inv_apply(&th, &y.omega(k));
+        out[3 * k..3 * k + 3].copy_from_slice(w.as_slice());
+    }
+    let n = y.euclid.len();
+    out[3 * m..3 * m + n].copy_from_slice(y.euclid_velocity());
+    out[3 * m + n..].copy_from_slice(f);
+}
+
+/// Reference magnitudes for the error weights: 1 per rotation component, `|x|`, `|v|`.
+fn magnitudes(y: &LieState, out: &mut [f64]) {
+    let m3 = 3 * y.rotations.len();
+    out[..m3].fill(1.0);
+    let n = y.euclid.len();
+    out[m3..m3 + n].copy_from_slice(&y.euclid);
+    out[m3 + n..].copy_from_slice(&y.velocity);
+}
+
+/// The six new stages of a step of size `h` from `y` (with `st.f0 = f(t, y)`); leaves
+/// `Θ₁` in `st.theta1`, `y · exp(Θ₁)` in `st.next`, `f(t + h, ·)` there in `st.f1`.
+/// `Ok(false)` when a stage rotation vector leaves the ball `|θ| < π`.
+fn stages<S: LieSystem + ?Sized>(
+    run: &mut LieRun<'_, S>,
+    t: f64,
+    h: f64,
+    y: &LieState,
+    st: &mut Stages,
+) -> Result<bool, ErrorKind> {
+    st.theta.fill(0.0);
+    chart_field(&st.theta, y, &st.f0, &mut st.k[0]);
+    let m = y.rotations.len();
+    for s in 1..7 {
+        for (i, x) in st.theta.iter_mut().enumerate() {
+            *x = h * (0..s).map(|j| DOPRI5.a(s, j) * st.k[j][i]).sum::<f64>();
+        }
+        if let Some(c) = st.theta.iter().position(|x| !x.is_finite()) {
+            let component = if c < 3 * m { 4 * (c / 3) } else { c + m };
+            return Err(ErrorKind::NonFinite {
+                t: t + h,
+                component,
+            });
+        }
+        let too_far = (0..m).any(|k| {
+            Vector3::from_column_slice(&st.theta[3 * k..3 * k + 3]).norm() >= std::f64::consts::PI
+        });
+        if too_far {
+            return Ok(false);
+        }
+        retract(y, &st.theta, &mut st.point);
+        run.rhs(t + DOPRI5.c[s] * h, &st.point, &mut st.f)?;
+        let (_, rest) = st.k.split_at_mut(s);
+        chart_field(&st.theta, &st.point, &st.f, &mut rest[0]);
+        if s == 6 {
+            // Row 7 of A is b: this stage is the new state.
+            st.theta1.copy_from_slice(&st.theta);
+            st.next.clone_from(&st.point);
+            st.f1.copy_from_slice(&st.f);
+        }
+    }
+    Ok(true)
+}
+
+/// Hairer's starting step (*Solving ODEs I*, §II.4, p. 169) in local coordinates, with
+/// the weights of the error norm; one extra rhs evaluation.
+fn initial_step<S: LieSystem + ?Sized>(
+    run: &mut LieRun<'_, S>,
+    problem: &LieProblem,
+    st: &mut Stages,
+    options: &Options,
+) -> Result<f64, ErrorKind> {
+    let span = problem.tf - problem.t0;
+    if let Some(h0) = options.h0 {
+        return Ok(h0.min(options.h_max).min(span));
+    }
+    let y0 = &problem.y0;
+    let d = st.theta.len();
+    let (mut mag, zero) = (vec![0.0; d], vec![0.0; d]);
+    magnitudes(y0, &mut mag);
+    chart_field(&zero, y0, &st.f0, &mut st.k[0]);
+    let d0 = error_norm(&mag, &zero, &mag, options);
+    let d1 = error_norm(&st.k[0], &zero, &mag, options);
+    let h0 = if d0 < 1e-5 || d1 < 1e-5 {
+        1e-6
+    } else {
+        0.01 * d0 / d1
+    };
+    let h0 = h0.min(options.h_max).min(span).min(1.0);
+    for (x, k) in st.theta.iter_mut().zip(&st.k[0]) {
+        *x = h0 * k;
+    }
+    retract(y0, &st.theta, &mut st.point);
+    run.rhs(problem.t0 + h0, &st.point, &mut st.f)?;
+    chart_field(&st.theta, &st.point, &st.f, &mut st.k[1]);
+    let diff: Vec<f64> = st.k[1]
+        .iter()
+        .zip(&st.k[0])
+        .map(|(a, b)| (a - b) / h0)
+        .collect();
+    let d2 = error_norm(&diff, &zero, &mag, options);
+    let dmax = d1.max(d2);
+    let h1 = if dmax <= 1e-15 {
+        (h0 * 1e-3).max(1e-6)
+    } else {
+        (0.01 / dmax).powf(1.0 / 6.0)
+    };
+    Ok((100.0 * h0)
+        .min(h1)
+        .min(options.h_max)
+        .min(span)
+        .max(options.h_min))
+}
+
+/// The accepted states of a Lie-group integration with their dense output.
+///
+/// Stored twice over: as a flat [`Trajectory`] (per point the quaternions `w, x, y, z`
+/// of every rotation, then `x`, then `v`; derivatives `q̇ = ½ q ⊗ (0, ω)`, `ẋ = u`,
+/// `v̇ = f`; its own interpolation is cubic Hermite and leaves the group), and per step
+/// the local-coordinate data of the Dormand–Prince continuous extension, used by
+/// [`at`](Self::at).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LieTrajectory {
+    n_rot: usize,
+    n_euclid: usize,
+    flat: Trajectory,
+    /// Per interval: `Θ₁, K₁, K₇, r₅`, each of the local dimension.
+    chart: Vec<f64>,
+}
+
+impl LieTrajectory {
+    fn new(n_rot: usize, n_euclid: usize) -> Self {
+        let mut names = Vec::new();
+        for k in 0..n_rot {
+            names.extend(["w", "x", "y", "z"].map(|c| format!("q{k}_{c}")));
+        }
+        names.extend((0..n_euclid).map(|i| format!("x{i}")));
+        names.extend((0..3 * n_rot + n_euclid).map(|j| format!("v{j}")));
+        LieTrajectory {
+            n_rot,
+            n_euclid,
+            flat: Trajectory::new(names, Interpolant::Hermite),
+            chart: Vec::new(),
+        }
+    }
+
+    fn local_dim(&self) -> usize {
+        6 * self.n_rot + 2 * self.n_euclid
+    }
+
+    fn push(&mut self, y: &LieState, t: f64, f: &[f64]) {
+        let (mut flat, mut dflat) = (Vec::new(), Vec::new());
+        for (k, q) in y.rotations.iter().enumerate() {
+            let [w, x, yy, z] = q.coords();
+            let u = Vector3::new(x, yy, z);
+            let om = y.omega(k);
+            let du = (om * w + u.cross(&om)) * 0.5;
+            flat.extend_from_slice(&q.coords());
+            dflat.extend_from_slice(&[-0.5 * u.dot(&om), du.x, du.y, du.z]);
+        }
+        flat.extend_from_slice(&y.euclid);
+        flat.extend_from_slice(&y.velocity);
+        dflat.extend_from_slice(y.euclid_velocity());
+        dflat.extend_from_slice(f);
+        self.flat.push(t, &flat, &dflat);
+    }
+
+    fn push_chart(&mut self, theta1: &[f64], k1: &[f64], k7: &[f64], r5: &[f64]) {
+        for part in [theta1, k1, k7, r5] {
+            self.chart.extend_from_slice(part);
+        }
+    }
+
+    /// Number of stored points.
+    pub fn len(&self) -> usize {
+        self.flat.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.flat.is_empty()
+    }
+
+    /// Times of the stored points, increasing.
+    pub fn times(&self) -> &[f64] {
+        self.flat.times()
+    }
+
+    /// State at stored point `i`.
+    pub fn state(&self, i: usize) -> LieState {
+        let y = self.flat.state(i);
+        let m4 = 4 * self.n_rot;
+        let rotations = y[..m4]
+            .chunks(4)
+            .map(|c| UnitQuat::from_coords_unchecked(c[0], c[1], c[2], c[3]))
+            .collect();
+        let euclid = y[m4..m4 + self.n_euclid].to_vec();
+        let velocity = y[m4 + self.n_euclid..].to_vec();
+        LieState::new(rotations, euclid, velocity)
+    }
+
+    /// The last stored time and state.
+    pub fn last(&self) -> Option<(f64, LieState)> {
+        let n = self.len();
+        (n > 0).then(|| (self.times()[n - 1], self.state(n - 1)))
+    }
+
+    /// The state at `t` from the continuous extension in the local coordinates of the
+    /// step containing `t` (fourth order, on the group), or `None` outside
+    /// `[t_first, t_last]`.
+    pub fn at(&self, t: f64) -> Option<LieState> {
+        let times = self.times();
+        let (&first, &last) = (times.first()?, times.last()?);
+        if !(first..=last).contains(&t) {
+            return None;
+        }
+        let i = times.partition_point(|&ti| ti <= t).saturating_sub(1);
+        if i + 1 >= self.len() {
+            return Some(self.state(i));
+        }
+        let h = times[i + 1] - times[i];
+        let s = (t - times[i]) / h;
+        let d = self.local_dim();
+        let data = &self.chart[4 * d * i..4 * d * (i + 1)];
+        let (th1, rest) = data.split_at(d);
+        let (k1, rest) = rest.split_at(d);
+        let (k7, r5) = rest.split_at(d);
+        let theta: Vec<f64> = (0..d)
+            .map(|c| dopri5_dense(s, h, 0.0, th1[c], k1[c], k7[c], r5[c]))
+            .collect();
+        let base = self.state(i);
+        let mut y = base.clone();
+        retract(&base, &theta, &mut y);
+        for q in &mut y.rotations {
+            *q = q.normalised();
+        }
+        Some(y)
+    }
+
+    /// The flat trajectory (layout in the type's documentation), e.g. for CSV output.
+    pub fn flat(&self) -> &Trajectory {
+        &self.flat
+    }
+
+    /// Cost of the integration.
+    pub fn stats(&self) -> &Stats {
+        &self.flat.stats
+    }
+}

@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# Peer measurements for the report: Pinocchio, SciPy and SymPy in peers/.venv.
+# Writes target/report/peers/peers.md and peers.tsv (the report embeds them).
+# Needs the exported models: cargo run --release --example report -- --no-compile
+set -euo pipefail
+HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+ROOT="$(dirname "$HERE")"
+OUT="$ROOT/target/report/peers"
+MODELS="$ROOT/target/report/models"
+BUILD="$OUT/build"
+RES="$OUT/results"
+VENV="$HERE/.venv"
+PY="$VENV/bin/python"
+
+fail() { echo "peers/run.sh: FAILED: $*" >&2; exit 1; }
+trap 'echo "peers/run.sh: FAILED at line $LINENO: $BASH_COMMAND" >&2' ERR
+
+for s in double_pendulum planar_arm3 branched_tree panda; do
+  [ -f "$MODELS/$s.json" ] || fail "missing $MODELS/$s.json; run 'cargo run --release --example report -- --no-compile' first"
+done
+command -v python3 >/dev/null || fail "python3 not found"
+command -v gcc >/dev/null || fail "gcc not found (needed for the SymPy harness)"
+
+# 1. virtual environment with pinned versions
+if [ ! -x "$PY" ]; then
+  echo "== creating $VENV"
+  python3 -m venv "$VENV" || fail "python3 -m venv failed (Debian: apt-get install python3-venv)"
+fi
+echo "== pip install -r peers/requirements.txt"
+"$PY" -m pip install -q --disable-pip-version-check -r "$HERE/requirements.txt" || fail "pip install failed"
+"$PY" -c "import pinocchio, scipy, sympy, numpy" || fail "the installed packages do not import"
+
+rm -rf "$RES" "$OUT/peers.md" "$OUT/peers.tsv"
+mkdir -p "$BUILD" "$RES"
+
+VERSIONS="$("$PY" -c "import pinocchio, scipy, sympy, numpy, platform; print(f'Python {platform.python_version()}, pin {pinocchio.__version__}, numpy {numpy.__version__}, scipy {scipy.__version__}, sympy {sympy.__version__}')")"
+GCCV="$(gcc -dumpfullversion 2>/dev/null || gcc -dumpversion)"
+CPU="$(lscpu 2>/dev/null | sed -n 's/^Model name:[[:space:]]*//p' | head -1)"
+MACHINE="nproc $(nproc), CPU ${CPU:-unknown}, $(uname -sm)"
+CXXFLAGS="-std=c++17 -O3 -march=native -DNDEBUG"
+
+# 2a. Pinocchio: C++ benchmark against the wheel's headers (fallback: Python bindings)
+PREFIX="$("$PY" -c "import site; print(site.getsitepackages()[0])")/cmeel.prefix"
+BIN="$BUILD/pin_bench"
+if [ ! -x "$BIN" ] || [ "$HERE/pin_bench.cpp" -nt "$BIN" ] || [ "$HERE/requirements.txt" -nt "$BIN" ]; then
+  echo "== compiling peers/pin_bench.cpp against $PREFIX/include (a few minutes)"
+  if ! g++ $CXXFLAGS -DBOOST_MPL_LIMIT_LIST_SIZE=30 -DBOOST_MPL_LIMIT_VECTOR_SIZE=30 \
+      -DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS -DBOOST_FUSION_INVOKE_MAX_ARITY=12 \
+      -I"$PREFIX/include" -I"$PREFIX/include/eigen3" "$HERE/pin_bench.cpp" -o "$BIN" 2> "$BUILD/pin_bench.log"; then
+    echo "peers/run.sh: warning: C++ build failed (see $BUILD/pin_bench.log); timing the Python bindings instead" >&2
+    rm -f "$BIN"
+  fi
+fi
+echo "== Pinocchio"
+"$PY" "$HERE/pin_bench.py" "$MODELS" "$BUILD" "$RES/pinocchio.json" "$( [ -x "$BIN" ] && echo "$BIN" || echo "")" \
+  || fail "Pinocchio benchmark failed"
+
+# 2b. SciPy
+echo "== SciPy"
+"$PY" "$HERE/scipy_bench.py" "$RES/scipy.json" > "$BUILD/scipy.log" || { cat "$BUILD/scipy.log"; fail "SciPy benchmark failed"; }
+
+# 2c. SymPy chains n = 2..7, stop once a derivation takes more than 120 s
+echo "== SymPy"
+: > "$RES/sympy_note.txt"
+for n in 2 3 4 5 6 7; do
+  if ! timeout 600 "$PY" "$HERE/sympy_chain.py" "$n" "$BUILD" "$RES/chain$n.json"; then
+    echo "The sweep stopped at n = $n: its derivation + codegen did not finish within 600 s (or failed)." > "$RES/sympy_note.txt"
+    break
+  fi
+  if "$PY" -c "import json,sys; sys.exit(0 if json.load(open('$RES/chain$n.json'))['derive_s'] > 120 else 1)"; then
+    [ "$n" -lt 7 ] && echo "The sweep stopped after n = $n: its derivation took more than 120 s." > "$RES/sympy_note.txt"
+    break
+  fi
+done
+
+# 3. tables
+"$PY" - "$RES/header.json" <<PYEOF
+import json, sys, datetime
+json.dump({"date": datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z"),
+           "machine": """$MACHINE""", "versions": """$VERSIONS, gcc $GCCV""", "cxxflags": """$CXXFLAGS"""},
+          open(sys.argv[1], "w"))
+PYEOF
+"$PY" "$HERE/collect.py" "$OUT" "$RES/header.json" || fail "writing the tables failed"
+[ -s "$OUT/peers.md" ] && [ -s "$OUT/peers.tsv" ] || fail "peers.md / peers.tsv missing"
+echo "== wrote $OUT/peers.md and $OUT/peers.tsv"

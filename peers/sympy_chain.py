@@ -1,0 +1,147 @@
+"""One SymPy mechanics (Kane's method) derivation of a planar n-link rod pendulum chain,
+CSE'd C code for M(q) and forcing(q, u), and a gcc -O3 harness timing M + forcing +
+Cholesky solve. Usage: sympy_chain.py N BUILD_DIR OUT_JSON"""
+import json
+import os
+import subprocess
+import sys
+import time
+
+import sympy as sm
+import sympy.physics.mechanics as me
+
+
+def derive(n):
+    q = me.dynamicsymbols(f"q0:{n}")
+    u = me.dynamicsymbols(f"u0:{n}")
+    g = sm.symbols("g")
+    m = sm.symbols(f"m0:{n}")
+    l = sm.symbols(f"l0:{n}")
+    N = me.ReferenceFrame("N")
+    O = me.Point("O")
+    O.set_vel(N, 0)
+    frames, bodies, loads = [], [], []
+    prev_frame, joint = N, O
+    for i in range(n):
+        A = me.ReferenceFrame(f"A{i}")
+        A.orient_axis(prev_frame, prev_frame.z, q[i])  # relative angles, in the x-y plane
+        A.set_ang_vel(prev_frame, u[i] * prev_frame.z)
+        c = joint.locatenew(f"C{i}", l[i] / 2 * A.x)
+        c.v2pt_theory(joint, N, A)
+        I = me.inertia(A, 0, m[i] * l[i] ** 2 / 12, m[i] * l[i] ** 2 / 12)
+        bodies.append(me.RigidBody(f"B{i}", c, A, m[i], (I, c)))
+        loads.append((c, -m[i] * g * N.y))
+        tip = joint.locatenew(f"P{i}", l[i] * A.x)
+        tip.v2pt_theory(joint, N, A)
+        prev_frame, joint = A, tip
+    kd = [q[i].diff() - u[i] for i in range(n)]
+    km = me.KanesMethod(N, q_ind=q, u_ind=u, kd_eqs=kd)
+    km.kanes_equations(bodies, loads)
+    return km, q, u, m, l, g
+
+
+C_HARNESS = r"""
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+#define N %(n)d
+void eval_MF(const double *q, const double *u, const double *p, double *M, double *F);
+static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec * 1e9 + t.tv_nsec; }
+/* M a = F by Cholesky (M symmetric positive definite) */
+static void solve(double *M, double *F, double *a) {
+  for (int j = 0; j < N; ++j) {
+    double d = M[j * N + j];
+    for (int k = 0; k < j; ++k) d -= M[j * N + k] * M[j * N + k];
+    d = sqrt(d); M[j * N + j] = d;
+    for (int i = j + 1; i < N; ++i) {
+      double s = M[i * N + j];
+      for (int k = 0; k < j; ++k) s -= M[i * N + k] * M[j * N + k];
+      M[i * N + j] = s / d;
+    }
+  }
+  for (int i = 0; i < N; ++i) { double s = F[i]; for (int k = 0; k < i; ++k) s -= M[i * N + k] * a[k]; a[i] = s / M[i * N + i]; }
+  for (int i = N - 1; i >= 0; --i) { double s = a[i]; for (int k = i + 1; k < N; ++k) s -= M[k * N + i] * a[k]; a[i] = s / M[i * N + i]; }
+}
+static int cmp(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y); }
+int main(void) {
+  double q[N], u[N], p[2 * N + 1], M[N * N], F[N], a[N], sink = 0;
+  for (int i = 0; i < N; ++i) { q[i] = 0.3 + 0.17 * i; u[i] = 0.5 - 0.23 * i; p[i] = 1.0 - 0.1 * i; p[N + i] = 0.5 + 0.05 * i; }
+  p[2 * N] = 9.81;
+  eval_MF(q, u, p, M, F); solve(M, F, a);
+  printf("ddq");
+  for (int i = 0; i < N; ++i) printf(" %%.17g", a[i]);
+  printf("\n");
+  long reps = 1000;
+  for (;;) {
+    double t0 = now();
+    for (long r = 0; r < reps; ++r) { q[0] += 1e-12; eval_MF(q, u, p, M, F); solve(M, F, a); sink += a[N - 1]; }
+    if (now() - t0 > 2e7) break;
+    reps *= 2;
+  }
+  double per[21];
+  for (int k = 0; k < 21; ++k) {
+    double t0 = now();
+    for (long r = 0; r < reps; ++r) { q[0] += 1e-12; eval_MF(q, u, p, M, F); solve(M, F, a); sink += a[N - 1]; }
+    per[k] = (now() - t0) / reps;
+  }
+  qsort(per, 21, sizeof(double), cmp);
+  printf("solve_ns %%.3f\n", per[10]);
+  fprintf(stderr, "(sink %%g)\n", sink);
+  return 0;
+}
+"""
+
+
+def main():
+    n, build, out_json = int(sys.argv[1]), sys.argv[2], sys.argv[3]
+    t0 = time.perf_counter()
+    km, q, u, m, l, g = derive(n)
+    M = km.mass_matrix
+    F = km.forcing
+    derive_s = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    qs, us = sm.symbols(f"q_0:{n}"), sm.symbols(f"u_0:{n}")
+    sub = dict(zip(q, qs)) | dict(zip(u, us))
+    exprs = [e.xreplace(sub) for e in list(M) + list(F)]
+    repl, red = sm.cse(exprs)
+    ops = int(sum(sm.count_ops(e) for _, e in repl) + sum(sm.count_ops(e) for e in red))
+    params = list(m) + list(l) + [g]
+    names = {s: sm.Symbol(f"q[{i}]") for i, s in enumerate(qs)}
+    names |= {s: sm.Symbol(f"u[{i}]") for i, s in enumerate(us)}
+    names |= {s: sm.Symbol(f"p[{i}]") for i, s in enumerate(params)}
+    lines = ["#include <math.h>",
+             "void eval_MF(const double *q, const double *u, const double *p, double *M, double *F) {"]
+    for s, e in repl:
+        lines.append(f"  const double {s} = {sm.ccode(e.xreplace(names))};")
+    for i, e in enumerate(red):
+        target = f"M[{i}]" if i < n * n else f"F[{i - n * n}]"
+        lines.append(f"  {target} = {sm.ccode(e.xreplace(names))};")
+    lines.append("}")
+    src = os.path.join(build, f"chain{n}_mf.c")
+    with open(src, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    harness = os.path.join(build, f"chain{n}_main.c")
+    with open(harness, "w") as f:
+        f.write(C_HARNESS % {"n": n})
+    codegen_s = time.perf_counter() - t0
+
+    exe = os.path.join(build, f"chain{n}")
+    t0 = time.perf_counter()
+    subprocess.run(["gcc", "-O3", "-march=native", "-o", exe, harness, src, "-lm"], check=True)
+    compile_s = time.perf_counter() - t0
+    res = subprocess.run([exe], capture_output=True, text=True, check=True)
+    vals = {}
+    for line in res.stdout.splitlines():
+        k, *x = line.split()
+        vals[k] = [float(t) for t in x]
+    out = {"n": n, "derive_s": derive_s, "codegen_s": codegen_s, "compile_s": compile_s, "ops": ops,
+           "cse_terms": len(repl), "solve_ns": vals["solve_ns"][0], "ddq": vals["ddq"]}
+    with open(out_json, "w") as f:
+        json.dump(out, f)
+    print(json.dumps(out), flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -100,12 +100,22 @@ impl Model {
         let springs: Vec<String> = self
             .springs
             .iter()
-            .map(|s| format!("{{\"coordinate\": {}, \"stiffness\": {:e}, \"rest\": {:e}}}", s.coordinate, s.stiffness, s.rest))
+            .map(|s| {
+                format!(
+                    "{{\"coordinate\": {}, \"stiffness\": {:e}, \"rest\": {:e}}}",
+                    s.coordinate, s.stiffness, s.rest
+                )
+            })
             .collect();
         let dampers: Vec<String> = self
             .dampers
             .iter()
-            .map(|d| format!("{{\"coordinate\": {}, \"damping\": {:e}}}", d.coordinate, d.damping))
+            .map(|d| {
+                format!(
+                    "{{\"coordinate\": {}, \"damping\": {:e}}}",
+                    d.coordinate, d.damping
+                )
+            })
             .collect();
         format!(
             "{{\n  \"gravity\": {},\n  \"links\": [\n    {}\n  ],\n  \"springs\": [{}],\n  \"dampers\": [{}]\n}}\n",

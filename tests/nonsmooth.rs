@@ -27,6 +27,11 @@ fn tight() -> NonSmoothMethod {
     }
 }
 
+/// Moreau time-stepping with step `h`, θ = 1.
+fn stepping(h: f64) -> NonSmoothMethod {
+    NonSmoothMethod::TimeStepping { h, theta: 1.0 }
+}
+
 /// Times `t` at which component `v` of the trajectory crosses or reaches zero from a
 /// non-zero value (the velocity zeros), with the position there.
 fn velocity_zeros(traj: &Trajectory, x: usize, v: usize) -> Vec<(f64, f64)> {
@@ -135,13 +140,7 @@ fn s6_time_stepping_converges_at_order_one() {
     let errs: Vec<f64> = [2e-2, 1e-2, 5e-3]
         .iter()
         .map(|&h| {
-            let traj = solve_nonsmooth(
-                &s,
-                &unforced::<1>,
-                &p,
-                &NonSmoothMethod::TimeStepping { h, theta: 1.0 },
-            )
-            .expect("integrates");
+            let traj = solve_nonsmooth(&s, &unforced::<1>, &p, &stepping(h)).expect("integrates");
             (1..=5)
                 .map(|n| {
                     let t = n as f64 * std::f64::consts::PI;
@@ -262,13 +261,7 @@ fn friction_chain_both_integrators_agree() {
     let errs: Vec<f64> = [4e-3, 2e-3, 1e-3]
         .iter()
         .map(|&h| {
-            let ts = solve_nonsmooth(
-                &s,
-                &input,
-                &p,
-                &NonSmoothMethod::TimeStepping { h, theta: 1.0 },
-            )
-            .expect("time-stepping");
+            let ts = solve_nonsmooth(&s, &input, &p, &stepping(h)).expect("time-stepping");
             let y = ts.last().unwrap().1;
             (0..4)
                 .map(|i| (y[i] - reference[i]).abs())
@@ -522,13 +515,7 @@ fn s3_cubic_bingham_both_integrators_agree() {
     let errs: Vec<f64> = [2e-3, 1e-3, 5e-4]
         .iter()
         .map(|&h| {
-            let ts = solve_nonsmooth(
-                &s,
-                &unforced::<1>,
-                &p,
-                &NonSmoothMethod::TimeStepping { h, theta: 1.0 },
-            )
-            .expect("time-stepping");
+            let ts = solve_nonsmooth(&s, &unforced::<1>, &p, &stepping(h)).expect("time-stepping");
             (ts.last().unwrap().1[0] - x_ed).abs()
         })
         .collect();
@@ -558,13 +545,7 @@ fn s4_non_monotone_default_event_driven_and_time_stepping_agree() {
         let errs: Vec<f64> = [2e-3, 1e-3]
             .iter()
             .map(|&h| {
-                let ts = solve_nonsmooth(
-                    s,
-                    &input,
-                    &p,
-                    &NonSmoothMethod::TimeStepping { h, theta: 1.0 },
-                )
-                .expect("time-stepping");
+                let ts = solve_nonsmooth(s, &input, &p, &stepping(h)).expect("time-stepping");
                 // Max over a grid: the error at one instant can pass through zero.
                 (0..=4000)
                     .map(|i| {
@@ -619,13 +600,7 @@ fn energy_balance_on_every_lumped_scene() {
         let h = 1e-4;
         let input = move |t: f64, _q: &V1, _v: &V1| V1::new(force(t));
         let p = NonSmoothProblem::new(0.0, 20.0, V1::new(x0), V1::new(v0)).with_forces(forces0);
-        let traj = solve_nonsmooth(
-            s,
-            &input,
-            &p,
-            &NonSmoothMethod::TimeStepping { h, theta: 1.0 },
-        )
-        .expect(name);
+        let traj = solve_nonsmooth(s, &input, &p, &stepping(h)).expect(name);
         let support = |x: f64| -> f64 {
             (0..S::ELEMENTS)
                 .map(|e| match s.element(e).kind {

@@ -97,6 +97,39 @@ fn s1_reference() -> Vec<(f64, f64)> {
     out
 }
 
+/// The two integrators' labels, indexed by the first field of [`sweep_runs`].
+const METHODS: [&str; 2] = ["event-driven (DOPRI5)", "time-stepping (θ = 1)"];
+
+/// Every run of a non-smooth sweep: event-driven DOPRI5 over the tolerances (index 0)
+/// and time-stepping over the steps (index 1), with a label for the setting.
+fn sweep_runs(config: &Config) -> Vec<(usize, String, NonSmoothMethod)> {
+    let mut runs: Vec<(usize, String, NonSmoothMethod)> = config
+        .tolerances
+        .iter()
+        .filter(|t| **t >= 1e-11)
+        .map(|&t| {
+            let options = Options::tolerances(t, t * 1e-2);
+            (
+                0,
+                format!("rtol = {t:.0e}"),
+                NonSmoothMethod::EventDriven {
+                    method: SmoothMethod::Dopri5,
+                    options,
+                },
+            )
+        })
+        .collect();
+    for n in &config.rk4_steps {
+        let h = 0.5 / *n as f64;
+        runs.push((
+            1,
+            format!("h = {}", sci(h)),
+            NonSmoothMethod::TimeStepping { h, theta: 1.0 },
+        ));
+    }
+    runs
+}
+
 struct Row {
     method: String,
     setting: String,
@@ -112,30 +145,9 @@ fn sweep<S: filippov::runtime::NonSmooth<1>>(
     x_final: f64,
 ) -> Vec<Row> {
     let mut rows = Vec::new();
-    let mut methods: Vec<(String, String, NonSmoothMethod)> = config
-        .tolerances
-        .iter()
-        .filter(|t| **t >= 1e-11)
-        .map(|&t| {
-            (
-                "event-driven (DOPRI5)".to_string(),
-                format!("rtol = {t:.0e}"),
-                NonSmoothMethod::EventDriven {
-                    method: SmoothMethod::Dopri5,
-                    options: Options::tolerances(t, t * 1e-2),
-                },
-            )
-        })
-        .collect();
-    for n in &config.rk4_steps {
-        let h = 0.5 / *n as f64;
-        methods.push((
-            "time-stepping (θ = 1)".into(),
-            format!("h = {}", sci(h)),
-            NonSmoothMethod::TimeStepping { h, theta: 1.0 },
-        ));
-    }
-    for (method, setting, m) in methods {
+    let methods = sweep_runs(config);
+    for (kind, setting, m) in methods {
+        let method = METHODS[kind].to_string();
         let (time, result) = median(config.repeats, || solve_nonsmooth(sys, &input, problem, &m));
         let outcome = match result {
             Ok(traj) => {
@@ -203,7 +215,7 @@ fn table(page: &mut Page, rows: &[Row]) {
 
 fn plot(config: &Config, file: &str, title: &str, rows: &[Row]) {
     let mut curves = Vec::new();
-    for m in ["event-driven (DOPRI5)", "time-stepping (θ = 1)"] {
+    for m in METHODS {
         let pts: Vec<(f64, f64)> = rows
             .iter()
             .filter(|r| r.method == m)
@@ -294,33 +306,11 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
     page.para(&format!("References: event-driven SDIRK4 and DOPRI5 at rtol 1e-12; they agree to {} in x over the run.", sci(agree)));
     let mut rows = Vec::new();
     let mut curves = vec![
-        Series::new("event-driven (DOPRI5)", Vec::new()),
-        Series::new("time-stepping (θ = 1)", Vec::new()),
+        Series::new(METHODS[0], Vec::new()),
+        Series::new(METHODS[1], Vec::new()),
     ];
     let mut best = [f64::INFINITY; 2];
-    let mut runs: Vec<(usize, String, NonSmoothMethod)> = config
-        .tolerances
-        .iter()
-        .filter(|t| **t >= 1e-11)
-        .map(|&t| {
-            (
-                0,
-                format!("rtol = {t:.0e}"),
-                NonSmoothMethod::EventDriven {
-                    method: SmoothMethod::Dopri5,
-                    options: Options::tolerances(t, t * 1e-2),
-                },
-            )
-        })
-        .collect();
-    for n in &config.rk4_steps {
-        let h = 0.5 / *n as f64;
-        runs.push((
-            1,
-            format!("h = {}", sci(h)),
-            NonSmoothMethod::TimeStepping { h, theta: 1.0 },
-        ));
-    }
+    let runs = sweep_runs(config);
     for (kind, setting, m) in runs {
         let reference = if kind == 0 { &ref_sdirk } else { &ref_dopri };
         let (time, result) = median(config.repeats, || solve_nonsmooth(sys, &input, problem, &m));

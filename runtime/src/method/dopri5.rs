@@ -34,10 +34,8 @@ impl Dopri5 {
         problem: &Problem,
     ) -> Result<Trajectory, SolveError> {
         let mut run = Run::start(system, problem, Interpolant::Dopri5, Some(&self.options))?;
-        match self.integrate(&mut run, problem) {
-            Ok(()) => Ok(run.traj),
-            Err(kind) => Err(run.fail(kind)),
-        }
+        let outcome = self.integrate(&mut run, problem);
+        run.finish(outcome)
     }
 
     fn integrate<S: OdeSystem + ?Sized>(

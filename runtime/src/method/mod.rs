@@ -107,6 +107,14 @@ impl<'a, S: OdeSystem + ?Sized> Run<'a, S> {
         check_finite(t, dy)
     }
 
+    /// The trajectory when the integration succeeded, or the error carrying it.
+    pub fn finish(self, outcome: Result<(), ErrorKind>) -> Result<Trajectory, SolveError> {
+        match outcome {
+            Ok(()) => Ok(self.traj),
+            Err(kind) => Err(self.fail(kind)),
+        }
+    }
+
     pub fn fail(self, kind: ErrorKind) -> SolveError {
         SolveError {
             kind,

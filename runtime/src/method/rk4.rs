@@ -30,10 +30,8 @@ impl Rk4 {
                 self.h
             ))));
         }
-        match self.integrate(&mut run, problem) {
-            Ok(()) => Ok(run.traj),
-            Err(kind) => Err(run.fail(kind)),
-        }
+        let outcome = self.integrate(&mut run, problem);
+        run.finish(outcome)
     }
 
     fn integrate<S: OdeSystem + ?Sized>(

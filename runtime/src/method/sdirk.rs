@@ -78,10 +78,8 @@ impl Sdirk4 {
         problem: &Problem,
     ) -> Result<Trajectory, SolveError> {
         let mut run = Run::start(system, problem, Interpolant::Hermite, Some(&self.options))?;
-        match self.integrate(&mut run, problem) {
-            Ok(()) => Ok(run.traj),
-            Err(kind) => Err(run.fail(kind)),
-        }
+        let outcome = self.integrate(&mut run, problem);
+        run.finish(outcome)
     }
 
     fn integrate<S: OdeSystem + ?Sized>(

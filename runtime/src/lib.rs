@@ -38,7 +38,7 @@ mod trajectory;
 
 pub use control::PiController;
 pub use error::{ErrorKind, SolveError};
-pub use liegroup::{FnLieSystem, LieProblem, LieState, LieSystem, LieTrajectory, Rkmk5, UnitQuat};
+pub use liegroup::{FnLieSystem, LieMechanism, LieProblem, LieState, LieSystem, LieTrajectory, Rkmk5, UnitQuat};
 pub use mechanical::{InputFn, MechanicalSystem, NumericInputFn, NumericSystem};
 pub use method::tableau;
 pub use method::{Dopri5, Method, Rk4, Sdirk4, solve};

@@ -19,9 +19,11 @@
 //! The method is [`Rkmk5`], Munthe-Kaas Runge–Kutta on the Dormand–Prince 5(4) tableau,
 //! in [`rkmk`]. [`so3`] has the group's functions.
 
+mod mechanism;
 mod rkmk;
 pub mod so3;
 
+pub use mechanism::LieMechanism;
 pub use rkmk::{LieProblem, LieTrajectory, Rkmk5};
 pub use so3::UnitQuat;
 

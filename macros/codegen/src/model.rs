@@ -141,6 +141,44 @@ pub enum JointKind {
     Revolute([f64; 3]),
     Prismatic([f64; 3]),
     Fixed,
+    /// A ball joint (SO(3)): configuration a unit quaternion `(w, x, y, z)`, velocity the
+    /// body angular velocity in the link frame.
+    Spherical,
+    /// Translation along the joint frame's three axes (ℝ³): the first half of a free
+    /// joint, on a massless link of its own.
+    Translation,
+    /// As declared: `free` becomes a [`JointKind::Translation`] link followed by a
+    /// [`JointKind::Spherical`] one (SO(3) × ℝ³), so no link has this kind.
+    Free,
+}
+
+impl JointKind {
+    /// Velocity coordinates of the joint.
+    pub fn dof(self) -> usize {
+        match self {
+            JointKind::Revolute(_) | JointKind::Prismatic(_) => 1,
+            JointKind::Fixed => 0,
+            JointKind::Spherical | JointKind::Translation => 3,
+            JointKind::Free => 6,
+        }
+    }
+
+    /// Configuration slots of the joint.
+    pub fn config_len(self) -> usize {
+        match self {
+            JointKind::Spherical => 4,
+            JointKind::Free => 7,
+            k => k.dof(),
+        }
+    }
+
+    /// Whether the configuration lives on a Lie group other than ℝⁿ.
+    pub fn is_lie(self) -> bool {
+        matches!(
+            self,
+            JointKind::Spherical | JointKind::Translation | JointKind::Free
+        )
+    }
 }
 
 /// A link and the joint attaching it to its parent (URDF frame convention: the link
@@ -151,7 +189,11 @@ pub struct Link {
     pub joint_name: String,
     pub parent: Option<usize>,
     pub kind: JointKind,
+    /// The first velocity coordinate of the joint (`kind.dof()` consecutive ones).
     pub coordinate: Option<usize>,
+    /// The first configuration slot of the joint (`kind.config_len()` consecutive ones);
+    /// equal to `coordinate` in scenes without Lie-group joints.
+    pub config: Option<usize>,
     pub origin: Vec3,
     pub rpy: Vec3,
     pub mass: PExpr,
@@ -253,9 +295,19 @@ pub struct Element {
 }
 
 impl Model {
-    /// Number of joint coordinates.
+    /// Number of velocity coordinates.
     pub fn dof(&self) -> usize {
-        self.links.iter().filter(|l| l.coordinate.is_some()).count()
+        self.links.iter().map(|l| l.kind.dof()).sum()
+    }
+
+    /// Number of configuration slots (`dof()` unless there are Lie-group joints).
+    pub fn config_dim(&self) -> usize {
+        self.links.iter().map(|l| l.kind.config_len()).sum()
+    }
+
+    /// Whether the scene has spherical or free joints.
+    pub fn is_lie(&self) -> bool {
+        self.links.iter().any(|l| l.kind.is_lie())
     }
 
     /// The links that carry the coordinates, by coordinate index.
@@ -263,22 +315,35 @@ impl Model {
         let mut out = vec![0; self.dof()];
         for (i, l) in self.links.iter().enumerate() {
             if let Some(c) = l.coordinate {
-                out[c] = i;
+                for k in 0..l.kind.dof() {
+                    out[c + k] = i;
+                }
             }
         }
         out
     }
 
+    /// The configuration slot of a coordinate of a one-dof joint (its `q`).
+    pub fn slot_of(&self, coordinate: usize) -> usize {
+        let l = &self.links[self.coordinate_links()[coordinate]];
+        l.config.unwrap_or(0) + (coordinate - l.coordinate.unwrap_or(0))
+    }
+
     /// The nearest ancestor coordinate of each coordinate (`λ(i)` of the LTDL
-    /// factorisation), skipping fixed joints.
+    /// factorisation), skipping fixed joints; the coordinates of a three-dof joint form
+    /// a chain.
     pub fn coordinate_parents(&self) -> Vec<Option<usize>> {
         self.coordinate_links()
             .into_iter()
-            .map(|li| {
+            .enumerate()
+            .map(|(c, li)| {
+                if self.links[li].coordinate != Some(c) {
+                    return Some(c - 1);
+                }
                 let mut p = self.links[li].parent;
                 while let Some(pi) = p {
                     if let Some(c) = self.links[pi].coordinate {
-                        return Some(c);
+                        return Some(c + self.links[pi].kind.dof() - 1);
                     }
                     p = self.links[pi].parent;
                 }
@@ -287,11 +352,21 @@ impl Model {
             .collect()
     }
 
-    /// Joint names by coordinate.
+    /// Names by coordinate: the joint's, suffixed `.x`, `.y`, `.z` (translation) or
+    /// `.wx`, `.wy`, `.wz` (rotation) on three-dof joints.
     pub fn joint_names(&self) -> Vec<String> {
         self.coordinate_links()
             .into_iter()
-            .map(|li| self.links[li].joint_name.clone())
+            .enumerate()
+            .map(|(c, li)| {
+                let l = &self.links[li];
+                let k = c - l.coordinate.unwrap_or(c);
+                match l.kind {
+                    JointKind::Spherical => format!("{}.{}", l.joint_name, ["wx", "wy", "wz"][k]),
+                    JointKind::Translation => format!("{}.{}", l.joint_name, ["x", "y", "z"][k]),
+                    _ => l.joint_name.clone(),
+                }
+            })
             .collect()
     }
 }

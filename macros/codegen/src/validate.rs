@@ -67,6 +67,16 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     }
     let links = build_tree(&bodies, &joints, diag)?;
     let springs_dampers = read_elements(element_attrs, &links, &names, diag);
+    if links.iter().any(|l| l.kind.is_lie()) {
+        for raw in &nonsmooth_attrs {
+            if let Some(name) = &raw.name {
+                diag.error_at(
+                    name,
+                    "friction, dash-pots and stops are not supported yet in scenes with spherical or free joints; model the joint with revolute joints or drop the element",
+                );
+            }
+        }
+    }
     let elements = crate::nonsmooth::read(nonsmooth_attrs, &links, &names, diag);
     let inputs = match &inputs_expr {
         Some(e) => read_inputs(e, &links, diag),
@@ -192,11 +202,13 @@ fn read_body(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opti
     })
 }
 
-/// A literal mass must be positive: a zero or negative mass makes M singular or
-/// indefinite and the dynamics meaningless.
+/// A literal mass must be non-negative and finite: a negative mass makes M indefinite
+/// and the dynamics meaningless. Zero is allowed for intermediate frames (checked in
+/// [`build_tree`]: a massless body must carry others).
 fn check_mass(m: &PExpr, at: &Expr, diag: &mut Diagnostics) {
     if let Some(v) = m.as_const()
         && !(v > 0.0 && v.is_finite())
+        && v != 0.0
     {
         diag.error_at(
             at,
@@ -424,9 +436,27 @@ fn read_joint(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opt
 }
 
 fn joint_kind(h: &Expr, diag: &mut Diagnostics) -> Option<JointKind> {
-    const KINDS: &str = "`revolute(<axis>)`, `prismatic(<axis>)` or `fixed`";
-    if ident_of(h).is_some_and(|i| i == "fixed") {
-        return Some(JointKind::Fixed);
+    const KINDS: &str = "`revolute(<axis>)`, `prismatic(<axis>)`, `spherical`, `free` or `fixed`";
+    match ident_of(h).map(|i| i.to_string()).as_deref() {
+        Some("fixed") => return Some(JointKind::Fixed),
+        Some("spherical") => return Some(JointKind::Spherical),
+        Some("free") => return Some(JointKind::Free),
+        _ => {}
+    }
+    if let Expr::Call(c) = strip(h)
+        && let Some(name) = ident_of(&c.func).map(|i| i.to_string())
+        && matches!(name.as_str(), "spherical" | "free" | "fixed")
+    {
+        let what = match name.as_str() {
+            "spherical" => "a ball joint turns about every axis",
+            "free" => "a free joint moves along and about every axis",
+            _ => "a fixed joint does not move",
+        };
+        diag.error_at(
+            &c.args,
+            format_args!("`{name}` takes no axis: {what}; write `<joint>: {name}`"),
+        );
+        return None;
     }
     let Expr::Call(c) = strip(h) else {
         diag.error_at(h, format_args!("unknown joint kind; expected {KINDS}"));
@@ -594,35 +624,78 @@ fn build_tree(bodies: &[Body], joints: &[Joint], diag: &mut Diagnostics) -> Opti
     if !ok {
         return None;
     }
+    // Links in the preorder; a free joint becomes a massless translation link and a
+    // spherical one (SO(3) × ℝ³), the body on the latter.
     let mut coordinate = 0;
-    let mut links = Vec::new();
+    let mut slot = 0;
+    let mut links: Vec<Link> = Vec::new();
+    let mut link_of_body: Vec<Option<usize>> = vec![None; bodies.len()];
+    let zero = || PExpr::zero();
     for &b in &order {
         let j = &joints[joint_of[b]?];
-        let coord = match j.kind {
-            JointKind::Fixed => None,
-            _ => {
-                coordinate += 1;
-                Some(coordinate - 1)
-            }
-        };
         let body = &bodies[b];
+        let mut parent = parent_body(j).and_then(|p| link_of_body[p]);
+        let (mut origin, mut rpy) = (j.origin.clone(), j.rpy.clone());
+        let mut kind = j.kind;
+        if kind == JointKind::Free {
+            links.push(Link {
+                name: format!("{}.translation", body.name),
+                joint_name: j.name.to_string(),
+                parent,
+                kind: JointKind::Translation,
+                coordinate: Some(coordinate),
+                config: Some(slot),
+                origin,
+                rpy,
+                mass: zero(),
+                com: zero3(),
+                inertia: [
+                    [zero(), zero(), zero()],
+                    [zero(), zero(), zero()],
+                    [zero(), zero(), zero()],
+                ],
+            });
+            coordinate += 3;
+            slot += 3;
+            parent = Some(links.len() - 1);
+            (origin, rpy) = (zero3(), zero3());
+            kind = JointKind::Spherical;
+        }
+        let moves = kind != JointKind::Fixed;
+        link_of_body[b] = Some(links.len());
         links.push(Link {
             name: body.name.to_string(),
             joint_name: j.name.to_string(),
-            parent: parent_body(j).and_then(|p| link_of_body[p]),
-            kind: j.kind,
-            coordinate: coord,
-            origin: j.origin.clone(),
-            rpy: j.rpy.clone(),
+            parent,
+            kind,
+            coordinate: moves.then_some(coordinate),
+            config: moves.then_some(slot),
+            origin,
+            rpy,
             mass: body.mass.clone()?,
             com: body.com.clone(),
             inertia: body.inertia.clone(),
         });
+        coordinate += kind.dof();
+        slot += kind.config_len();
+    }
+    for (i, l) in links.iter().enumerate() {
+        if l.kind != JointKind::Translation
+            && l.mass.as_const() == Some(0.0)
+            && !links.iter().any(|c| c.parent == Some(i))
+        {
+            let b = &bodies[body_index[&l.name]];
+            diag.error_at(
+                &b.name,
+                format_args!("body `{}` has zero mass and carries no other body, so nothing gives its joint inertia; a massless body is only an intermediate frame — give it a positive mass", b.name),
+            );
+            return None;
+        }
     }
     if coordinate == 0 {
         diag.error_at(
             &joints[0].name,
-            "a mechanism needs at least one revolute or prismatic joint",
+            "a mechanism needs at least one moving joint (revolute, prismatic, spherical or free)",
         );
         return None;
     }
@@ -726,6 +799,13 @@ fn read_inputs(e: &Expr, links: &[Link], diag: &mut Diagnostics) -> Vec<usize> {
             diag.error_at(item, "expected a joint name");
             continue;
         };
+        if links.iter().any(|l| *id == l.joint_name && l.kind.is_lie()) {
+            diag.error_at(
+                id,
+                format_args!("joint `{id}` has three or six coordinates; inputs are revolute or prismatic joints (apply torques on spherical and free joints through the input closure τ(t, q, v))"),
+            );
+            continue;
+        }
         match links
             .iter()
             .find(|l| *id == l.joint_name)
@@ -766,7 +846,17 @@ pub(crate) fn coordinate_of(
     what: &str,
     diag: &mut Diagnostics,
 ) -> Option<usize> {
-    match links.iter().find(|l| *joint == l.joint_name) {
+    match links.iter().rev().find(|l| *joint == l.joint_name) {
+        Some(l) if l.kind.is_lie() => {
+            diag.error_at(
+                joint,
+                format_args!(
+                    "joint `{joint}` is {}: {what} act on the one coordinate of a revolute or prismatic joint",
+                    if links.iter().any(|m| m.kind == JointKind::Translation && *joint == m.joint_name) { "free" } else { "spherical" }
+                ),
+            );
+            None
+        }
         Some(Link {
             coordinate: Some(c),
             ..

@@ -81,7 +81,13 @@ pub fn model_fn(model: &Model) -> TokenStream {
                 let a = axis(a);
                 quote!(::filippov::runtime::numeric::JointKind::Prismatic { axis: #a })
             }
-            JointKind::Fixed => quote!(::filippov::runtime::numeric::JointKind::Fixed),
+            JointKind::Fixed | JointKind::Free => {
+                quote!(::filippov::runtime::numeric::JointKind::Fixed)
+            }
+            JointKind::Spherical => quote!(::filippov::runtime::numeric::JointKind::Spherical),
+            JointKind::Translation => {
+                quote!(::filippov::runtime::numeric::JointKind::Translation)
+            }
         };
         let (xyz, rpy, com) = (v3(&l.origin, p), v3(&l.rpy, p), v3(&l.com, p));
         let mass = expr(&l.mass, p);

@@ -58,11 +58,12 @@ fn arg_name(k: InputKind) -> Ident {
 }
 
 /// Emits `sig` computing `outputs`; `assemble` builds the return value from the rendered
-/// outputs (in order).
+/// outputs (in order). `dof` is the length of `v`, `a` and `tau`, `config` that of `q`
+/// (they differ only with Lie-group joints).
 pub fn emit(
     g: &Graph,
     params: &[Ident],
-    dof: usize,
+    (dof, config): (usize, usize),
     sig: &Signature,
     outputs: &[Id],
     assemble: &dyn Fn(Vec<TokenStream>) -> TokenStream,
@@ -206,10 +207,10 @@ pub fn emit(
         .iter()
         .map(|k| {
             let a = arg_name(*k);
-            let len = if *k == InputKind::F {
-                sig.elements
-            } else {
-                dof
+            let len = match k {
+                InputKind::F => sig.elements,
+                InputKind::Q => config,
+                _ => dof,
             };
             quote!(#a: &::filippov::nalgebra::SVector<f64, #len>)
         })

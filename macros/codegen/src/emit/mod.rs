@@ -42,6 +42,8 @@ pub(crate) fn matrix(outs: Vec<TokenStream>, n: usize) -> TokenStream {
 pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>) {
     use InputKind::*;
     let n = k.dof;
+    let nq = model.config_dim();
+    let lie = model.is_lie();
     let g = &k.graph;
     let params = &model.params;
     let ident = &model.ident;
@@ -65,7 +67,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
             ret,
             doc: doc.to_string(),
         };
-        let e = emit(g, params, n, &sig, &outs, asm);
+        let e = emit(g, params, (n, nq), &sig, &outs, asm);
         stats.push(FnStats {
             name,
             ops: g.count_ops(&outs),
@@ -89,24 +91,32 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         .iter()
         .flat_map(|ci| ci.iter().flatten().copied())
         .collect();
-    add(
-        "christoffel_symbols",
-        vec![Q],
-        quote!([#mat_t; #n]),
-        chris,
-        &|o: Vec<TokenStream>| {
-            let per: Vec<TokenStream> = o.chunks(n * n).map(|c| matrix(c.to_vec(), n)).collect();
-            quote!([#(#per),*])
-        },
-        " Christoffel symbols of the first kind, `out[i][(j, k)] = c_ijk`.",
-    );
+    if !lie {
+        add(
+            "christoffel_symbols",
+            vec![Q],
+            quote!([#mat_t; #n]),
+            chris,
+            &|o: Vec<TokenStream>| {
+                let per: Vec<TokenStream> =
+                    o.chunks(n * n).map(|c| matrix(c.to_vec(), n)).collect();
+                quote!([#(#per),*])
+            },
+            " Christoffel symbols of the first kind, `out[i][(j, k)] = c_ijk`.",
+        );
+    }
     add(
         "coriolis_matrix",
         vec![Q, V],
         mat_t.clone(),
         flat(&k.coriolis),
         &masm,
-        " Coriolis matrix `C_ij = Σ_k c_ijk v_k`.",
+        if lie {
+            " Coriolis matrix `C_ij = Σ_k c_ijk v_k + (M v)·[e_i, e_j]`, `c_ijk` the \
+             Christoffel symbols in local exponential coordinates."
+        } else {
+            " Coriolis matrix `C_ij = Σ_k c_ijk v_k`."
+        },
     );
     add(
         "gravity",
@@ -191,17 +201,57 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
     let inputs = inputs_items(model, n);
     let (nonsmooth, ns_helpers) = nonsmooth::nonsmooth_impl(model, k, &mut stats);
     helpers.extend(ns_helpers);
-    let code = quote! {
-        impl ::filippov::runtime::system::Mechanism<#n> for #ident {
-            const JOINTS: [&'static str; #n] = [#(#names),*];
-            #methods
-            #validate
-            #describe
+    let head = if lie {
+        let rot: Vec<TokenStream> = model
+            .links
+            .iter()
+            .filter(|l| l.kind == crate::model::JointKind::Spherical)
+            .filter_map(|l| Some((l.config?, l.coordinate?)))
+            .map(|(s, c)| quote!((#s, #c)))
+            .collect();
+        let euclid: Vec<TokenStream> = model
+            .links
+            .iter()
+            .filter(|l| l.kind != crate::model::JointKind::Spherical)
+            .filter_map(|l| Some((l.config?, l.coordinate?, l.kind.dof())))
+            .flat_map(|(s, c, d)| (0..d).map(move |k| (s + k, c + k)))
+            .map(|(s, c)| quote!((#s, #c)))
+            .collect();
+        quote! {
+            impl ::filippov::runtime::liegroup::LieMechanism<#n, #nq> for #ident {
+                const COORDINATES: [&'static str; #n] = [#(#names),*];
+                const ROTATIONS: &'static [(usize, usize)] = &[#(#rot),*];
+                const EUCLID: &'static [(usize, usize)] = &[#(#euclid),*];
+                #methods
+                #validate
+                #describe
+            }
         }
+    } else {
+        quote! {
+            impl ::filippov::runtime::system::Mechanism<#n> for #ident {
+                const JOINTS: [&'static str; #n] = [#(#names),*];
+                #methods
+                #validate
+                #describe
+            }
+        }
+    };
+    let config = if lie {
+        quote! {
+            /// Number of configuration slots (quaternions take four).
+            pub const CONFIG: usize = #nq;
+        }
+    } else {
+        quote!()
+    };
+    let code = quote! {
+        #head
         #nonsmooth
         impl #ident {
             /// Number of degrees of freedom.
             pub const DOF: usize = #n;
+            #config
             #inputs
             #helpers
         }

@@ -64,7 +64,7 @@ pub fn nonsmooth_impl(
                                 el.name
                             ),
                         };
-                        let e = emit(&g, p, 1, &sig, &[v, dv], &|o: Vec<TokenStream>| {
+                        let e = emit(&g, p, (1, 1), &sig, &[v, dv], &|o: Vec<TokenStream>| {
                             let (a, b) = (&o[0], &o[1]);
                             quote!((#a, #b))
                         });
@@ -131,7 +131,7 @@ pub fn nonsmooth_impl(
         ret: quote!(::filippov::nalgebra::SMatrix<f64, #n, #n>),
         doc: " `M(q)⁻¹` by the sparse `LᵀDL` factorisation (its submatrix at the elements' coordinates is their Delassus operator).".into(),
     };
-    let e = emit(&k.graph, p, n, &sig, &inv_flat, &|o| matrix(o, n));
+    let e = emit(&k.graph, p, (n, n), &sig, &inv_flat, &|o| matrix(o, n));
     stats.push(FnStats {
         name: "inverse_mass_matrix",
         ops: k.graph.count_ops(&inv_flat),
@@ -200,7 +200,7 @@ fn element_kernels(model: &Model, k: &Kernels, stats: &mut Vec<FnStats>) -> Toke
             ret,
             doc,
         };
-        let e = emit(&k.graph, p, n, &sig, &outs, asm);
+        let e = emit(&k.graph, p, (n, n), &sig, &outs, asm);
         stats.push(FnStats {
             name,
             ops: k.graph.count_ops(&outs),

@@ -6,7 +6,7 @@ use proc_macro2::TokenStream;
 use quote::quote;
 
 use super::describe::expr;
-use crate::model::{ElementKind, Law, Model, PExpr, StopKind};
+use crate::model::{ElementKind, JointKind, Law, Model, PExpr, StopKind};
 
 pub fn validate_fn(model: &Model) -> TokenStream {
     let p = &model.params;
@@ -28,6 +28,12 @@ pub fn validate_fn(model: &Model) -> TokenStream {
         );
     }
     for l in &model.links {
+        // Translation links (first halves of free joints) and massless intermediate
+        // frames (allowed at expansion only when they carry other bodies) have no
+        // mass to check.
+        if l.kind == JointKind::Translation || l.mass.as_const() == Some(0.0) {
+            continue;
+        }
         scalar(
             format!("mass of body `{}`", l.name),
             &l.mass,
@@ -88,7 +94,11 @@ pub fn validate_fn(model: &Model) -> TokenStream {
             }
         }
     }
-    for l in &model.links {
+    for l in model
+        .links
+        .iter()
+        .filter(|l| l.kind != JointKind::Translation)
+    {
         let entries: Vec<TokenStream> = l.inertia.iter().flatten().map(|e| expr(e, p)).collect();
         let what = format!("inertia of body `{}`", l.name);
         checks.push(quote! {

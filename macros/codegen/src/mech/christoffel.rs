@@ -7,21 +7,22 @@
 //! With this choice `Ṁ − 2C` is skew-symmetric. Derivatives come from the DAG
 //! ([`Graph::diff`]), memoised, so the `n³` symbols share one derivative graph; `c_ijk =
 //! c_ikj` is formed once.
+//!
+//! With Lie-group joints the derivatives are along local exponential coordinates
+//! ([`Chart`]), and the Coriolis matrix gains the structure-constant term of
+//! [`lie_bracket_term`].
 
-use crate::sym::{Graph, Id, Input, InputKind};
+use super::chart::Chart;
+use crate::sym::{Graph, Id};
 
-pub fn christoffel_symbols(g: &mut Graph, m: &[Vec<Id>]) -> Vec<Vec<Vec<Id>>> {
+pub fn christoffel_symbols(g: &mut Graph, chart: &Chart, m: &[Vec<Id>]) -> Vec<Vec<Vec<Id>>> {
     let n = m.len();
-    let q = |k: usize| Input {
-        kind: InputKind::Q,
-        index: k as u16,
-    };
-    // dm[k][i][j] = ∂M_ij/∂q_k
+    // dm[k][i][j] = ∂M_ij/∂φ_k
     let mut dm = vec![vec![vec![g.zero(); n]; n]; n];
     for k in 0..n {
         for i in 0..n {
             for j in i..n {
-                let d = g.diff(m[i][j], q(k));
+                let d = chart.derivative(g, m[i][j], k);
                 dm[k][i][j] = d;
                 dm[k][j][i] = d;
             }
@@ -47,4 +48,25 @@ pub fn coriolis(g: &mut Graph, c: &[Vec<Vec<Id>>], v: &[Id]) -> Vec<Vec<Id>> {
     c.iter()
         .map(|ci| ci.iter().map(|cij| g.dot(cij, v)).collect())
         .collect()
+}
+
+/// `X_ij = (M v)·[e_i, e_j]`, added to the Christoffel form of `C` on Lie groups. Theory
+/// §2 writes this part as `−ad_vᵀ M`; both give the same `C v` (`X v = −ad_vᵀ M v`),
+/// but `X` is skew-symmetric, so `Ṁ − 2C` stays skew. Brackets vanish except within one
+/// rotation, `[e_a, e_b] = ε_abc e_c`: there `X = −p̂` with `p` that block of `M v`.
+pub fn lie_bracket_term(
+    g: &mut Graph,
+    chart: &Chart,
+    m: &[Vec<Id>],
+    v: &[Id],
+    coriolis: &mut [Vec<Id>],
+) {
+    for r in chart.rotations() {
+        let p: Vec<Id> = (0..3).map(|c| g.dot(&m[r + c], v)).collect();
+        for (a, b, c) in [(0, 1, 2), (1, 2, 0), (2, 0, 1)] {
+            // X_ab = p_c, X_ba = −p_c for (a, b, c) cyclic.
+            coriolis[r + a][r + b] = g.add(coriolis[r + a][r + b], p[c]);
+            coriolis[r + b][r + a] = g.sub(coriolis[r + b][r + a], p[c]);
+        }
+    }
 }

@@ -55,19 +55,28 @@ pub fn mass_matrix(
     let z = g.zero();
     let mut m = vec![vec![z; n]; n];
     for (i, link) in model.links.iter().enumerate() {
-        let (Some(ci), Some(s)) = (link.coordinate, kin.subspace[i]) else {
+        let Some(ci) = link.coordinate else {
             continue;
         };
-        let mut f = composite[i].apply(g, s);
-        m[ci][ci] = project(g, &s, f);
-        let mut j = i;
-        while let Some(p) = model.links[j].parent {
-            f = kin.xform[j].apply_force_t(g, f);
-            j = p;
-            if let (Some(cj), Some(sj)) = (model.links[j].coordinate, kin.subspace[j]) {
-                let mij = project(g, &sj, f);
-                m[ci][cj] = mij;
-                m[cj][ci] = mij;
+        for (a, s) in kin.subspace[i].iter().enumerate() {
+            let mut f = composite[i].apply(g, *s);
+            // The joint's own block (one entry for one-dof joints).
+            for (b, sb) in kin.subspace[i].iter().enumerate().take(a + 1) {
+                let mab = project(g, sb, f);
+                m[ci + a][ci + b] = mab;
+                m[ci + b][ci + a] = mab;
+            }
+            let mut j = i;
+            while let Some(p) = model.links[j].parent {
+                f = kin.xform[j].apply_force_t(g, f);
+                j = p;
+                if let Some(cj) = model.links[j].coordinate {
+                    for (b, sj) in kin.subspace[j].iter().enumerate() {
+                        let mij = project(g, sj, f);
+                        m[ci + a][cj + b] = mij;
+                        m[cj + b][ci + a] = mij;
+                    }
+                }
             }
         }
     }

@@ -25,14 +25,16 @@ pub fn gravity_forces(
     for (i, link) in model.links.iter().enumerate() {
         let gp = link.parent.map_or(gw, |p| gamma[p]);
         gamma.push(mat_vec(g, &kin.xform[i].e, gp));
-        if let (Some(c), Some(s)) = (link.coordinate, kin.subspace[i]) {
+        if let Some(c) = link.coordinate {
             let ci = &composite[i];
             let wrench = Force {
                 n: cross(g, ci.h, gamma[i]),
                 f: scale3(g, ci.m, gamma[i]),
             };
-            let p = project(g, &s, wrench);
-            out[c] = g.neg(p);
+            for (k, s) in kin.subspace[i].iter().enumerate() {
+                let p = project(g, s, wrench);
+                out[c + k] = g.neg(p);
+            }
         }
     }
     out

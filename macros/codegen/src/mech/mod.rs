@@ -5,10 +5,12 @@
 //! - mass matrix `M(q)`: [`crba`] (composite-rigid-body algorithm);
 //! - inverse dynamics and bias forces: [`rnea`] (recursive Newton–Euler);
 //! - gravity forces: [`gravity`] (composite first moments);
-//! - Christoffel symbols and the Coriolis matrix: [`christoffel`] (derivatives of `M`);
+//! - Christoffel symbols and the Coriolis matrix: [`christoffel`] (derivatives of `M`
+//!   along the local exponential coordinates of [`chart`]);
 //! - forward dynamics: [`ltdl`] (sparse `LᵀDL` of `M`) applied to `τ + τ_p − bias`;
 //! - its Jacobian: `∂v̇/∂x = −M⁻¹ ∂ID/∂x` at `a = v̇` ([`Kernels::build`]).
 
+pub mod chart;
 pub mod christoffel;
 pub mod crba;
 pub mod gravity;
@@ -62,7 +64,11 @@ impl Kernels {
     pub fn build(model: &Model) -> Kernels {
         let mut g = Graph::new();
         let n = model.dof();
-        let q: Vec<Id> = (0..n).map(|i| g.input(InputKind::Q, i)).collect();
+        // The configuration slot of each coordinate (its `q` on one-dof joints).
+        let q: Vec<Id> = (0..n)
+            .map(|i| g.input(InputKind::Q, model.slot_of(i)))
+            .collect();
+        let chart = chart::Chart::new(model);
         let v: Vec<Id> = (0..n).map(|i| g.input(InputKind::V, i)).collect();
         let a: Vec<Id> = (0..n).map(|i| g.input(InputKind::A, i)).collect();
         let tau: Vec<Id> = (0..n).map(|i| g.input(InputKind::Tau, i)).collect();
@@ -79,8 +85,9 @@ impl Kernels {
         let inertia = crba::link_inertias(&mut g, model);
         let composite = crba::composite_inertias(&mut g, model, &kin, &inertia);
         let mass = crba::mass_matrix(&mut g, model, &kin, &composite);
-        let christoffel = christoffel::christoffel_symbols(&mut g, &mass);
-        let coriolis = christoffel::coriolis(&mut g, &christoffel, &v);
+        let christoffel = christoffel::christoffel_symbols(&mut g, &chart, &mass);
+        let mut coriolis = christoffel::coriolis(&mut g, &christoffel, &v);
+        christoffel::lie_bracket_term(&mut g, &chart, &mass, &v, &mut coriolis);
 
         // RNEA without gravity plus gravity from composite first moments (see
         // [`gravity`] for why gravity is not a base acceleration here).
@@ -133,7 +140,10 @@ impl Kernels {
                 };
                 let d: Vec<Id> = (0..n)
                     .map(|i| {
-                        let di = g.diff(inverse[i], x);
+                        let di = match kind {
+                            InputKind::Q => chart.derivative(g, inverse[i], k),
+                            _ => g.diff(inverse[i], x),
+                        };
                         let s = g.substitute(di, &subst, &mut memo);
                         g.neg(s)
                     })
@@ -269,7 +279,7 @@ fn passive_forces(g: &mut Graph, model: &Model, q: &[Id], v: &[Id]) -> Vec<Id> {
             u,
             Input {
                 kind: InputKind::Q,
-                index: p.coordinate as u16,
+                index: model.slot_of(p.coordinate) as u16,
             },
         );
         out[p.coordinate] = g.sub(out[p.coordinate], du);

@@ -39,10 +39,20 @@ pub fn rnea(
         let x = &kin.xform[i];
         let mut vi = x.apply_motion(g, vp);
         let mut ai = x.apply_motion(g, ap);
-        if let (Some(c), Some(s)) = (link.coordinate, kin.subspace[i]) {
-            let vj = s.scale(g, v[c]);
+        if let Some(c) = link.coordinate {
+            // v_J = Σ S_k v_k and a_J likewise (S constant in link coordinates).
+            let cols = &kin.subspace[i];
+            let mut vj = cols[0].scale(g, v[c]);
+            for (k, s) in cols.iter().enumerate().skip(1) {
+                let t = s.scale(g, v[c + k]);
+                vj = vj.add(g, t);
+            }
             vi = vi.add(g, vj);
-            let aj = s.scale(g, a[c]);
+            let mut aj = cols[0].scale(g, a[c]);
+            for (k, s) in cols.iter().enumerate().skip(1) {
+                let t = s.scale(g, a[c + k]);
+                aj = aj.add(g, t);
+            }
             ai = ai.add(g, aj);
             let cor = vi.cross_motion(g, vj);
             ai = ai.add(g, cor);
@@ -57,8 +67,10 @@ pub fn rnea(
     let z = g.zero();
     let mut tau = vec![z; model.dof()];
     for i in (0..nl).rev() {
-        if let (Some(c), Some(s)) = (model.links[i].coordinate, kin.subspace[i]) {
-            tau[c] = project(g, &s, force[i]);
+        if let Some(c) = model.links[i].coordinate {
+            for (k, s) in kin.subspace[i].iter().enumerate() {
+                tau[c + k] = project(g, s, force[i]);
+            }
         }
         if let Some(p) = model.links[i].parent {
             let up = kin.xform[i].apply_force_t(g, force[i]);

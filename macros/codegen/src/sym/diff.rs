@@ -12,7 +12,7 @@ impl Graph {
     /// `∂id/∂x` for a coordinate or velocity input `x`.
     pub fn diff(&mut self, id: Id, x: Input) -> Id {
         let deps = self.deps(id);
-        let bit = 1u64 << x.index;
+        let bit = 1u64 << (x.index % 64);
         let depends = match x.kind {
             InputKind::Q => deps.q & bit != 0,
             InputKind::V => deps.v & bit != 0,

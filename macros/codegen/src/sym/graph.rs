@@ -61,7 +61,9 @@ pub enum Node {
 }
 
 /// Bit masks of the coordinates (and velocities) a node depends on; they let
-/// differentiation skip whole subgraphs that cannot depend on the variable.
+/// differentiation skip whole subgraphs that cannot depend on the variable. Input `i`
+/// sets bit `i mod 64`: beyond 64 inputs a bit stands for several, which only skips
+/// less.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Deps {
     pub q: u64,
@@ -123,11 +125,11 @@ impl Graph {
             Node::Const(_) | Node::Param(_) => Deps::default(),
             Node::Input(Input { kind, index }) => match kind {
                 InputKind::Q => Deps {
-                    q: 1 << index,
+                    q: 1 << (index % 64),
                     ..Deps::default()
                 },
                 InputKind::V => Deps {
-                    v: 1 << index,
+                    v: 1 << (index % 64),
                     ..Deps::default()
                 },
                 InputKind::A | InputKind::Tau | InputKind::F => Deps {

@@ -447,16 +447,20 @@ fn joint_kind(h: &Expr, diag: &mut Diagnostics) -> Option<JointKind> {
         && let Some(name) = ident_of(&c.func).map(|i| i.to_string())
         && matches!(name.as_str(), "spherical" | "free" | "fixed")
     {
-        let what = match name.as_str() {
-            "spherical" => "a ball joint turns about every axis",
-            "free" => "a free joint moves along and about every axis",
-            _ => "a fixed joint does not move",
+        let (what, kind) = match name.as_str() {
+            "spherical" => ("a ball joint turns about every axis", JointKind::Spherical),
+            "free" => (
+                "a free joint moves along and about every axis",
+                JointKind::Free,
+            ),
+            _ => ("a fixed joint does not move", JointKind::Fixed),
         };
         diag.error_at(
             &c.args,
             format_args!("`{name}` takes no axis: {what}; write `<joint>: {name}`"),
         );
-        return None;
+        // Recover with the kind, so the tree is still checked without follow-on errors.
+        return Some(kind);
     }
     let Expr::Call(c) = strip(h) else {
         diag.error_at(h, format_args!("unknown joint kind; expected {KINDS}"));
@@ -802,7 +806,10 @@ fn read_inputs(e: &Expr, links: &[Link], diag: &mut Diagnostics) -> Vec<usize> {
         if links.iter().any(|l| *id == l.joint_name && l.kind.is_lie()) {
             diag.error_at(
                 id,
-                format_args!("joint `{id}` has three or six coordinates; inputs are revolute or prismatic joints (apply torques on spherical and free joints through the input closure τ(t, q, v))"),
+                format_args!(
+                    "joint `{id}` is {}; inputs are revolute or prismatic joints (apply forces and torques on spherical and free joints through the input closure τ(t, q, v))",
+                    if links.iter().any(|l| *id == l.joint_name && l.kind == JointKind::Translation) { "free (six coordinates)" } else { "spherical (three coordinates)" }
+                ),
             );
             continue;
         }

@@ -9,7 +9,9 @@
 //!   [`Dopri5`], [`Sdirk4`], tableaus in [`tableau`]), their configuration
 //!   ([`Options`], [`PiController`]) and the result ([`Trajectory`], [`Stats`],
 //!   [`SolveError`]).
-//! * [`liegroup`]: Lie-group integration on SO(3)ᵐ × ℝⁿ ([`LieSystem`], [`Rkmk5`]).
+//! * [`liegroup`]: Lie-group integration on SO(3)ᵐ × ℝⁿ ([`LieSystem`], [`Rkmk5`]), and
+//!   the trait of scenes with spherical and free joints ([`LieMechanism`]) with its
+//!   adapter [`LieMechanical`].
 //!
 //! ```
 //! use filippov_runtime::{FnSystem, Method, Options, Problem, solve};
@@ -38,7 +40,10 @@ mod trajectory;
 
 pub use control::PiController;
 pub use error::{ErrorKind, SolveError};
-pub use liegroup::{FnLieSystem, LieMechanism, LieProblem, LieState, LieSystem, LieTrajectory, Rkmk5, UnitQuat};
+pub use liegroup::{
+    FnLieSystem, LieInputFn, LieMechanical, LieMechanism, LieProblem, LieState, LieSystem,
+    LieTrajectory, Rkmk5, UnitQuat,
+};
 pub use mechanical::{InputFn, MechanicalSystem, NumericInputFn, NumericSystem};
 pub use method::tableau;
 pub use method::{Dopri5, Method, Rk4, Sdirk4, solve};

@@ -23,8 +23,9 @@
 //! (`R = R₀ exp(φ̂)`, `φ = 0` now; `φ = q` on Euclidean coordinates) are the coordinates
 //! of the derivatives: `∂/∂φ_k` is the derivative along `R₀ exp(t ê_k)` at `t = 0`.
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{SMatrix, SVector, Vector3};
 
+use super::{LieState, LieSystem, UnitQuat};
 use crate::numeric::Model;
 use crate::system::{ForwardJacobian, ParameterError};
 
@@ -110,4 +111,220 @@ pub trait LieMechanism<const N: usize, const NQ: usize> {
         }
         q
     }
+
+    /// `q ⊕ φ`: the configuration at local exponential coordinates `φ` around `q` (see
+    /// the module documentation): `R ← R · exp(φ_rot)` on every rotation (renormalised),
+    /// `x ← x + φ` on Euclidean coordinates. For finite differences along `∂/∂φ_k`.
+    ///
+    /// # Panics
+    /// If a quaternion of `q` is zero or not finite.
+    fn retract(q: &SVector<f64, NQ>, phi: &SVector<f64, N>) -> SVector<f64, NQ> {
+        let mut out = *q;
+        for &(s, k) in Self::EUCLID {
+            out[s] += phi[k];
+        }
+        for &(s, k) in Self::ROTATIONS {
+            let r = quaternion(q, s);
+            let step = UnitQuat::exp(&Vector3::new(phi[k], phi[k + 1], phi[k + 2]));
+            let c = (r * step).normalised().coords();
+            out.fixed_rows_mut::<4>(s).copy_from_slice(&c);
+        }
+        out
+    }
+
+    /// The configuration and velocity of a [`LieState`] of [`LieMechanical`]: rotation
+    /// `r` of the state goes to the slots `ROTATIONS[r].0 ..+4` of `q` (as `(w, x, y, z)`)
+    /// and its `ω_r = velocity[3r..3r + 3]` to `v[ROTATIONS[r].1 ..+3]`; Euclidean
+    /// coordinate `e` goes to `q[EUCLID[e].0]` and its velocity `velocity[3m + e]` to
+    /// `v[EUCLID[e].1]`. The quaternions are copied as they are (the integrator keeps
+    /// them unit).
+    ///
+    /// # Panics
+    /// If the state's dimensions are not `(m, n, 3m + n)` with `m = ROTATIONS.len()`,
+    /// `n = EUCLID.len()`.
+    fn state_to_qv(state: &LieState) -> (SVector<f64, NQ>, SVector<f64, N>) {
+        let m = Self::ROTATIONS.len();
+        check_state_dimensions(state, m, Self::EUCLID.len());
+        let mut q = SVector::<f64, NQ>::zeros();
+        let mut v = SVector::<f64, N>::zeros();
+        for (r, &(s, k)) in Self::ROTATIONS.iter().enumerate() {
+            q.fixed_rows_mut::<4>(s)
+                .copy_from_slice(&state.rotations[r].coords());
+            v.fixed_rows_mut::<3>(k)
+                .copy_from_slice(&state.velocity[3 * r..3 * r + 3]);
+        }
+        for (e, &(s, k)) in Self::EUCLID.iter().enumerate() {
+            q[s] = state.euclid[e];
+            v[k] = state.velocity[3 * m + e];
+        }
+        (q, v)
+    }
+
+    /// The inverse of [`state_to_qv`](Self::state_to_qv): the [`LieState`] of a
+    /// configuration and velocity, each quaternion normalised.
+    ///
+    /// # Panics
+    /// If a quaternion of `q` is zero or not finite.
+    fn qv_to_state(q: &SVector<f64, NQ>, v: &SVector<f64, N>) -> LieState {
+        let m = Self::ROTATIONS.len();
+        let mut velocity = vec![0.0; 3 * m + Self::EUCLID.len()];
+        let rotations = Self::ROTATIONS
+            .iter()
+            .enumerate()
+            .map(|(r, &(s, k))| {
+                velocity[3 * r..3 * r + 3].copy_from_slice(v.fixed_rows::<3>(k).as_slice());
+                quaternion(q, s)
+            })
+            .collect();
+        let euclid = Self::EUCLID
+            .iter()
+            .enumerate()
+            .map(|(e, &(s, k))| {
+                velocity[3 * m + e] = v[k];
+                q[s]
+            })
+            .collect();
+        LieState::new(rotations, euclid, velocity)
+    }
+
+    /// A velocity-layout vector (such as `v̇`) in the order of [`LieState::velocity`]:
+    /// `(ω_1, …, ω_m, u)`, written into `out` (length `3m + n`).
+    fn velocity_to_state_order(v: &SVector<f64, N>, out: &mut [f64]) {
+        let m = Self::ROTATIONS.len();
+        for (r, &(_, k)) in Self::ROTATIONS.iter().enumerate() {
+            out[3 * r..3 * r + 3].copy_from_slice(v.fixed_rows::<3>(k).as_slice());
+        }
+        for (e, &(_, k)) in Self::EUCLID.iter().enumerate() {
+            out[3 * m + e] = v[k];
+        }
+    }
 }
+
+/// The normalised quaternion in slots `s..s + 4` of `q`.
+fn quaternion<const NQ: usize>(q: &SVector<f64, NQ>, s: usize) -> UnitQuat {
+    UnitQuat::try_new(q[s], q[s + 1], q[s + 2], q[s + 3]).unwrap_or_else(|| {
+        panic!(
+            "the quaternion in slots {s}..{} of q is zero or not finite",
+            s + 4
+        )
+    })
+}
+
+fn check_state_dimensions(state: &LieState, m: usize, n: usize) {
+    assert!(
+        state.rotations.len() == m && state.euclid.len() == n && state.velocity.len() == 3 * m + n,
+        "a LieState with {} rotations, {} Euclidean coordinates and {} velocities for a \
+         mechanism with {m}, {n} and {}",
+        state.rotations.len(),
+        state.euclid.len(),
+        state.velocity.len(),
+        3 * m + n
+    );
+}
+
+/// An input-force law `τ(t, q, v)` for [`LieMechanical`] (`q` configuration, `v`
+/// velocity layout).
+pub type LieInputFn<const N: usize, const NQ: usize> =
+    fn(f64, &SVector<f64, NQ>, &SVector<f64, N>) -> SVector<f64, N>;
+
+fn zero_input<const N: usize, const NQ: usize>(
+    _: f64,
+    _: &SVector<f64, NQ>,
+    _: &SVector<f64, N>,
+) -> SVector<f64, N> {
+    SVector::zeros()
+}
+
+/// A generated [`LieMechanism`] driven by input forces `τ(t, q, v)`, as a [`LieSystem`]
+/// for [`Rkmk5`](super::Rkmk5): the mechanical counterpart of
+/// [`MechanicalSystem`](crate::MechanicalSystem).
+///
+/// The state's rotations are the mechanism's [`ROTATIONS`](LieMechanism::ROTATIONS)
+/// in order, its Euclidean coordinates the [`EUCLID`](LieMechanism::EUCLID) in order,
+/// and its velocity `(ω_1, …, ω_m, u)` in that order
+/// ([`LieMechanism::state_to_qv`], [`LieMechanism::qv_to_state`] convert). The
+/// right-hand side gathers `(q, v)` into stack vectors (no allocation), calls
+/// [`LieMechanism::forward_dynamics`] and scatters `v̇` back into state order. The
+/// kinematics `Ṙ = R ω̂`, `ẋ = u` are the integrator's: with the body velocities of
+/// spherical joints and `ṗ` of translations in joint axes, `u` is exactly the rate of
+/// the Euclidean slots.
+pub struct LieMechanical<'a, S, F, const N: usize, const NQ: usize> {
+    pub mechanism: &'a S,
+    pub input: F,
+}
+
+impl<'a, S, F, const N: usize, const NQ: usize> LieMechanical<'a, S, F, N, NQ>
+where
+    S: LieMechanism<N, NQ>,
+    F: Fn(f64, &SVector<f64, NQ>, &SVector<f64, N>) -> SVector<f64, N>,
+{
+    pub fn new(mechanism: &'a S, input: F) -> Self {
+        LieMechanical { mechanism, input }
+    }
+
+    /// Kinetic plus potential energy at a state.
+    pub fn energy(&self, state: &LieState) -> f64 {
+        let (q, v) = S::state_to_qv(state);
+        self.mechanism.kinetic_energy(&q, &v) + self.mechanism.potential_energy(&q)
+    }
+}
+
+impl<'a, S: LieMechanism<N, NQ>, const N: usize, const NQ: usize>
+    LieMechanical<'a, S, LieInputFn<N, NQ>, N, NQ>
+{
+    /// The mechanism with no input forces (only gravity, springs and dampers act).
+    pub fn free(mechanism: &'a S) -> Self {
+        LieMechanical {
+            mechanism,
+            input: zero_input::<N, NQ>,
+        }
+    }
+}
+
+impl<S, F, const N: usize, const NQ: usize> LieSystem for LieMechanical<'_, S, F, N, NQ>
+where
+    S: LieMechanism<N, NQ>,
+    F: Fn(f64, &SVector<f64, NQ>, &SVector<f64, N>) -> SVector<f64, N>,
+{
+    fn n_rot(&self) -> usize {
+        S::ROTATIONS.len()
+    }
+
+    fn n_euclid(&self) -> usize {
+        S::EUCLID.len()
+    }
+
+    fn rhs(&self, t: f64, state: &LieState, dv: &mut [f64]) {
+        let (q, v) = S::state_to_qv(state);
+        let tau = (self.input)(t, &q, &v);
+        let a = self.mechanism.forward_dynamics(&q, &v, &tau);
+        S::velocity_to_state_order(&a, dv);
+    }
+
+    /// The layout (`3m + n = N`, `4m + n = NQ`, and `ROTATIONS`, `EUCLID` those of
+    /// [`LieMechanism::model`], see [`Model::rotation_slots`]), then the mechanism's
+    /// parameters ([`LieMechanism::validate`]).
+    fn validate(&self) -> Result<(), String> {
+        let (m, n) = (S::ROTATIONS.len(), S::EUCLID.len());
+        if 3 * m + n != N || 4 * m + n != NQ {
+            return Err(format!(
+                "{m} rotations and {n} Euclidean coordinates do not make {N} velocities \
+                 and {NQ} configuration slots"
+            ));
+        }
+        let model = self.mechanism.model();
+        if model.rotation_slots() != S::ROTATIONS || model.euclid_slots() != S::EUCLID {
+            return Err(format!(
+                "the layout (ROTATIONS {:?}, EUCLID {:?}) is not the model's ({:?}, {:?})",
+                S::ROTATIONS,
+                S::EUCLID,
+                model.rotation_slots(),
+                model.euclid_slots()
+            ));
+        }
+        self.mechanism.validate().map_err(|e| e.to_string())
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -23,7 +23,7 @@ mod mechanism;
 mod rkmk;
 pub mod so3;
 
-pub use mechanism::LieMechanism;
+pub use mechanism::{LieInputFn, LieMechanical, LieMechanism};
 pub use rkmk::{LieProblem, LieTrajectory, Rkmk5};
 pub use so3::UnitQuat;
 

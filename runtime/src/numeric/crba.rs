@@ -2,7 +2,9 @@
 //!
 //! Featherstone, *Rigid Body Dynamics Algorithms* (2008), §6.2, Table 6.2, in world
 //! coordinates: `M_ij = S_iᵀ I^c_i S_j` for `j` an ancestor of (or equal to) `i`, where
-//! `I^c_i` is the composite inertia of the subtree rooted at link `i`.
+//! `I^c_i` is the composite inertia of the subtree rooted at link `i`. A spherical or
+//! translation joint has three columns `S_i` (its 3 × 3 diagonal block is
+//! `S_iᵀ I^c_i S_i`); `M` is then the mass matrix of the quasi-velocities.
 
 use nalgebra::{DMatrix, DVector, Matrix6};
 
@@ -12,7 +14,7 @@ use super::kinematics::WorldTree;
 /// Mass matrix `M(q)` by the composite-rigid-body algorithm.
 ///
 /// # Panics
-/// If `q` is shorter than the number of coordinates.
+/// If `q` is shorter than [`Model::config_dim`].
 pub fn crba(model: &Model, q: &DVector<f64>) -> DMatrix<f64> {
     let tree = WorldTree::new(model, q);
     let composite = composite_inertias(model, &tree);
@@ -35,19 +37,26 @@ pub(crate) fn crba_in(model: &Model, tree: &WorldTree, composite: &[Matrix6<f64>
     let n = model.dof();
     let mut mass = DMatrix::zeros(n, n);
     for (i, link) in model.links.iter().enumerate() {
-        let (Some(si), Some(ki)) = (tree.subspace[i], link.coordinate) else {
+        let Some(ki) = link.coordinate else {
             continue;
         };
-        let f = composite[i] * si;
-        mass[(ki, ki)] = si.dot(&f);
-        let mut ancestor = link.parent;
-        while let Some(j) = ancestor {
-            if let (Some(sj), Some(kj)) = (tree.subspace[j], model.links[j].coordinate) {
-                let mij = sj.dot(&f);
-                mass[(ki, kj)] = mij;
-                mass[(kj, ki)] = mij;
+        for (ci, si) in tree.subspace[i].iter().enumerate() {
+            let f = composite[i] * si;
+            // The joint's own block, then the ancestors'.
+            for (cj, sj) in tree.subspace[i].iter().enumerate() {
+                mass[(ki + ci, ki + cj)] = sj.dot(&f);
             }
-            ancestor = model.links[j].parent;
+            let mut ancestor = link.parent;
+            while let Some(j) = ancestor {
+                if let Some(kj) = model.links[j].coordinate {
+                    for (cj, sj) in tree.subspace[j].iter().enumerate() {
+                        let mij = sj.dot(&f);
+                        mass[(ki + ci, kj + cj)] = mij;
+                        mass[(kj + cj, ki + ci)] = mij;
+                    }
+                }
+                ancestor = model.links[j].parent;
+            }
         }
     }
     mass

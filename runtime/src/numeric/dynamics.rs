@@ -1,11 +1,24 @@
 //! Joint-space dynamics built from RNEA and CRBA (theory.md §1–2):
-//! `M(q) v̇ + C(q, v) v + g(q) = τ + τ_p(q, v)`, `τ_p = −k (q − q_rest) − c v`.
+//! `M(q) v̇ + C(q, v) v + g(q) = τ + τ_p(q, v)`, `τ_p = −k (q − q_rest) − c v`, and the
+//! spatial momentum. `q` is in the configuration layout, `v`, `a`, `τ` in the velocity
+//! layout ([`Model`]'s coordinates).
 
-use nalgebra::DVector;
+use nalgebra::{DVector, Vector3};
 
 use super::Model;
 use super::crba::crba;
+use super::kinematics::WorldTree;
 use super::rnea::rnea;
+
+/// The configuration slot of a spring's coordinate.
+///
+/// # Panics
+/// If the spring is on a component of a spherical joint (no position to stretch).
+fn spring_slot(model: &Model, coordinate: usize) -> usize {
+    model.euclid_slot(coordinate).unwrap_or_else(|| {
+        panic!("spring on coordinate {coordinate}, which is not a Euclidean coordinate")
+    })
+}
 
 /// Generalised gravity force `g(q) = RNEA(q, 0, 0)`.
 pub fn gravity(model: &Model, q: &DVector<f64>) -> DVector<f64> {
@@ -18,11 +31,15 @@ pub fn bias(model: &Model, q: &DVector<f64>, v: &DVector<f64>) -> DVector<f64> {
     rnea(model, q, v, &DVector::zeros(model.dof()))
 }
 
-/// Passive forces `τ_p = −Σ k (q_i − rest) − Σ c v_i` of the model's springs and dampers.
+/// Passive forces `τ_p = −Σ k (q_i − rest) − Σ c v_i` of the model's springs and dampers
+/// (`q_i` the configuration slot of the spring's coordinate, [`Model::euclid_slot`]).
+///
+/// # Panics
+/// If a spring is on a component of a spherical joint.
 pub fn passive_forces(model: &Model, q: &DVector<f64>, v: &DVector<f64>) -> DVector<f64> {
     let mut tau = DVector::zeros(model.dof());
     for s in &model.springs {
-        tau[s.coordinate] -= s.stiffness * (q[s.coordinate] - s.rest);
+        tau[s.coordinate] -= s.stiffness * (q[spring_slot(model, s.coordinate)] - s.rest);
     }
     for d in &model.dampers {
         tau[d.coordinate] -= d.damping * v[d.coordinate];
@@ -76,9 +93,34 @@ pub fn potential_energy(model: &Model, q: &DVector<f64>) -> f64 {
     let springs: f64 = model
         .springs
         .iter()
-        .map(|s| 0.5 * s.stiffness * (q[s.coordinate] - s.rest).powi(2))
+        .map(|s| 0.5 * s.stiffness * (q[spring_slot(model, s.coordinate)] - s.rest).powi(2))
         .sum();
     gravity + springs
+}
+
+/// Total spatial momentum in world coordinates, `(linear, angular)`: the linear momentum
+/// `Σ m_i ċ_i` (`c_i` the world centre of mass of link `i`) and the angular momentum
+/// about the world origin `Σ (c_i × m_i ċ_i + R_i I_i ω_i)` (`ω_i` the world angular
+/// velocity, `I_i` the inertia about the centre of mass in link axes). It is
+/// `Σ_i I_i^O v_i` in the Plücker coordinates of `spatial.rs` (moment first).
+///
+/// Its rate is the total external wrench: with no gravity and no joint to the world
+/// that can push (a free base: translation + spherical), it is constant.
+pub fn spatial_momentum(
+    model: &Model,
+    q: &DVector<f64>,
+    v: &DVector<f64>,
+) -> (Vector3<f64>, Vector3<f64>) {
+    let tree = WorldTree::new(model, q);
+    let h = tree
+        .velocities(model, v)
+        .iter()
+        .zip(&tree.inertia)
+        .fold(nalgebra::Vector6::zeros(), |acc, (vi, ii)| acc + ii * vi);
+    (
+        h.fixed_rows::<3>(3).into_owned(),
+        h.fixed_rows::<3>(0).into_owned(),
+    )
 }
 
 #[cfg(test)]

@@ -10,23 +10,31 @@
 //! | [`link_poses`] | forward kinematics (`kinematics.rs`) |
 //! | [`rnea`] | recursive Newton–Euler, `M a + C v + g` (`rnea.rs`) |
 //! | [`crba`] | composite-rigid-body mass matrix (`crba.rs`) |
-//! | [`mass_matrix_derivatives`], [`christoffel_symbols`], [`coriolis_matrix`] | exact `∂M/∂q` (`coriolis.rs`) |
-//! | [`gravity`], [`bias`], [`passive_forces`], [`forward_dynamics`], [`inverse_dynamics`], energies | `dynamics.rs` |
+//! | [`mass_matrix_derivatives`], [`christoffel_symbols`], [`coriolis_matrix`], [`lie_coriolis_matrix`] | exact `∂M/∂q` and its Lie-group form `D_k M` (`coriolis.rs`) |
+//! | [`gravity`], [`bias`], [`passive_forces`], [`forward_dynamics`], [`inverse_dynamics`], energies, [`spatial_momentum`] | `dynamics.rs` |
+//!
+//! Joints are revolute, prismatic, fixed, and the Lie-group kinds spherical (SO(3),
+//! quaternion configuration, body angular velocity) and translation (ℝ³): `q` has
+//! [`Model::config_dim`] slots, `v` has [`Model::dof`] components (see [`Model`]).
 mod coriolis;
 mod crba;
 mod dynamics;
 mod kinematics;
+#[cfg(test)]
+mod lie_tests;
 mod model;
 mod rnea;
 mod spatial;
 #[cfg(test)]
 pub(crate) mod test_models;
 
-pub use coriolis::{christoffel_symbols, coriolis_matrix, mass_matrix_derivatives};
+pub use coriolis::{
+    christoffel_symbols, coriolis_matrix, lie_coriolis_matrix, mass_matrix_derivatives,
+};
 pub use crba::crba;
 pub use dynamics::{
     bias, forward_dynamics, gravity, inverse_dynamics, kinetic_energy, passive_forces,
-    potential_energy,
+    potential_energy, spatial_momentum,
 };
 pub use kinematics::{Pose, axis_rotation, link_poses, rpy_matrix};
 pub use model::*;

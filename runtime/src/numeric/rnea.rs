@@ -4,6 +4,11 @@
 //! world coordinates (so no link-to-link transforms are needed; `Ṡ_i = v_i ×ₘ S_i`).
 //! Gravity enters as a fictitious base acceleration `a_0 = −gravity` (§5.3). Springs
 //! and dampers are *not* included: see [`super::inverse_dynamics`].
+//!
+//! Spherical and translation joints have three motion-subspace columns, each a motion
+//! vector fixed in the link (see `kinematics.rs`), so the joint's velocity-product term
+//! is the same `v_i ×ₘ S v_J` as for one-dof joints (no separate `Ṡ` term), and `v`, `a`
+//! are the quasi-velocities (body angular velocity) and their time derivatives.
 
 use nalgebra::{DVector, Vector6};
 
@@ -14,7 +19,8 @@ use super::spatial::{crf, crm};
 /// `τ = M(q) a + C(q, v) v + g(q)` by the recursive Newton–Euler algorithm.
 ///
 /// # Panics
-/// If `q`, `v` or `a` is shorter than the number of coordinates.
+/// If `q` is shorter than [`Model::config_dim`], or `v` or `a` shorter than
+/// [`Model::dof`].
 pub fn rnea(model: &Model, q: &DVector<f64>, v: &DVector<f64>, a: &DVector<f64>) -> DVector<f64> {
     let tree = WorldTree::new(model, q);
     rnea_in(model, &tree, v, a)
@@ -38,11 +44,10 @@ pub(crate) fn rnea_in(
             Some(p) => (vel[p], acc[p]),
             None => (Vector6::zeros(), base_acceleration),
         };
-        if let (Some(s), Some(k)) = (tree.subspace[i], link.coordinate) {
-            let vj = s * v[k];
-            vi += vj;
-            ai += s * a[k] + crm(&vi) * vj;
-        }
+        // Zero for links without a coordinate.
+        let vj = tree.joint_motion(model, i, v);
+        vi += vj;
+        ai += tree.joint_motion(model, i, a) + crm(&vi) * vj;
         let inertia = &tree.inertia[i];
         force[i] = inertia * ai + crf(&vi) * (inertia * vi);
         vel[i] = vi;
@@ -51,8 +56,10 @@ pub(crate) fn rnea_in(
     // Backward pass: project and accumulate the forces towards the base.
     let mut tau = DVector::zeros(model.dof());
     for (i, link) in model.links.iter().enumerate().rev() {
-        if let (Some(s), Some(k)) = (tree.subspace[i], link.coordinate) {
-            tau[k] = s.dot(&force[i]);
+        if let Some(k) = link.coordinate {
+            for (c, s) in tree.subspace[i].iter().enumerate() {
+                tau[k + c] = s.dot(&force[i]);
+            }
         }
         if let Some(p) = link.parent {
             let fi = force[i];

@@ -186,3 +186,195 @@ pub fn spatial_chain() -> Model {
         dampers: vec![],
     }
 }
+
+/// A symmetric positive definite inertia with off-diagonal terms.
+pub fn full_inertia(a: f64, b: f64, c: f64) -> Matrix3<f64> {
+    Matrix3::new(a, 0.01, -0.02, 0.01, b, 0.03, -0.02, 0.03, c)
+}
+
+/// A link with all fields given (the generated code's literal, in short).
+#[allow(clippy::too_many_arguments)]
+pub fn link(
+    name: &str,
+    parent: Option<usize>,
+    joint: JointKind,
+    coordinate: Option<usize>,
+    xyz: [f64; 3],
+    rpy: [f64; 3],
+    mass: f64,
+    com: [f64; 3],
+    inertia: Matrix3<f64>,
+) -> Link {
+    Link {
+        name: name.into(),
+        parent,
+        joint,
+        coordinate,
+        origin_xyz: Vector3::from(xyz),
+        origin_rpy: Vector3::from(rpy),
+        mass,
+        com: Vector3::from(com),
+        inertia,
+    }
+}
+
+/// A massless translation link at the world origin (coordinates 0–2): the first half
+/// of a free joint.
+fn free_base() -> Link {
+    link(
+        "base",
+        None,
+        JointKind::Translation,
+        Some(0),
+        [0.0; 3],
+        [0.0; 3],
+        0.0,
+        [0.0; 3],
+        Matrix3::zeros(),
+    )
+}
+
+/// A free rigid body (translation + spherical, velocity `(ṗ, ω)`, configuration
+/// `(p, quaternion)`), mass `m`, centre of mass `com` in the body frame and inertia
+/// `inertia` about it; gravity as given.
+pub fn free_body(m: f64, com: Vector3<f64>, inertia: Matrix3<f64>, gravity: Vector3<f64>) -> Model {
+    Model {
+        gravity,
+        links: vec![
+            free_base(),
+            link(
+                "body",
+                Some(0),
+                JointKind::Spherical,
+                Some(3),
+                [0.0; 3],
+                [0.0; 3],
+                m,
+                [com.x, com.y, com.z],
+                inertia,
+            ),
+        ],
+        springs: vec![],
+        dampers: vec![],
+    }
+}
+
+/// One body on a spherical joint with an offset, rotated origin, offset centre of mass
+/// and full inertia.
+pub fn spherical_body() -> Model {
+    Model {
+        gravity: Vector3::new(0.5, -1.0, -G),
+        links: vec![link(
+            "ball",
+            None,
+            JointKind::Spherical,
+            Some(0),
+            [0.1, -0.2, 0.3],
+            [0.2, 0.4, -0.3],
+            1.7,
+            [0.12, -0.05, 0.3],
+            full_inertia(0.2, 0.15, 0.1),
+        )],
+        springs: vec![],
+        dampers: vec![],
+    }
+}
+
+/// Revolute – spherical – revolute with offsets, rotated origins, centre-of-mass offsets
+/// and full inertias. `v = (q̇₀, ω₁, ω₂, ω₃, q̇₄)`, `q = (q₀, w, x, y, z, q₅)`.
+pub fn ball_chain() -> Model {
+    let axis = |x: f64, y: f64, z: f64| Vector3::new(x, y, z).normalize();
+    Model {
+        gravity: Vector3::new(0.3, -0.2, -G),
+        links: vec![
+            link(
+                "shoulder",
+                None,
+                JointKind::Revolute {
+                    axis: axis(0.1, 0.2, 1.0),
+                },
+                Some(0),
+                [0.0, 0.0, 0.2],
+                [0.1, 0.0, 0.4],
+                2.0,
+                [0.05, 0.02, 0.2],
+                full_inertia(0.3, 0.25, 0.1),
+            ),
+            link(
+                "ball",
+                Some(0),
+                JointKind::Spherical,
+                Some(1),
+                [0.1, 0.3, 0.4],
+                [0.3, -0.5, 0.2],
+                1.5,
+                [0.3, 0.02, -0.1],
+                full_inertia(0.1, 0.2, 0.2),
+            ),
+            link(
+                "wrist",
+                Some(1),
+                JointKind::Revolute {
+                    axis: axis(1.0, 0.0, 0.5),
+                },
+                Some(4),
+                [0.5, 0.1, 0.0],
+                [0.0, 0.2, -0.6],
+                0.8,
+                [0.1, -0.04, 0.05],
+                full_inertia(0.05, 0.06, 0.07),
+            ),
+        ],
+        springs: vec![],
+        dampers: vec![],
+    }
+}
+
+/// A satellite: a free bus (translation + spherical, coordinates 0–5) carrying a
+/// two-link revolute arm (coordinates 6, 7); `q = (p, quaternion, q₇, q₈)`. Gravity as
+/// given.
+pub fn satellite(gravity: Vector3<f64>) -> Model {
+    Model {
+        gravity,
+        links: vec![
+            free_base(),
+            link(
+                "bus",
+                Some(0),
+                JointKind::Spherical,
+                Some(3),
+                [0.0; 3],
+                [0.0; 3],
+                10.0,
+                [0.05, -0.02, 0.1],
+                full_inertia(1.0, 1.4, 1.9),
+            ),
+            link(
+                "arm1",
+                Some(1),
+                JointKind::Revolute {
+                    axis: Vector3::new(0.0, 0.3, 1.0).normalize(),
+                },
+                Some(6),
+                [0.6, 0.1, 0.2],
+                [0.2, 0.0, 0.5],
+                1.2,
+                [0.4, 0.0, 0.02],
+                full_inertia(0.08, 0.2, 0.22),
+            ),
+            link(
+                "arm2",
+                Some(2),
+                JointKind::Revolute { axis: Vector3::y() },
+                Some(7),
+                [0.8, 0.0, 0.0],
+                [0.0, -0.3, 0.1],
+                0.7,
+                [0.3, 0.05, 0.0],
+                full_inertia(0.05, 0.1, 0.12),
+            ),
+        ],
+        springs: vec![],
+        dampers: vec![],
+    }
+}

@@ -5,9 +5,10 @@
 
 use divan::{Bencher, black_box};
 use filippov::Mechanism;
-use filippov::nalgebra::{DVector, SVector};
-use filippov::runtime::numeric;
-use filippov::scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
+use filippov::nalgebra::{DVector, SVector, Vector3};
+use filippov::runtime::liegroup::LieMechanism;
+use filippov::runtime::{UnitQuat, numeric};
+use filippov::scenes::{BallChain, BranchedTree, DoublePendulum, Panda, PlanarArm3, Satellite};
 
 fn main() {
     divan::main();
@@ -110,3 +111,84 @@ scene_benches!(double_pendulum, DoublePendulum, 2);
 scene_benches!(planar_arm3, PlanarArm3, 3);
 scene_benches!(branched_tree, BranchedTree, 4);
 scene_benches!(panda, Panda, 7);
+
+/// A configuration of a Lie-group scene: every rotation `exp((0.3, −0.5, 0.8))`, the
+/// Euclidean slots as in [`state`].
+fn lie_state<S: LieMechanism<N, NQ>, const N: usize, const NQ: usize>()
+-> (SVector<f64, NQ>, SVector<f64, N>, SVector<f64, N>) {
+    let mut q = S::identity_configuration();
+    for &(slot, _) in S::ROTATIONS {
+        let r = UnitQuat::exp(&Vector3::new(0.3, -0.5, 0.8)).coords();
+        q.fixed_rows_mut::<4>(slot).copy_from_slice(&r);
+    }
+    for &(slot, c) in S::EUCLID {
+        q[slot] = 0.3 + 0.7 * (c as f64).sin();
+    }
+    let (_, v, tau) = state::<N>();
+    (q, v, tau)
+}
+
+macro_rules! lie_benches {
+    ($module:ident, $ty:ty, $n:literal, $nq:literal) => {
+        mod $module {
+            use super::*;
+
+            #[divan::bench]
+            fn forward_dynamics_generated(b: Bencher) {
+                let s = <$ty>::default();
+                let (q, v, tau) = lie_state::<$ty, $n, $nq>();
+                b.bench(|| s.forward_dynamics(black_box(&q), black_box(&v), black_box(&tau)));
+            }
+
+            #[divan::bench]
+            fn forward_dynamics_numeric(b: Bencher) {
+                let m = <$ty>::default().model();
+                let (q, v, tau) = lie_state::<$ty, $n, $nq>();
+                let (q, v, tau) = (
+                    DVector::from_column_slice(q.as_slice()),
+                    DVector::from_column_slice(v.as_slice()),
+                    DVector::from_column_slice(tau.as_slice()),
+                );
+                b.bench(|| {
+                    numeric::forward_dynamics(&m, black_box(&q), black_box(&v), black_box(&tau))
+                });
+            }
+
+            #[divan::bench]
+            fn mass_matrix_generated(b: Bencher) {
+                let s = <$ty>::default();
+                let (q, _, _) = lie_state::<$ty, $n, $nq>();
+                b.bench(|| s.mass_matrix(black_box(&q)));
+            }
+
+            #[divan::bench]
+            fn mass_matrix_numeric(b: Bencher) {
+                let m = <$ty>::default().model();
+                let (q, _, _) = lie_state::<$ty, $n, $nq>();
+                let q = DVector::from_column_slice(q.as_slice());
+                b.bench(|| numeric::crba(&m, black_box(&q)));
+            }
+
+            #[divan::bench]
+            fn coriolis_matrix_generated(b: Bencher) {
+                let s = <$ty>::default();
+                let (q, v, _) = lie_state::<$ty, $n, $nq>();
+                b.bench(|| s.coriolis_matrix(black_box(&q), black_box(&v)));
+            }
+
+            #[divan::bench]
+            fn coriolis_matrix_numeric(b: Bencher) {
+                let m = <$ty>::default().model();
+                let (q, v, _) = lie_state::<$ty, $n, $nq>();
+                let (q, v) = (
+                    DVector::from_column_slice(q.as_slice()),
+                    DVector::from_column_slice(v.as_slice()),
+                );
+                b.bench(|| numeric::lie_coriolis_matrix(&m, black_box(&q), black_box(&v)));
+            }
+        }
+    };
+}
+
+lie_benches!(satellite, Satellite, 8, 9);
+lie_benches!(ball_chain, BallChain, 5, 6);

@@ -14,6 +14,10 @@ mod support;
 mod config;
 #[path = "kernels.rs"]
 mod kernels;
+#[path = "lie.rs"]
+mod lie;
+#[path = "../support/lie.rs"]
+mod lie_support;
 #[path = "markdown.rs"]
 mod markdown;
 #[path = "nonsmooth.rs"]
@@ -30,7 +34,7 @@ pub use config::Config;
 /// Runs every section and writes the report; returns the path of the Markdown page.
 pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     std::fs::create_dir_all(&config.out_dir)?;
-    let progress = config.progress(5);
+    let progress = config.progress(6);
     let mut page = markdown::Page::new("filippov report");
     page.para(&format!(
         "Measured on this machine in one run ({} configuration; {}). Times are medians of {} runs after a warm-up. \
@@ -44,6 +48,9 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     progress.inc(1);
     progress.set_message("non-smooth scenes and the stiff/extreme suite");
     let ns = nonsmooth::nonsmooth(config);
+    progress.inc(1);
+    progress.set_message("Lie-group scenes (S10)");
+    let lg = lie::lie(config);
     progress.inc(1);
     progress.set_message("kernels");
     let k = kernels::kernels(config);
@@ -62,12 +69,14 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     summary.extend(k.summary.iter().cloned());
     summary.extend(wp.summary.iter().cloned());
     summary.extend(ns.summary.iter().cloned());
+    summary.extend(lg.summary.iter().cloned());
     summary.extend(e.summary.iter().cloned());
     summary.extend(c.summary.iter().cloned());
     summary.extend(p.summary.iter().cloned());
     page.bullets(&summary);
     page.append(wp.page);
     page.append(ns.page);
+    page.append(lg.page);
     page.append(k.page);
     page.append(e.page);
     page.append(c.page);
@@ -75,7 +84,6 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     page.h2("Not yet in this report");
     page.bullets(&[
         "S9 (arm with joint friction and stops); 10⁶ stick–slip cycles and the long chaotic pendulum in the extreme suite.".into(),
-        "Lie-group scene S10 (issue 4).".into(),
         "diffsol with regularised friction.".into(),
     ]);
     let path = config.out_dir.join("report.md");

@@ -4,12 +4,14 @@
 
 mod arm3;
 mod double_pendulum;
+mod lie;
 mod lumped;
 mod panda;
 mod tree;
 
 pub use arm3::PlanarArm3;
 pub use double_pendulum::DoublePendulum;
+pub use lie::{BallChain, EulerBody, FreeBody, Satellite, SphericalBody};
 pub use lumped::{
     BilinearOscillator, BinghamBlock, BinghamOscillator, BouncingBall, CoulombOscillator,
     CubicBingham, DuffingBingham, FrictionChain, NonMonotoneMaxDissipation, NonMonotoneNoJumps,

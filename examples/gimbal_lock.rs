@@ -131,14 +131,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             curve,
         });
     }
+    // The error just before and after the first pass through pitch = 90° (t = π/2).
+    let at = |r: &Row, t: f64| {
+        r.curve
+            .iter()
+            .find(|p| p.0 >= t)
+            .map_or(f64::NAN, |p| p.1)
+    };
     println!(
-        "{:<32} {:>13} {:>13} {:>8} {:>10}  outcome",
-        "model, method", "max ‖log‖", "energy err", "steps", "time [ms]"
+        "{:<32} {:>11} {:>11} {:>11} {:>11} {:>7} {:>9}  outcome",
+        "model, method", "err t=1.4", "err t=2.0", "max err", "energy err", "steps", "time [ms]"
     );
     for r in &rows {
         println!(
-            "{:<32} {:>13.3e} {:>13.3e} {:>8} {:>10.3}  {}",
+            "{:<32} {:>11.3e} {:>11.3e} {:>11.3e} {:>11.3e} {:>7} {:>9.3}  {}",
             r.name,
+            at(r, 1.4),
+            at(r, 2.0),
             r.max_error,
             r.energy_error,
             r.steps,

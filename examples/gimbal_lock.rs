@@ -21,8 +21,7 @@ use filippov::Mechanism;
 use filippov::nalgebra::{Matrix3, Rotation3, SVector};
 use filippov::runtime::liegroup::{LieMechanical, LieMechanism, so3};
 use filippov::runtime::{
-    LieProblem, LieTrajectory, MechanicalSystem, Method, Options, Problem, Rkmk5, Trajectory,
-    solve,
+    LieProblem, LieTrajectory, MechanicalSystem, Method, Options, Problem, Rkmk5, Trajectory, solve,
 };
 use filippov::scenes::{EulerBody, SphericalBody};
 use support::{Scale, Series, line_plot, plot_path};
@@ -112,7 +111,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Ok(tr) => (tr, "completed".to_string()),
             Err(e) => (
                 (*e.trajectory).clone(),
-                format!("failed at t = {:.4}: {}", e.trajectory.last().map_or(0.0, |l| l.0), e.kind),
+                format!(
+                    "failed at t = {:.4}: {}",
+                    e.trajectory.last().map_or(0.0, |l| l.0),
+                    e.kind
+                ),
             ),
         };
         let curve = error_curve(&|t| traj.at(t).map(|y| euler_rotation(&y)));
@@ -132,12 +135,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         });
     }
     // The error just before and after the first pass through pitch = 90° (t = π/2).
-    let at = |r: &Row, t: f64| {
-        r.curve
-            .iter()
-            .find(|p| p.0 >= t)
-            .map_or(f64::NAN, |p| p.1)
-    };
+    let at = |r: &Row, t: f64| r.curve.iter().find(|p| p.0 >= t).map_or(f64::NAN, |p| p.1);
     println!(
         "{:<32} {:>11} {:>11} {:>11} {:>11} {:>7} {:>9}  outcome",
         "model, method", "err t=1.4", "err t=2.0", "max err", "energy err", "steps", "time [ms]"

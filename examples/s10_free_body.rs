@@ -37,7 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Series::new(
                 *l,
                 (0..traj.len())
-                    .map(|k| (traj.times()[k], traj.state(k).velocity[3 + j]))
+                    .map(|k| (traj.times()[k], traj.state(k).velocity[j]))
                     .collect(),
             )
         })

@@ -30,9 +30,13 @@
 //!   of mass in the link frame: `rod(m, l)` (along x), `cylinder(m, r, h)` (along z),
 //!   `cuboid(m, a, b, c)`, `sphere(m, r)`, `diag(ixx, iyy, izz)`, a symmetric 3×3 array,
 //!   or `point`.
-//! - `#[joint(name: revolute(axis) | prismatic(axis) | fixed, parent = world | body,
-//!   child = body, origin = [x, y, z], rpy = [roll, pitch, yaw])]` — URDF convention;
-//!   the axis is `x`, `y`, `z`, `-x`, … or three numbers.
+//! - `#[joint(name: revolute(axis) | prismatic(axis) | spherical | free | fixed,
+//!   parent = world | body, child = body, origin = [x, y, z], rpy = [roll, pitch, yaw])]`
+//!   — URDF convention; the axis is `x`, `y`, `z`, `-x`, … or three numbers. With a
+//!   `spherical` (SO(3)) or `free` (SO(3) × ℝ³) joint the scene implements
+//!   [`runtime::liegroup::LieMechanism`] instead of [`Mechanism`]: quaternion
+//!   configurations, body angular velocities (see that trait for the layout). A body of
+//!   mass `0.0` is an intermediate frame and must carry other bodies.
 //! - `#[spring(joint, k = …, rest = …)]` or `#[spring(joint, potential = U(x))]` (a
 //!   non-linear spring by its energy in the coordinate `x`; force `−dU/dx` derived
 //!   symbolically), `#[damper(joint, c = …)]` on joint coordinates.
@@ -53,11 +57,12 @@ pub mod scenes;
 // namespace, the other in the type namespace.
 pub use filippov_macros::Mechanism;
 pub use filippov_runtime as runtime;
+pub use filippov_runtime::liegroup::LieMechanism;
 pub use filippov_runtime::system::{ForwardJacobian, Mechanism};
 pub use nalgebra;
 
 /// The names most programs need.
 pub mod prelude {
-    pub use crate::{ForwardJacobian, Mechanism};
+    pub use crate::{ForwardJacobian, LieMechanism, Mechanism};
     pub use nalgebra::{SMatrix, SVector};
 }

@@ -65,3 +65,8 @@ fn panda() {
 fn lumped_scenes() {
     snapshot("lumped.rs");
 }
+
+#[test]
+fn lie_group_scenes() {
+    snapshot("lie.rs");
+}

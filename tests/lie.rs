@@ -151,7 +151,13 @@ fn check<S: LieMechanism<N, NQ>, const N: usize, const NQ: usize>(sys: &S, seed:
         );
 
         let back = sys.inverse_dynamics(&q, &v, &fd);
-        assert_close(back.as_slice(), tau.as_slice(), 1e-10, 1e-10, "ID(FD(τ)) = τ");
+        assert_close(
+            back.as_slice(),
+            tau.as_slice(),
+            1e-10,
+            1e-10,
+            "ID(FD(τ)) = τ",
+        );
 
         // The Jacobian in local exponential coordinates against central differences.
         let jac = sys.forward_dynamics_jacobian(&q, &v, &tau);
@@ -256,8 +262,16 @@ fn satellite_conserves_energy_and_momentum() {
     for k in 0..traj.len() {
         let (qk, vk) = Satellite::state_to_qv(&traj.state(k));
         let (p, l) = numeric::spatial_momentum(&model, &dv(&qk), &dv(&vk));
-        assert!((p - p0).norm() <= 1e-9 * p0.norm().max(1.0), "linear momentum drifts: {:.3e}", (p - p0).norm());
-        assert!((l - l0).norm() <= 1e-9 * l0.norm().max(1.0), "angular momentum drifts: {:.3e}", (l - l0).norm());
+        assert!(
+            (p - p0).norm() <= 1e-9 * p0.norm().max(1.0),
+            "linear momentum drifts: {:.3e}",
+            (p - p0).norm()
+        );
+        assert!(
+            (l - l0).norm() <= 1e-9 * l0.norm().max(1.0),
+            "angular momentum drifts: {:.3e}",
+            (l - l0).norm()
+        );
         let e = sat.kinetic_energy(&qk, &vk);
         assert!((e - e0).abs() <= 1e-9 * e0, "energy drifts: {:.3e}", e - e0);
     }

@@ -58,7 +58,8 @@ fn lie_at(traj: &LieTrajectory, t: f64) -> Option<(Matrix3<f64>, Vector3<f64>)> 
     traj.at(t).map(|y| {
         (
             y.rotations[0].to_matrix(),
-            Vector3::new(y.velocity[3], y.velocity[4], y.velocity[5]),
+            // LieState velocity order: ω of the rotation first, then ṗ.
+            Vector3::new(y.velocity[0], y.velocity[1], y.velocity[2]),
         )
     })
 }
@@ -324,8 +325,20 @@ pub fn lie(config: &Config) -> Section {
 
     // Kernels of the Lie scenes.
     let mut rows = Vec::new();
-    lie_row(config, "Satellite (free base + 2-link arm)", &Satellite::default(), &mut rows, &mut summary);
-    lie_row(config, "BallChain (hinge, ball, hinge)", &BallChain::default(), &mut rows, &mut summary);
+    lie_row(
+        config,
+        "Satellite (free base + 2-link arm)",
+        &Satellite::default(),
+        &mut rows,
+        &mut summary,
+    );
+    lie_row(
+        config,
+        "BallChain (hinge, ball, hinge)",
+        &BallChain::default(),
+        &mut rows,
+        &mut summary,
+    );
     page.h3("Kernels of the Lie-group scenes");
     page.para("ns per call, generated / numeric (speed-up); the numeric Coriolis matrix differentiates M along exponential directions.");
     page.table(&["scene", "dof", "M", "C", "forward dynamics"], &rows);
@@ -373,7 +386,13 @@ fn lie_row<S: LieMechanism<N, NQ>, const N: usize, const NQ: usize>(
         }),
     );
     let cell = |(a, b): (f64, f64)| format!("{a:.1} / {b:.1} ({:.1}×)", b / a);
-    rows.push(vec![name.into(), N.to_string(), cell(m), cell(cor), cell(fd)]);
+    rows.push(vec![
+        name.into(),
+        N.to_string(),
+        cell(m),
+        cell(cor),
+        cell(fd),
+    ]);
     summary.push(format!(
         "{name}: generated forward dynamics {:.1} ns vs numeric {:.1} ns per call ({:.1}× faster)",
         fd.0,

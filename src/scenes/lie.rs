@@ -32,6 +32,8 @@ impl Default for FreeBody {
 /// The rotational part of S10 on three revolute joints, `R = Rz(yaw) Ry(pitch) Rx(roll)`
 /// (ZYX Euler angles, massless intermediate frames): singular at pitch = ±90°, where
 /// the yaw and roll axes align.
+// Clippy reads the two massless frames' `mass = 0.0` as one attribute repeated.
+#[allow(clippy::duplicated_attributes)]
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
 #[body(yaw_frame, mass = 0.0)]
 #[joint(yaw: revolute(z), parent = world, child = yaw_frame)]

@@ -70,3 +70,8 @@ fn lumped_scenes() {
 fn lie_group_scenes() {
     snapshot("lie.rs");
 }
+
+#[test]
+fn s9_arm() {
+    snapshot("s9.rs");
+}

@@ -54,7 +54,7 @@ impl fmt::Display for ErrorKind {
 }
 
 /// A failed integration: what went wrong, and everything computed before.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct SolveError {
     pub kind: ErrorKind,
     /// Accepted steps up to the failure (empty for [`ErrorKind::InvalidInput`]); boxed
@@ -69,6 +69,29 @@ impl fmt::Display for SolveError {
             "{} (after {} accepted steps)",
             self.kind, self.trajectory.stats.steps
         )
+    }
+}
+
+/// Short: the kind and the extent of the kept trajectory, not its rows (an `expect` on
+/// a long run would otherwise print megabytes).
+impl fmt::Debug for SolveError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let t = self.trajectory.times();
+        f.debug_struct("SolveError")
+            .field("kind", &self.kind)
+            .field(
+                "trajectory",
+                &format_args!(
+                    "{} rows{}",
+                    t.len(),
+                    match (t.first(), t.last()) {
+                        (Some(a), Some(b)) => format!(", t ∈ [{a}, {b}]"),
+                        _ => String::new(),
+                    }
+                ),
+            )
+            .field("stats", &self.trajectory.stats)
+            .finish()
     }
 }
 

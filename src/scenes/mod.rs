@@ -7,6 +7,7 @@ mod double_pendulum;
 mod lie;
 mod lumped;
 mod panda;
+mod s9;
 mod tree;
 
 pub use arm3::PlanarArm3;
@@ -18,4 +19,5 @@ pub use lumped::{
     SupportedStop,
 };
 pub use panda::Panda;
+pub use s9::PandaS9;
 pub use tree::BranchedTree;

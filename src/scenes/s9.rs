@@ -1,0 +1,60 @@
+use crate::Mechanism;
+
+/// Theory S9: the 7-dof arm of [`super::Panda`] (same kinematics and inertial data, Gaz
+/// et al. 2019) with Coulomb friction on joints 1, 3, 5, 6 and 7 and rigid stops at the
+/// upper joint limits of j2 and j4 (the Panda's published limits), restitution `e`.
+/// The stopped joints carry no friction: the event-driven integrator does not yet take a
+/// stop and friction on one coordinate (their forces are not unique when both hold it;
+/// time-stepping takes it).
+///
+/// Friction levels are the Coulomb amplitudes `φ1` of the friction model identified in
+/// the same paper (`τ_f = φ1 / (1 + exp(−φ2 (q̇ + φ3))) − …`), scaled by `friction`
+/// (1 = identified). Integrated with `solve_nonsmooth`; the reference is the energy
+/// balance `ΔE = work in − friction dissipation − impact losses`.
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(gravity = [0.0, 0.0, -g], inputs = [j1, j2, j3, j4, j5, j6, j7])]
+#[body(link1, mass = 4.970684, com = [0.003875, 0.002081, -0.04762],
+    inertia = [[0.70337, -0.000139, 0.006772], [-0.000139, 0.70661, 0.019169], [0.006772, 0.019169, 0.009117]])]
+#[joint(j1: revolute(z), parent = world, child = link1, origin = [0.0, 0.0, 0.333])]
+#[body(link2, mass = 0.646926, com = [-0.003141, -0.02872, 0.003495],
+    inertia = [[0.007962, -0.003925, 0.010254], [-0.003925, 0.02811, 0.000704], [0.010254, 0.000704, 0.025995]])]
+#[joint(j2: revolute(z), parent = link1, child = link2, rpy = [-PI / 2.0, 0.0, 0.0])]
+#[body(link3, mass = 3.228604, com = [0.027518, 0.039252, -0.066502],
+    inertia = [[0.037242, -0.004761, -0.011396], [-0.004761, 0.036155, -0.012805], [-0.011396, -0.012805, 0.01083]])]
+#[joint(j3: revolute(z), parent = link2, child = link3, origin = [0.0, -0.316, 0.0], rpy = [PI / 2.0, 0.0, 0.0])]
+#[body(link4, mass = 3.587895, com = [-0.05317, 0.104419, 0.027454],
+    inertia = [[0.025853, 0.007796, -0.001332], [0.007796, 0.019552, 0.008641], [-0.001332, 0.008641, 0.028323]])]
+#[joint(j4: revolute(z), parent = link3, child = link4, origin = [0.0825, 0.0, 0.0], rpy = [PI / 2.0, 0.0, 0.0])]
+#[body(link5, mass = 1.225946, com = [-0.011953, 0.041065, -0.038437],
+    inertia = [[0.035549, -0.002117, -0.004037], [-0.002117, 0.029474, 0.000229], [-0.004037, 0.000229, 0.008627]])]
+#[joint(j5: revolute(z), parent = link4, child = link5, origin = [-0.0825, 0.384, 0.0], rpy = [-PI / 2.0, 0.0, 0.0])]
+#[body(link6, mass = 1.666555, com = [0.060149, -0.014117, -0.010517],
+    inertia = [[0.001964, 0.000109, -0.001158], [0.000109, 0.004354, 0.000341], [-0.001158, 0.000341, 0.005433]])]
+#[joint(j6: revolute(z), parent = link5, child = link6, rpy = [PI / 2.0, 0.0, 0.0])]
+#[body(link7, mass = 0.735522, com = [0.010517, -0.004252, 0.061597],
+    inertia = [[0.012516, -0.000428, -0.001196], [-0.000428, 0.010027, -0.000741], [-0.001196, -0.000741, 0.004815]])]
+#[joint(j7: revolute(z), parent = link6, child = link7, origin = [0.088, 0.0, 0.0], rpy = [PI / 2.0, 0.0, 0.0])]
+#[friction(j1, f_crit = 0.54615 * friction)]
+#[friction(j3, f_crit = 0.64068 * friction)]
+#[friction(j5, f_crit = 0.83904 * friction)]
+#[friction(j6, f_crit = 0.30301 * friction)]
+#[friction(j7, f_crit = 0.56489 * friction)]
+#[stop(j2, max = 1.7628, restitution = e)]
+#[stop(j4, max = -0.0698, restitution = e)]
+pub struct PandaS9 {
+    pub g: f64,
+    /// Scale of the identified Coulomb friction levels.
+    pub friction: f64,
+    /// Restitution of the joint stops.
+    pub e: f64,
+}
+
+impl Default for PandaS9 {
+    fn default() -> Self {
+        PandaS9 {
+            g: 9.81,
+            friction: 1.0,
+            e: 0.5,
+        }
+    }
+}

@@ -12,16 +12,17 @@ use filippov::scenes::PandaS9;
 
 pub type V7 = SVector<f64, 7>;
 
-/// The applied joint torques of the standard run: a slow sway on j1, j5 and j7.
+/// The applied joint torques of the standard run: a sway on j1, and on j5 and j7
+/// amplitudes just above their friction levels (stick–slip).
 pub fn s9_torque(t: f64) -> V7 {
     V7::from([
         3.0 * (1.5 * t).sin(),
         0.0,
         0.0,
         0.0,
-        2.0 * (3.0 * t).sin(),
+        1.2 * (3.0 * t).sin(),
         0.0,
-        0.5 * (2.0 * t).cos(),
+        0.8 * (2.0 * t).cos(),
     ])
 }
 

@@ -717,7 +717,14 @@ pub fn nonsmooth(config: &Config) -> Section {
             );
         }
     }
-    page.para("Each case reports whether it completed or ended with a typed error, what it computed, and its run time (median).");
+    let (cycles, horizon) = match config.name {
+        "tiny" => (20, 20.0),
+        "long" => (1_000_000, 10_000.0),
+        _ => (10_000, 1_000.0),
+    };
+    rows.push(super::long_runs::stick_slip(cycles));
+    rows.extend(super::long_runs::chaotic_pendulum(horizon));
+    page.para("Each case reports whether it completed or ended with a typed error, what it computed, and its run time (median; the two long runs at the end are timed once). `--long` runs 10⁶ stick–slip cycles and 10⁴ s of the pendulum.");
     page.table(&["case", "method", "outcome", "result", "time [ms]"], &rows);
     let errors = rows
         .iter()

@@ -130,7 +130,7 @@ pub fn kernels(config: &Config) -> Kernels {
 
 fn scene_sources() -> Vec<(String, String)> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/scenes");
-    ["double_pendulum.rs", "arm3.rs", "tree.rs", "panda.rs"]
+    ["double_pendulum.rs", "arm3.rs", "tree.rs", "panda.rs", "s9.rs", "lie.rs"]
         .iter()
         .map(|f| {
             (

@@ -41,8 +41,8 @@ mod trajectory;
 pub use control::PiController;
 pub use error::{ErrorKind, SolveError};
 pub use liegroup::{
-    FnLieSystem, LieInputFn, LieMechanical, LieMechanism, LieProblem, LieState, LieSystem,
-    LieTrajectory, Rkmk5, UnitQuat,
+    EventDirection, FnLieSystem, LieEvent, LieEventHit, LieInputFn, LieMechanical, LieMechanism,
+    LieProblem, LieSdirk, LieState, LieSystem, LieTrajectory, Rkmk5, UnitQuat,
 };
 pub use mechanical::{InputFn, MechanicalSystem, NumericInputFn, NumericSystem};
 pub use method::tableau;

@@ -301,6 +301,37 @@ where
         S::velocity_to_state_order(&a, dv);
     }
 
+    /// [`LieMechanism::forward_dynamics_jacobian`] with rows and columns permuted from
+    /// the velocity layout into the state's order `(ω_1, …, ω_m, u)` (the mechanism's
+    /// `φ` are the same local exponential coordinates as [`LieSystem::jacobian`]'s).
+    ///
+    /// Like [`MechanicalSystem`](crate::MechanicalSystem)'s, the Jacobian holds the input
+    /// `τ` fixed: exact for inputs that depend on `t` only, an approximation (which still
+    /// serves a simplified Newton iteration) for state feedback `τ(t, q, v)`.
+    fn jacobian(&self, t: f64, state: &LieState, dq: &mut [f64], dv: &mut [f64]) -> bool {
+        let (q, v) = S::state_to_qv(state);
+        let tau = (self.input)(t, &q, &v);
+        let jac = self.mechanism.forward_dynamics_jacobian(&q, &v, &tau);
+        // `layout[i]`: the velocity-layout index of state-order index `i`.
+        let mut layout = [0usize; N];
+        let m = S::ROTATIONS.len();
+        for (r, &(_, k)) in S::ROTATIONS.iter().enumerate() {
+            for c in 0..3 {
+                layout[3 * r + c] = k + c;
+            }
+        }
+        for (e, &(_, k)) in S::EUCLID.iter().enumerate() {
+            layout[3 * m + e] = k;
+        }
+        for (i, &li) in layout.iter().enumerate() {
+            for (j, &lj) in layout.iter().enumerate() {
+                dq[i * N + j] = jac.d_dq[(li, lj)];
+                dv[i * N + j] = jac.d_dv[(li, lj)];
+            }
+        }
+        true
+    }
+
     /// The layout (`3m + n = N`, `4m + n = NQ`, and `ROTATIONS`, `EUCLID` those of
     /// [`LieMechanism::model`], see [`Model::rotation_slots`]), then the mechanism's
     /// parameters ([`LieMechanism::validate`]).

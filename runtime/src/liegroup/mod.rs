@@ -16,13 +16,25 @@
 //! velocity is then `ẋ` in world axes), a spherical joint `m = 1`, revolute and
 //! prismatic joints add to `n`.
 //!
-//! The method is [`Rkmk5`], Munthe-Kaas Runge–Kutta on the Dormand–Prince 5(4) tableau,
-//! in [`rkmk`]. [`so3`] has the group's functions.
+//! Two methods, both Runge–Kutta–Munthe-Kaas (a Runge–Kutta method applied in local
+//! exponential coordinates around the step's start, see [`rkmk`]):
+//!
+//! | method | kind | use |
+//! |---|---|---|
+//! | [`Rkmk5`] | explicit, Dormand–Prince 5(4), dense output of order 4 | non-stiff problems |
+//! | [`LieSdirk`] | L-stable SDIRK4 (order 4, embedded 3), simplified Newton, Hermite dense output | stiff problems: stiff springs, strong damping |
+//!
+//! Both locate events ([`LieEvent`]) on their dense output with
+//! `solve_with_events`. [`so3`] has the group's functions.
 
+mod events;
+mod implicit;
 mod mechanism;
 mod rkmk;
 pub mod so3;
 
+pub use events::{EventDirection, LieEvent, LieEventHit};
+pub use implicit::LieSdirk;
 pub use mechanism::{LieInputFn, LieMechanical, LieMechanism};
 pub use rkmk::{LieProblem, LieTrajectory, Rkmk5};
 pub use so3::UnitQuat;
@@ -77,6 +89,21 @@ pub trait LieSystem {
 
     /// Writes `v̇ = f(t, g, v)` into `dv` (length `3m + n`).
     fn rhs(&self, t: f64, state: &LieState, dv: &mut [f64]);
+
+    /// The Jacobian of the dynamics in local coordinates, for implicit methods
+    /// ([`LieSdirk`]): with `n = 3m + n_euclid`, writes the row-major `n × n` blocks
+    ///
+    /// * `dq[i·n + j] = ∂v̇_i/∂φ_j`, the derivative along `state · exp(s e_j)` at
+    ///   `s = 0` (for `j < 3m` the rotation `j / 3` turns about its body axis `j % 3`,
+    ///   `R ← R exp(s ê)`; for `j ≥ 3m` the Euclidean coordinate `j − 3m` moves by `s`),
+    /// * `dv[i·n + j] = ∂v̇_i/∂v_j`,
+    ///
+    /// and returns `true`; or returns `false` (the default) when no Jacobian is
+    /// available, and the method takes central differences of [`rhs`](Self::rhs).
+    fn jacobian(&self, t: f64, state: &LieState, dq: &mut [f64], dv: &mut [f64]) -> bool {
+        let _ = (t, state, dq, dv);
+        false
+    }
 
     /// Checks the system's own parameters; an error becomes
     /// [`ErrorKind::InvalidInput`](crate::ErrorKind::InvalidInput).

@@ -28,7 +28,12 @@
 //!   rotation vectors exceed `π` in norm are rejected before the estimate
 //!   (`J_r⁻¹` is singular at `2π`, and exp is not injective beyond `π`).
 //! * Dense output: the Dormand–Prince continuous extension of `Θ(t)` in each step's own
-//!   coordinates, then `y₀ · exp(Θ(t))` — it stays on the group.
+//!   coordinates, then `y₀ · exp(Θ(t))` — it stays on the group. [`LieTrajectory`]
+//!   stores per step `Θ₁`, the end derivatives and the fifth coefficient `r₅`, and the
+//!   step's length (so that a step cut short by a terminal event keeps its
+//!   interpolant); [`LieSdirk`](super::LieSdirk) stores `r₅ = 0`, the cubic Hermite
+//!   interpolant in the same coordinates.
+//! * Events: [`Rkmk5::solve_with_events`], see [`LieEvent`].
 //! * Normalisation policy: the group update `q₀ ⊗ exp(θ)` is a product of unit
 //!   quaternions, unit up to round-off; every accepted state is normalised once (one
 //!   square root per rotation per step), so the drift never accumulates. Without it the
@@ -36,6 +41,7 @@
 //!   `so3::tests::product_drift_without_normalisation_is_round_off`: 1e-14 after 10⁵
 //!   updates) — the normalisation is hygiene, not a correction of the method.
 
+use super::events::{EventTracker, LieEvent, LieEventHit};
 use super::so3::{self, UnitQuat};
 use super::{LieState, LieSystem};
 use crate::method::tableau::{DOPRI5, DOPRI5_DENSE, dopri5_dense};
@@ -97,6 +103,21 @@ pub struct Rkmk5 {
     pub fixed_step: Option<f64>,
 }
 
+impl LieMethod for Rkmk5 {
+    fn check(&self) -> Result<(), String> {
+        self.validate()
+    }
+
+    fn integrate<S: LieSystem + ?Sized>(
+        &self,
+        run: &mut LieRun<'_, S>,
+        problem: &LieProblem,
+        events: Option<&mut EventTracker<'_, '_>>,
+    ) -> Result<(), ErrorKind> {
+        self.integrate_steps(run, problem, events)
+    }
+}
+
 impl Rkmk5 {
     /// Adaptive steps.
     pub fn new(options: Options) -> Self {
@@ -121,25 +142,23 @@ impl Rkmk5 {
         system: &S,
         problem: &LieProblem,
     ) -> Result<LieTrajectory, SolveError> {
-        let traj = LieTrajectory::new(system.n_rot(), system.n_euclid());
-        let checked = self
-            .validate()
-            .and_then(|()| system.validate())
-            .and_then(|()| problem.validate(system));
-        if let Err(msg) = checked {
-            return Err(SolveError {
-                kind: ErrorKind::InvalidInput(msg),
-                trajectory: Box::new(traj.flat),
-            });
-        }
-        let mut run = LieRun { system, traj };
-        match self.integrate(&mut run, problem) {
-            Ok(()) => Ok(run.traj),
-            Err(kind) => Err(SolveError {
-                kind,
-                trajectory: Box::new(run.traj.flat),
-            }),
-        }
+        drive(self, system, problem, &[]).map(|(traj, _)| traj)
+    }
+
+    /// [`solve`](Self::solve) with event location: after every accepted step the event
+    /// functions are evaluated at its end, and each sign change (in the event's
+    /// [`direction`](LieEvent::direction)) is located on the dense output
+    /// ([`LieTrajectory::at`]) to `|Δt| ≤ 1e-12 · max(1, |t|)`. The first terminal
+    /// event ends the integration there: its state becomes the trajectory's last point.
+    /// Returns the trajectory and the located events in time order. On failure the
+    /// [`SolveError`] carries the accepted steps, not the events found before.
+    pub fn solve_with_events<S: LieSystem + ?Sized>(
+        &self,
+        system: &S,
+        problem: &LieProblem,
+        events: &[LieEvent<'_>],
+    ) -> Result<(LieTrajectory, Vec<LieEventHit>), SolveError> {
+        drive(self, system, problem, events)
     }
 
     fn validate(&self) -> Result<(), String> {
@@ -151,10 +170,11 @@ impl Rkmk5 {
         }
     }
 
-    fn integrate<S: LieSystem + ?Sized>(
+    fn integrate_steps<S: LieSystem + ?Sized>(
         &self,
         run: &mut LieRun<'_, S>,
         problem: &LieProblem,
+        mut events: Option<&mut EventTracker<'_, '_>>,
     ) -> Result<(), ErrorKind> {
         let opts = &self.options;
         let mut st = Stages::new(&problem.y0);
@@ -167,7 +187,7 @@ impl Rkmk5 {
         }
         let mut h = match self.fixed_step {
             Some(h) => h,
-            None => initial_step(run, problem, &mut st, opts)?,
+            None => initial_step(run, problem, &st.f0, 5, opts)?,
         };
         let mut controller = PiController::new(4);
         let e = DOPRI5.error_weights();
@@ -228,8 +248,13 @@ impl Rkmk5 {
                 std::mem::swap(&mut y, &mut st.next);
                 std::mem::swap(&mut st.f0, &mut st.f1);
                 run.traj.push(&y, t, &st.f0);
-                run.traj.push_chart(&st.theta1, &st.k[0], &st.k[6], &r5);
+                run.traj.push_chart(h, &st.theta1, &st.k[0], &st.k[6], &r5);
                 run.traj.flat.stats.steps += 1;
+                if let Some(tracker) = events.as_deref_mut()
+                    && tracker.after_step(run)?
+                {
+                    return Ok(());
+                }
                 if last {
                     return Ok(());
                 }
@@ -242,16 +267,63 @@ impl Rkmk5 {
     }
 }
 
+/// What the shared driver needs of a Lie-group method.
+pub(super) trait LieMethod {
+    /// The method's own configuration.
+    fn check(&self) -> Result<(), String>;
+
+    /// Integrates from `problem.y0`, pushing every accepted step into `run.traj` and
+    /// calling `events` (if any) after each.
+    fn integrate<S: LieSystem + ?Sized>(
+        &self,
+        run: &mut LieRun<'_, S>,
+        problem: &LieProblem,
+        events: Option<&mut EventTracker<'_, '_>>,
+    ) -> Result<(), ErrorKind>;
+}
+
+/// Validation, the run, the event tracker and the error wrapping shared by the methods.
+pub(super) fn drive<M: LieMethod, S: LieSystem + ?Sized>(
+    method: &M,
+    system: &S,
+    problem: &LieProblem,
+    events: &[LieEvent<'_>],
+) -> Result<(LieTrajectory, Vec<LieEventHit>), SolveError> {
+    let traj = LieTrajectory::new(system.n_rot(), system.n_euclid());
+    let checked = method
+        .check()
+        .and_then(|()| system.validate())
+        .and_then(|()| problem.validate(system));
+    let mut tracker = match checked.and_then(|()| EventTracker::new(events, problem)) {
+        Ok(tracker) => tracker,
+        Err(msg) => {
+            return Err(SolveError {
+                kind: ErrorKind::InvalidInput(msg),
+                trajectory: Box::new(traj.flat),
+            });
+        }
+    };
+    let mut run = LieRun { system, traj };
+    let tracker_ref = (!events.is_empty()).then_some(&mut tracker);
+    match method.integrate(&mut run, problem, tracker_ref) {
+        Ok(()) => Ok((run.traj, tracker.into_hits())),
+        Err(kind) => Err(SolveError {
+            kind,
+            trajectory: Box::new(run.traj.flat),
+        }),
+    }
+}
+
 /// One integration in progress.
-struct LieRun<'a, S: ?Sized> {
-    system: &'a S,
-    traj: LieTrajectory,
+pub(super) struct LieRun<'a, S: ?Sized> {
+    pub(super) system: &'a S,
+    pub(super) traj: LieTrajectory,
 }
 
 impl<S: LieSystem + ?Sized> LieRun<'_, S> {
     /// `dv = f(t, y)`, counted and checked; a non-finite component is reported at its
     /// index in the flat layout of [`LieTrajectory::flat`].
-    fn rhs(&mut self, t: f64, y: &LieState, dv: &mut [f64]) -> Result<(), ErrorKind> {
+    pub(super) fn rhs(&mut self, t: f64, y: &LieState, dv: &mut [f64]) -> Result<(), ErrorKind> {
         self.traj.flat.stats.rhs_evaluations += 1;
         self.system.rhs(t, y, dv);
         match dv.iter().position(|x| !x.is_finite()) {
@@ -295,7 +367,7 @@ impl Stages {
 }
 
 /// `y₀ · exp(Θ)` into `out` (same shapes as `base`).
-fn retract(base: &LieState, theta: &[f64], out: &mut LieState) {
+pub(super) fn retract(base: &LieState, theta: &[f64], out: &mut LieState) {
     let m = base.rotations.len();
     for (k, (q, q0)) in out.rotations.iter_mut().zip(&base.rotations).enumerate() {
         *q = *q0 * UnitQuat::exp(&Vector3::from_column_slice(&theta[3 * k..3 * k + 3]));
@@ -315,7 +387,7 @@ fn retract(base: &LieState, theta: &[f64], out: &mut LieState) {
 }
 
 /// `Θ̇ = (J_r(θ_k)⁻¹ ω_k, u, f)` at `Θ` with `y = y₀ · exp(Θ)` and `f = f(t, y)`.
-fn chart_field(theta: &[f64], y: &LieState, f: &[f64], out: &mut [f64]) {
+pub(super) fn chart_field(theta: &[f64], y: &LieState, f: &[f64], out: &mut [f64]) {
     let m = y.rotations.len();
     for k in 0..m {
         let th = Vector3::from_column_slice(&theta[3 * k..3 * k + 3]);
@@ -328,7 +400,7 @@ fn chart_field(theta: &[f64], y: &LieState, f: &[f64], out: &mut [f64]) {
 }
 
 /// Reference magnitudes for the error weights: 1 per rotation component, `|x|`, `|v|`.
-fn magnitudes(y: &LieState, out: &mut [f64]) {
+pub(super) fn magnitudes(y: &LieState, out: &mut [f64]) {
     let m3 = 3 * y.rotations.len();
     out[..m3].fill(1.0);
     let n = y.euclid.len();
@@ -381,11 +453,13 @@ fn stages<S: LieSystem + ?Sized>(
 }
 
 /// Hairer's starting step (*Solving ODEs I*, §II.4, p. 169) in local coordinates, with
-/// the weights of the error norm; one extra rhs evaluation.
-fn initial_step<S: LieSystem + ?Sized>(
+/// the weights of the error norm, for a method of order `order`; one extra rhs
+/// evaluation. `f0 = f(t₀, y₀)`.
+pub(super) fn initial_step<S: LieSystem + ?Sized>(
     run: &mut LieRun<'_, S>,
     problem: &LieProblem,
-    st: &mut Stages,
+    f0: &[f64],
+    order: u32,
     options: &Options,
 ) -> Result<f64, ErrorKind> {
     let span = problem.tf - problem.t0;
@@ -393,35 +467,34 @@ fn initial_step<S: LieSystem + ?Sized>(
         return Ok(h0.min(options.h_max).min(span));
     }
     let y0 = &problem.y0;
-    let d = st.theta.len();
+    let d = 3 * y0.rotations.len() + y0.euclid.len() + y0.velocity.len();
     let (mut mag, zero) = (vec![0.0; d], vec![0.0; d]);
+    let (mut k0, mut k1, mut theta) = (vec![0.0; d], vec![0.0; d], vec![0.0; d]);
     magnitudes(y0, &mut mag);
-    chart_field(&zero, y0, &st.f0, &mut st.k[0]);
+    chart_field(&zero, y0, f0, &mut k0);
     let d0 = error_norm(&mag, &zero, &mag, options);
-    let d1 = error_norm(&st.k[0], &zero, &mag, options);
+    let d1 = error_norm(&k0, &zero, &mag, options);
     let h0 = if d0 < 1e-5 || d1 < 1e-5 {
         1e-6
     } else {
         0.01 * d0 / d1
     };
     let h0 = h0.min(options.h_max).min(span).min(1.0);
-    for (x, k) in st.theta.iter_mut().zip(&st.k[0]) {
+    for (x, k) in theta.iter_mut().zip(&k0) {
         *x = h0 * k;
     }
-    retract(y0, &st.theta, &mut st.point);
-    run.rhs(problem.t0 + h0, &st.point, &mut st.f)?;
-    chart_field(&st.theta, &st.point, &st.f, &mut st.k[1]);
-    let diff: Vec<f64> = st.k[1]
-        .iter()
-        .zip(&st.k[0])
-        .map(|(a, b)| (a - b) / h0)
-        .collect();
+    let mut point = y0.clone();
+    let mut f = vec![0.0; f0.len()];
+    retract(y0, &theta, &mut point);
+    run.rhs(problem.t0 + h0, &point, &mut f)?;
+    chart_field(&theta, &point, &f, &mut k1);
+    let diff: Vec<f64> = k1.iter().zip(&k0).map(|(a, b)| (a - b) / h0).collect();
     let d2 = error_norm(&diff, &zero, &mag, options);
     let dmax = d1.max(d2);
     let h1 = if dmax <= 1e-15 {
         (h0 * 1e-3).max(1e-6)
     } else {
-        (0.01 / dmax).powf(1.0 / 6.0)
+        (0.01 / dmax).powf(1.0 / f64::from(order + 1))
     };
     Ok((100.0 * h0)
         .min(h1)
@@ -435,19 +508,24 @@ fn initial_step<S: LieSystem + ?Sized>(
 /// Stored twice over: as a flat [`Trajectory`] (per point the quaternions `w, x, y, z`
 /// of every rotation, then `x`, then `v`; derivatives `q̇ = ½ q ⊗ (0, ω)`, `ẋ = u`,
 /// `v̇ = f`; its own interpolation is cubic Hermite and leaves the group), and per step
-/// the local-coordinate data of the Dormand–Prince continuous extension, used by
+/// the local-coordinate data of the continuous extension (Dormand–Prince for
+/// [`Rkmk5`], cubic Hermite for [`LieSdirk`](super::LieSdirk)), used by
 /// [`at`](Self::at).
 #[derive(Clone, Debug, PartialEq)]
 pub struct LieTrajectory {
     n_rot: usize,
     n_euclid: usize,
-    flat: Trajectory,
-    /// Per interval: `Θ₁, K₁, K₇, r₅`, each of the local dimension.
+    pub(super) flat: Trajectory,
+    /// Per interval: `Θ₁, K₁, K₇, r₅`, each of the local dimension (`K₁`, `K₇` the
+    /// derivatives of `Θ` at the ends; `r₅ = 0` gives the cubic Hermite interpolant).
     chart: Vec<f64>,
+    /// Per interval: the step's length `h` (the chart's time scale; longer than the
+    /// interval when a terminal event cut the step short).
+    steps: Vec<f64>,
 }
 
 impl LieTrajectory {
-    fn new(n_rot: usize, n_euclid: usize) -> Self {
+    pub(super) fn new(n_rot: usize, n_euclid: usize) -> Self {
         let mut names = Vec::new();
         for k in 0..n_rot {
             names.extend(["w", "x", "y", "z"].map(|c| format!("q{k}_{c}")));
@@ -459,6 +537,7 @@ impl LieTrajectory {
             n_euclid,
             flat: Trajectory::new(names, Interpolant::Hermite),
             chart: Vec::new(),
+            steps: Vec::new(),
         }
     }
 
@@ -466,7 +545,7 @@ impl LieTrajectory {
         6 * self.n_rot + 2 * self.n_euclid
     }
 
-    fn push(&mut self, y: &LieState, t: f64, f: &[f64]) {
+    pub(super) fn push(&mut self, y: &LieState, t: f64, f: &[f64]) {
         let (mut flat, mut dflat) = (Vec::new(), Vec::new());
         for (k, q) in y.rotations.iter().enumerate() {
             let [w, x, yy, z] = q.coords();
@@ -483,10 +562,37 @@ impl LieTrajectory {
         self.flat.push(t, &flat, &dflat);
     }
 
-    fn push_chart(&mut self, theta1: &[f64], k1: &[f64], k7: &[f64], r5: &[f64]) {
+    /// The continuous extension of the interval ending at the last pushed point: a step
+    /// of length `h` reaching `Θ₁`, with `Θ'` = `k1` at its start and `k7` at its end.
+    pub(super) fn push_chart(
+        &mut self,
+        h: f64,
+        theta1: &[f64],
+        k1: &[f64],
+        k7: &[f64],
+        r5: &[f64],
+    ) {
         for part in [theta1, k1, k7, r5] {
             self.chart.extend_from_slice(part);
         }
+        self.steps.push(h);
+    }
+
+    /// Replaces the last point by `(t, y)` with `f = f(t, y)`, `t` inside the last
+    /// interval (a terminal event); the interval keeps its step's interpolant.
+    pub(super) fn truncate_last(&mut self, t: f64, y: &LieState, f: &[f64]) {
+        let n = self.len();
+        let mut flat = Trajectory::new(self.flat.names().to_vec(), Interpolant::Hermite);
+        for i in 0..n - 1 {
+            flat.push(
+                self.flat.times()[i],
+                self.flat.state(i),
+                self.flat.derivative(i),
+            );
+        }
+        flat.stats = self.flat.stats;
+        self.flat = flat;
+        self.push(y, t, f);
     }
 
     /// Number of stored points.
@@ -523,8 +629,8 @@ impl LieTrajectory {
     }
 
     /// The state at `t` from the continuous extension in the local coordinates of the
-    /// step containing `t` (fourth order, on the group), or `None` outside
-    /// `[t_first, t_last]`.
+    /// step containing `t` (on the group; fourth order for [`Rkmk5`], third for
+    /// [`LieSdirk`](super::LieSdirk)), or `None` outside `[t_first, t_last]`.
     pub fn at(&self, t: f64) -> Option<LieState> {
         let times = self.times();
         let (&first, &last) = (times.first()?, times.last()?);
@@ -535,7 +641,7 @@ impl LieTrajectory {
         if i + 1 >= self.len() {
             return Some(self.state(i));
         }
-        let h = times[i + 1] - times[i];
+        let h = self.steps[i];
         let s = (t - times[i]) / h;
         let d = self.local_dim();
         let data = &self.chart[4 * d * i..4 * d * (i + 1)];

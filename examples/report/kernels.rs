@@ -130,15 +130,22 @@ pub fn kernels(config: &Config) -> Kernels {
 
 fn scene_sources() -> Vec<(String, String)> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/scenes");
-    ["double_pendulum.rs", "arm3.rs", "tree.rs", "panda.rs", "s9.rs", "lie.rs"]
-        .iter()
-        .map(|f| {
-            (
-                f.to_string(),
-                std::fs::read_to_string(dir.join(f)).expect("scene source"),
-            )
-        })
-        .collect()
+    [
+        "double_pendulum.rs",
+        "arm3.rs",
+        "tree.rs",
+        "panda.rs",
+        "s9.rs",
+        "lie.rs",
+    ]
+    .iter()
+    .map(|f| {
+        (
+            f.to_string(),
+            std::fs::read_to_string(dir.join(f)).expect("scene source"),
+        )
+    })
+    .collect()
 }
 
 fn structs(src: &str) -> Vec<(String, proc_macro2::TokenStream)> {

@@ -9,9 +9,10 @@
 //!   [`Dopri5`], [`Sdirk4`], tableaus in [`tableau`]), their configuration
 //!   ([`Options`], [`PiController`]) and the result ([`Trajectory`], [`Stats`],
 //!   [`SolveError`]).
-//! * [`liegroup`]: Lie-group integration on SO(3)ᵐ × ℝⁿ ([`LieSystem`], [`Rkmk5`]), and
-//!   the trait of scenes with spherical and free joints ([`LieMechanism`]) with its
-//!   adapter [`LieMechanical`].
+//! * [`liegroup`]: Lie-group integration on SO(3)ᵐ × ℝⁿ ([`LieSystem`]; explicit
+//!   [`Rkmk5`], stiff [`LieSdirk`]; event location with [`LieEvent`]), and the trait of
+//!   scenes with spherical and free joints ([`LieMechanism`]) with its adapter
+//!   [`LieMechanical`].
 //!
 //! ```
 //! use filippov_runtime::{FnSystem, Method, Options, Problem, solve};

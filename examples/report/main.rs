@@ -10,6 +10,8 @@
 #[path = "../support/mod.rs"]
 mod support;
 
+#[path = "chains.rs"]
+mod chains;
 #[path = "config.rs"]
 mod config;
 #[path = "kernels.rs"]
@@ -40,7 +42,7 @@ pub use config::Config;
 /// Runs every section and writes the report; returns the path of the Markdown page.
 pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     std::fs::create_dir_all(&config.out_dir)?;
-    let progress = config.progress(7);
+    let progress = config.progress(8);
     let mut page = markdown::Page::new("filippov report");
     page.para(&format!(
         "Measured on this machine in one run ({} configuration; {}). Times are medians of {} runs after a warm-up. \
@@ -69,6 +71,9 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     progress.inc(1);
     let c = kernels::compile_times(config);
     progress.inc(1);
+    progress.set_message("planar chains against SymPy");
+    let ch = chains::chains(config);
+    progress.inc(1);
     peers::export_models(config)?;
     let p = peers::peers(config, &k.forward_ns);
     progress.finish_with_message("done");
@@ -82,6 +87,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     summary.extend(lg.summary.iter().cloned());
     summary.extend(e.summary.iter().cloned());
     summary.extend(c.summary.iter().cloned());
+    summary.extend(ch.summary.iter().cloned());
     summary.extend(p.summary.iter().cloned());
     page.bullets(&summary);
     page.append(wp.page);
@@ -91,6 +97,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     page.append(k.page);
     page.append(e.page);
     page.append(c.page);
+    page.append(ch.page);
     page.append(p.page);
     page.h2("Not yet in this report");
     page.bullets(&["diffsol with regularised friction.".into()]);

@@ -835,3 +835,54 @@ fn constitutive_residuals_vanish_on_solutions() {
     let (r, d) = s7.constitutive_residual(1, Relation::Compressed, &V1::new(0.52), &z, &z, 2.0);
     assert!(r.abs() < 1e-12 && d == [-100.0, 0.0, 0.0, 1.0], "{r} {d:?}");
 }
+
+/// A block held against an upper stop by friction and the stop together (one coordinate,
+/// two elements): pushed in by `F = 2 cos t`, the stop bears the load; as the load turns
+/// and pulls away, friction holds it until `F = −f_crit` at `t1 = acos(−1/4)`; then it
+/// slides away with `ẍ = F + f_crit`. Closed form throughout; event-driven.
+#[derive(filippov::Mechanism)]
+#[body(block, mass = 1.0)]
+#[joint(x: prismatic(x), parent = world, child = block)]
+#[friction(x, f_crit = 0.5)]
+#[stop(x, max = 1.0, restitution = 0.0)]
+struct BlockAtStop;
+
+#[test]
+fn friction_and_stop_on_one_coordinate_hold_together() {
+    let input = |t: f64, _q: &V1, _v: &V1| V1::new(2.0 * t.cos());
+    let p = NonSmoothProblem::new(0.0, 3.0, V1::new(1.0), V1::new(0.0));
+    let traj = solve_nonsmooth(&BlockAtStop, &input, &p, &tight()).expect("integrates");
+    let t1 = (-0.25f64).acos();
+    let (s1, c1) = t1.sin_cos();
+    for i in 0..traj.len() {
+        let (t, y) = (traj.times()[i], traj.state(i));
+        let (fric, stop) = (y[2], y[3]);
+        if t < t1 - 1e-9 {
+            assert!(
+                (y[0] - 1.0).abs() < 1e-12 && y[1].abs() < 1e-12,
+                "held at t = {t}: {y:?}"
+            );
+            assert!(
+                (fric + stop - 2.0 * t.cos()).abs() < 1e-9,
+                "forces at t = {t}: {y:?}"
+            );
+            assert!(stop >= -1e-12, "the stop pushes only: {stop} at t = {t}");
+            if t.cos() > 1e-9 {
+                assert!(
+                    fric.abs() < 1e-12,
+                    "friction idle while the stop bears the load: {fric}"
+                );
+            }
+        } else if t > t1 + 1e-9 {
+            let d = t - t1;
+            let x = 1.0 - 2.0 * (t.cos() - c1) - 2.0 * s1 * d + 0.25 * d * d;
+            let v = 2.0 * (t.sin() - s1) + 0.5 * d;
+            assert!(
+                (y[0] - x).abs() < 1e-8 && (y[1] - v).abs() < 1e-8,
+                "sliding at t = {t}: {y:?} vs ({x}, {v})"
+            );
+        }
+    }
+    let last = traj.last().expect("rows").1;
+    assert!(last[0] < 0.9, "it slid away: {last:?}");
+}

@@ -1,11 +1,10 @@
 use crate::Mechanism;
 
 /// Theory S9: the 7-dof arm of [`super::Panda`] (same kinematics and inertial data, Gaz
-/// et al. 2019) with Coulomb friction on joints 1, 3, 5, 6 and 7 and rigid stops at the
-/// upper joint limits of j2 and j4 (the Panda's published limits), restitution `e`.
-/// The stopped joints carry no friction: the event-driven integrator does not yet take a
-/// stop and friction on one coordinate (their forces are not unique when both hold it;
-/// time-stepping takes it).
+/// et al. 2019) with Coulomb friction on every joint and rigid stops at the upper joint
+/// limits of j2 and j4 (the Panda's published limits), restitution `e`. Where a joint
+/// rests against its stop, the stop bears what presses on it and friction holds what
+/// pulls away, up to its critical torque.
 ///
 /// Friction levels are the Coulomb amplitudes `φ1` of the friction model identified in
 /// the same paper (`τ_f = φ1 / (1 + exp(−φ2 (q̇ + φ3))) − …`), scaled by `friction`
@@ -35,7 +34,9 @@ use crate::Mechanism;
     inertia = [[0.012516, -0.000428, -0.001196], [-0.000428, 0.010027, -0.000741], [-0.001196, -0.000741, 0.004815]])]
 #[joint(j7: revolute(z), parent = link6, child = link7, origin = [0.088, 0.0, 0.0], rpy = [PI / 2.0, 0.0, 0.0])]
 #[friction(j1, f_crit = 0.54615 * friction)]
+#[friction(j2, f_crit = 0.87224 * friction)]
 #[friction(j3, f_crit = 0.64068 * friction)]
+#[friction(j4, f_crit = 1.2794 * friction)]
 #[friction(j5, f_crit = 0.83904 * friction)]
 #[friction(j6, f_crit = 0.30301 * friction)]
 #[friction(j7, f_crit = 0.56489 * friction)]

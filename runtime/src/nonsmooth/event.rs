@@ -494,7 +494,18 @@ where
                 .enumerate()
                 .map(|(e, el)| {
                     let c = el.coordinate;
-                    mode::switching(el, &self.branches[e], self.modes[e], q[c], v[c], ev.f[e])
+                    // A stop in contact with a stuck dash-pot beside it holds until the
+                    // load pulls away by more than the dash-pot's critical force.
+                    let f = match (el.kind, mode::stuck_partner(&self.elements, &self.modes, e)) {
+                        (ElementKind::Stop { side, .. }, Some(p)) => match self.elements[p].kind {
+                            ElementKind::DashPot { f_crit, .. } => {
+                                ev.f[e] + ev.f[p] + mode::side_sign(side) * f_crit
+                            }
+                            ElementKind::Stop { .. } => ev.f[e],
+                        },
+                        _ => ev.f[e],
+                    };
+                    mode::switching(el, &self.branches[e], self.modes[e], q[c], v[c], f)
                 })
                 .collect(),
             None => vec![f64::NAN; self.elements.len()],
@@ -966,6 +977,24 @@ fn check_unique_forces<const N: usize>(
                 matches!(m, Mode::SlipPos(_) | Mode::SlipNeg(_)) && v[ea.coordinate] == 0.0
             };
             let (ma, mb) = (modes[a], modes[b]);
+            // A rigid stop in contact takes what presses on it; a dash-pot beside it
+            // takes the rest (stuck), or its slip force: unique either way.
+            let is_stop = |e: &Element, m: Mode| {
+                matches!(
+                    (e.kind, m),
+                    (
+                        ElementKind::Stop {
+                            kind: StopKind::Rigid { .. },
+                            ..
+                        },
+                        Mode::Contact
+                    )
+                )
+            };
+            let is_dashpot = |e: &Element| matches!(e.kind, ElementKind::DashPot { .. });
+            if (is_stop(ea, ma) && is_dashpot(eb)) || (is_stop(eb, mb) && is_dashpot(ea)) {
+                continue;
+            }
             if (holds(ma) && (holds(mb) || at_rest_slip(mb))) || (holds(mb) && at_rest_slip(ma)) {
                 return Err(format!(
                     "elements `{}` and `{}` both hold coordinate {} at rest: their forces are not unique (only their sum is determined)",

@@ -331,7 +331,8 @@ pub(crate) struct Evaluation<const N: usize> {
 }
 
 /// The smooth dynamics of mode assignment `modes` at `(q, v)` with input `τ`; `None`
-/// when the constraints are dependent (two constrained elements on one coordinate).
+/// when the constraints are dependent (two constrained elements on one coordinate,
+/// except a rigid stop in contact with a stuck dash-pot, which hold it together).
 pub(crate) fn evaluate<S: NonSmooth<N>, const N: usize>(
     system: &S,
     elements: &[Element],
@@ -373,25 +374,107 @@ pub(crate) fn evaluate<S: NonSmooth<N>, const N: usize>(
         tau_net[c] -= f[i];
     }
     let mut a = system.forward_dynamics(q, v, &tau_net);
-    if !active.is_empty() {
+    // A rigid stop in contact and a stuck dash-pot on one coordinate hold it together:
+    // one constraint row, its force split by `split_stop_and_stick`. Any other pair of
+    // holders on one coordinate is dependent.
+    let mut pairs: Vec<(usize, usize)> = Vec::new();
+    let mut rows: Vec<usize> = Vec::new();
+    for &e in &active {
+        let c = elements[e].coordinate;
+        match rows.iter().position(|&r| elements[r].coordinate == c) {
+            None => rows.push(e),
+            Some(k) => {
+                let (stop, stick) = stop_and_stick(elements, modes, rows[k], e)?;
+                rows[k] = stop;
+                pairs.push((stop, stick));
+            }
+        }
+    }
+    if !rows.is_empty() {
         let w = system.inverse_mass_matrix(q);
-        let k = active.len();
-        let coord = |i: usize| elements[active[i]].coordinate;
+        let k = rows.len();
+        let coord = |i: usize| elements[rows[i]].coordinate;
         let waa = DMatrix::from_fn(k, k, |i, j| w[(coord(i), coord(j))]);
         let rhs = DVector::from_fn(k, |i, _| a[coord(i)]);
         let fa = waa.cholesky()?.solve(&rhs);
         if fa.iter().any(|x| !x.is_finite()) {
             return None;
         }
-        for (i, &e) in active.iter().enumerate() {
+        for (i, &e) in rows.iter().enumerate() {
             f[e] = fa[i];
             a -= w.column(coord(i)) * fa[i];
         }
         for i in 0..k {
             a[coord(i)] = 0.0;
         }
+        for &(stop, stick) in &pairs {
+            (f[stop], f[stick]) = split_stop_and_stick(&elements[stop], f[stop]);
+        }
     }
     Some(Evaluation { a, f })
+}
+
+/// `(stop, dash-pot)` when elements `a` and `b` are a rigid stop in contact and a stuck
+/// dash-pot (in either order); `None` for any other pair of holders.
+fn stop_and_stick(
+    elements: &[Element],
+    modes: &[Mode],
+    a: usize,
+    b: usize,
+) -> Option<(usize, usize)> {
+    let is_stop = |e: usize| {
+        matches!(
+            (elements[e].kind, modes[e]),
+            (
+                ElementKind::Stop {
+                    kind: StopKind::Rigid { .. },
+                    ..
+                },
+                Mode::Contact
+            )
+        )
+    };
+    let is_stick = |e: usize| {
+        matches!(
+            (elements[e].kind, modes[e]),
+            (ElementKind::DashPot { .. }, Mode::Stick)
+        )
+    };
+    if is_stop(a) && is_stick(b) {
+        Some((a, b))
+    } else if is_stop(b) && is_stick(a) {
+        Some((b, a))
+    } else {
+        None
+    }
+}
+
+/// The split of the force `λ` holding a coordinate between a rigid stop in contact and a
+/// stuck dash-pot on it: the stop takes the part pressing the coordinate against it
+/// (it cannot pull), the dash-pot the rest. The motion does not depend on the split;
+/// this one keeps the dash-pot force zero while the stop bears the load, so friction
+/// only acts when the load pulls away from the stop.
+pub(crate) fn split_stop_and_stick(stop: &Element, lambda: f64) -> (f64, f64) {
+    let s = match stop.kind {
+        ElementKind::Stop { side, .. } => side_sign(side),
+        ElementKind::DashPot { .. } => 1.0,
+    };
+    if s * lambda >= 0.0 {
+        (lambda, 0.0)
+    } else {
+        (0.0, lambda)
+    }
+}
+
+/// For a rigid stop in contact with a stuck dash-pot on the same coordinate, the
+/// dash-pot's index: the pair holds until the load pulls away from the stop by more
+/// than the dash-pot's critical force.
+pub(crate) fn stuck_partner(elements: &[Element], modes: &[Mode], stop: usize) -> Option<usize> {
+    (0..elements.len()).find(|&e| {
+        e != stop
+            && elements[e].coordinate == elements[stop].coordinate
+            && stop_and_stick(elements, modes, stop, e) == Some((stop, e))
+    })
 }
 
 /// Switching function of `element` in `mode`: positive while the mode holds, crossing

@@ -2,6 +2,7 @@
 # Peer measurements for the report: Pinocchio, SciPy and SymPy in peers/.venv.
 # Writes target/report/peers/peers.md and peers.tsv (the report embeds them).
 # Needs the exported models: cargo run --release --example report -- --no-compile
+# diffsol is not run here: the report builds and runs peers/diffsol itself (its README).
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(dirname "$HERE")"

@@ -1,4 +1,5 @@
-//! What the report runs: default, `--long` or `--tiny`.
+//! What the report runs: default, `--long` or `--tiny`; `--no-compile` skips the
+//! compile-time measurements, `--no-peers` the diffsol peer package.
 
 use std::path::PathBuf;
 
@@ -18,6 +19,9 @@ pub struct Config {
     pub kernel_calls: usize,
     /// Measure release compile time of each scene (builds temporary crates).
     pub compile: bool,
+    /// Build and run the diffsol peer package (`peers/diffsol`, its own target directory;
+    /// minutes the first time); off with `--no-peers` and on the tiny configuration.
+    pub peers: bool,
     pub show_progress: bool,
     pub out_dir: PathBuf,
 }
@@ -32,6 +36,7 @@ impl Config {
             horizon: 1.0,
             kernel_calls: 20_000,
             compile: true,
+            peers: true,
             show_progress: true,
             out_dir: PathBuf::from(env!("CARGO_MANIFEST_DIR"))
                 .join("target")
@@ -62,6 +67,7 @@ impl Config {
             horizon: 0.1,
             kernel_calls: 10,
             compile: false,
+            peers: false,
             show_progress: false,
             out_dir,
         }
@@ -69,17 +75,24 @@ impl Config {
 
     pub fn from_args(args: impl Iterator<Item = String>) -> Config {
         let mut config = Config::default_run();
+        let (mut no_compile, mut no_peers) = (false, false);
         for a in args {
             match a.as_str() {
                 "--long" => config = Config::long(),
                 "--tiny" => config = Config::tiny(config.out_dir.clone()),
-                "--no-compile" => config.compile = false,
+                "--no-compile" => no_compile = true,
+                "--no-peers" => no_peers = true,
                 other => {
-                    eprintln!("unknown argument `{other}`; use --long, --tiny or --no-compile");
+                    eprintln!(
+                        "unknown argument `{other}`; use --long, --tiny, --no-compile or --no-peers"
+                    );
                     std::process::exit(2);
                 }
             }
         }
+        // The switches apply whatever their order relative to --long / --tiny.
+        config.compile &= !no_compile;
+        config.peers &= !no_peers;
         config
     }
 

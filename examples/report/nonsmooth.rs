@@ -214,6 +214,12 @@ fn table(page: &mut Page, rows: &[Row]) {
 }
 
 fn plot(config: &Config, file: &str, title: &str, rows: &[Row]) {
+    plot_with(config, file, title, rows, Vec::new());
+}
+
+/// [`plot`] with extra series of another metric (S6: diffsol's regularised runs and the
+/// event-driven runs of the same peer program, max |x − x_ref| over the run).
+fn plot_with(config: &Config, file: &str, title: &str, rows: &[Row], extra: Vec<Series>) {
     let mut curves = Vec::new();
     for m in METHODS {
         let pts: Vec<(f64, f64)> = rows
@@ -228,11 +234,17 @@ fn plot(config: &Config, file: &str, title: &str, rows: &[Row]) {
             .collect();
         curves.push(Series::new(m, pts));
     }
+    let y_label = if extra.is_empty() {
+        "max switch error (time or position)"
+    } else {
+        "switch error; max |x − x_ref| where the legend says so"
+    };
+    curves.extend(extra);
     line_plot(
         &config.out_dir.join(file),
         title,
         "run time [ms]",
-        "max switch error (time or position)",
+        y_label,
         &curves,
         Scale::Log,
         Scale::Log,
@@ -356,6 +368,10 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
         ],
         &rows,
     );
+    if name == "S5" {
+        // diffsol on the regularised law (peers/diffsol), same metric.
+        curves.extend(super::peers::diffsol_series(config, "S5", false));
+    }
     let file = format!("ns_{}.svg", name.to_lowercase().replace(' ', "_"));
     line_plot(
         &config.out_dir.join(&file),
@@ -401,11 +417,12 @@ pub fn nonsmooth(config: &Config) -> Section {
         x_final,
     );
     table(&mut page, &rows);
-    plot(
+    plot_with(
         config,
         "ns_s6.svg",
-        "S6 Coulomb free decay: switch error against run time",
+        "S6 Coulomb free decay: error against run time",
         &rows,
+        super::peers::diffsol_series(config, "S6", true),
     );
     page.image("S6", "ns_s6.svg");
     summarize("S6", &rows, &mut summary);

@@ -3,12 +3,24 @@
 //! SciPy and SymPy in a local virtual environment), and includes the script's results
 //! (`target/report/peers/peers.md`, `peers.tsv`) when it has been run. Nothing is
 //! invented when it has not: the section says so.
+//!
+//! diffsol is measured by its own package, `peers/diffsol` (outside the workspace, so its
+//! long compile stays out of `cargo test`): unless `--no-peers` is given (and never on
+//! the tiny configuration) the report builds and runs it, in its own target directory
+//! `target/peers-diffsol`, writing `target/report/peers/diffsol.tsv`, and shows the
+//! table, a summary and extra series on the S5/S6 plots.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
 
 use filippov::Mechanism;
 use filippov::scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
 
 use super::config::Config;
-use super::markdown::Page;
+use super::markdown::{Page, sci};
+use super::support::Series;
 use super::workprecision::Section;
 
 /// Writes the scene models for the peer script.
@@ -76,5 +88,483 @@ pub fn peers(config: &Config, ours: &[(&str, f64)]) -> Section {
             summary.push("Peers: not run (no figures); `bash peers/run.sh` runs them".into());
         }
     }
+    diffsol_section(config, &mut page, &mut summary);
     Section { page, summary }
+}
+
+/// One row of `diffsol.tsv` (see peers/diffsol/README.md).
+struct Row {
+    scene: String,
+    solver: String,
+    setting: String,
+    time_ms: f64,
+    steps: String,
+    final_error: f64,
+    max_grid_error: f64,
+    notes: String,
+}
+
+/// What the diffsol peer gave: where its figures come from, and the figures.
+pub struct Diffsol {
+    /// Measured by this run of the report (rather than read from an earlier run).
+    this_run: bool,
+    /// A sentence on where the figures come from (or why there are none).
+    provenance: String,
+    /// Why the build or run failed, with the log's tail.
+    failure: Option<String>,
+    header: Vec<String>,
+    rows: Vec<Row>,
+}
+
+fn parse(text: &str) -> (Vec<String>, Vec<Row>) {
+    let mut header = Vec::new();
+    let mut rows = Vec::new();
+    for line in text.lines() {
+        if let Some(h) = line.strip_prefix('#') {
+            header.push(h.trim().to_string());
+            continue;
+        }
+        let f: Vec<&str> = line.split('\t').collect();
+        if f.len() != 8 || f[0] == "scene" {
+            continue;
+        }
+        let num = |s: &str| s.trim().parse::<f64>().unwrap_or(f64::NAN);
+        rows.push(Row {
+            scene: f[0].into(),
+            solver: f[1].into(),
+            setting: f[2].into(),
+            time_ms: num(f[3]),
+            steps: f[4].into(),
+            final_error: num(f[5]),
+            max_grid_error: num(f[6]),
+            notes: f[7].into(),
+        });
+    }
+    (header, rows)
+}
+
+/// The last lines of a log, for the report.
+fn tail(path: &Path, lines: usize) -> String {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let all: Vec<&str> = text.lines().collect();
+    all[all.len().saturating_sub(lines)..].join("\n")
+}
+
+/// Builds and runs `peers/diffsol` (or reads an earlier `diffsol.tsv` under
+/// `--no-peers`); never panics.
+fn run_diffsol(config: &Config) -> Diffsol {
+    let dir = config.out_dir.join("peers");
+    let tsv = dir.join("diffsol.tsv");
+    let mut out = Diffsol {
+        this_run: false,
+        provenance: String::new(),
+        failure: None,
+        header: Vec::new(),
+        rows: Vec::new(),
+    };
+    if config.name == "tiny" {
+        out.provenance = "diffsol is not run on the tiny configuration (the tests).".into();
+        return out;
+    }
+    if !config.peers {
+        match (
+            std::fs::read_to_string(&tsv),
+            std::fs::metadata(&tsv).and_then(|m| m.modified()),
+        ) {
+            (Ok(text), Ok(modified)) => {
+                let age = match modified.elapsed().map(|d| d.as_secs_f64() / 60.0) {
+                    Ok(m) if m < 90.0 => format!("{m:.0} min"),
+                    Ok(m) => format!("{:.1} h", m / 60.0),
+                    Err(_) => "an unknown time".into(),
+                };
+                out.provenance = format!(
+                    "Not measured in this run (`--no-peers`): the figures below are read from `{}`, written by an earlier run of the peer package {age} before this report.",
+                    tsv.display()
+                );
+                (out.header, out.rows) = parse(&text);
+            }
+            _ => {
+                out.provenance =
+                    "diffsol was not run (`--no-peers`) and no earlier `diffsol.tsv` exists."
+                        .into();
+            }
+        }
+        return out;
+    }
+    let repo = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let manifest = repo.join("peers").join("diffsol").join("Cargo.toml");
+    let target = repo.join("target").join("peers-diffsol");
+    let log = dir.join("diffsol.log");
+    let _ = std::fs::remove_file(&tsv);
+    let prepared = std::fs::create_dir_all(&dir).and_then(|_| std::fs::File::create(&log));
+    let Ok(log_file) = prepared else {
+        out.failure = Some(format!("cannot create {}", log.display()));
+        return out;
+    };
+    let cargo = |args: &[&std::ffi::OsStr]| -> Result<f64, String> {
+        let (Ok(o), Ok(e)) = (log_file.try_clone(), log_file.try_clone()) else {
+            return Err("cannot share the log file".into());
+        };
+        let start = Instant::now();
+        let status = Command::new(env!("CARGO"))
+            .args(args)
+            .env("CARGO_TARGET_DIR", &target)
+            .stdin(Stdio::null())
+            .stdout(o)
+            .stderr(e)
+            .status();
+        let secs = start.elapsed().as_secs_f64();
+        match status {
+            Ok(s) if s.success() => Ok(secs),
+            Ok(s) => Err(format!("exited with {s}")),
+            Err(e) => Err(format!("could not start cargo: {e}")),
+        }
+    };
+    let m = manifest.as_os_str();
+    let build = cargo(&[
+        "build".as_ref(),
+        "--release".as_ref(),
+        "--manifest-path".as_ref(),
+        m,
+    ]);
+    let run = build.as_ref().map_err(|e| e.clone()).and_then(|_| {
+        cargo(&[
+            "run".as_ref(),
+            "--release".as_ref(),
+            "--manifest-path".as_ref(),
+            m,
+            "--".as_ref(),
+            tsv.as_os_str(),
+        ])
+    });
+    match (build, run) {
+        (Ok(b), Ok(r)) => match std::fs::read_to_string(&tsv) {
+            Ok(text) => {
+                out.this_run = true;
+                out.provenance = format!(
+                    "Measured in this run by the peer package `peers/diffsol`: `cargo build` took {b:.0} s here (a cold build compiles diffsol and takes minutes), the run {r:.1} s; log `{}`.",
+                    log.display()
+                );
+                (out.header, out.rows) = parse(&text);
+            }
+            Err(e) => out.failure = Some(format!("the run wrote no {}: {e}", tsv.display())),
+        },
+        (Err(e), _) => {
+            out.failure = Some(format!(
+                "building peers/diffsol failed ({e}); last lines of {}:\n{}",
+                log.display(),
+                tail(&log, 20)
+            ))
+        }
+        (Ok(_), Err(e)) => {
+            out.failure = Some(format!(
+                "running peers/diffsol failed ({e}); last lines of {}:\n{}",
+                log.display(),
+                tail(&log, 20)
+            ))
+        }
+    }
+    out
+}
+
+/// The diffsol results for this configuration, run at most once per report (the
+/// non-smooth section asks first, for its plots; the peers section after).
+pub fn diffsol(config: &Config) -> Arc<Diffsol> {
+    static CACHE: Mutex<Option<(PathBuf, bool, Arc<Diffsol>)>> = Mutex::new(None);
+    let mut cache = CACHE.lock().unwrap_or_else(|p| p.into_inner());
+    if let Some((dir, peers, d)) = cache.as_ref()
+        && *dir == config.out_dir
+        && *peers == config.peers
+    {
+        return d.clone();
+    }
+    let d = Arc::new(run_diffsol(config));
+    *cache = Some((config.out_dir.clone(), config.peers, d.clone()));
+    d
+}
+
+/// The regularised runs of `scene` ("S5" or "S6") as work-precision series (run time in
+/// ms, max error in x over the grid), one per diffsol solver; with `ours`, filippov's
+/// event-driven rows of the same program too (same metric, for plots whose own series
+/// use another one).
+pub fn diffsol_series(config: &Config, scene: &str, ours: bool) -> Vec<Series> {
+    let d = diffsol(config);
+    let when = if d.this_run { "" } else { ", earlier run" };
+    let mut labels: Vec<&str> = Vec::new();
+    for r in &d.rows {
+        let wanted = r.solver.contains("tanh") || (ours && r.solver.starts_with("filippov"));
+        if r.scene == scene && wanted && !labels.contains(&r.solver.as_str()) {
+            labels.push(&r.solver);
+        }
+    }
+    labels
+        .iter()
+        .map(|solver| {
+            let runs: Vec<&Row> = d
+                .rows
+                .iter()
+                .filter(|r| r.scene == scene && r.solver == *solver)
+                .collect();
+            let done: Vec<&&Row> = runs
+                .iter()
+                .filter(|r| r.time_ms.is_finite() && r.max_grid_error.is_finite())
+                .collect();
+            let pts = done.iter().map(|r| (r.time_ms, r.max_grid_error)).collect();
+            // The settings the curve spans, and those whose run failed.
+            let span = match (done.first(), done.last()) {
+                (Some(a), Some(b)) if done.len() > 1 => format!(
+                    "{}…{}",
+                    a.setting,
+                    b.setting
+                        .split_once('=')
+                        .map_or(b.setting.as_str(), |(_, v)| v)
+                ),
+                (Some(a), _) => a.setting.clone(),
+                _ => "none completed".into(),
+            };
+            let failed: Vec<&str> = runs
+                .iter()
+                .filter(|r| r.notes.starts_with("failed"))
+                .map(|r| r.setting.as_str())
+                .collect();
+            let failed = if failed.is_empty() {
+                String::new()
+            } else {
+                format!("; failed at {}", failed.join(", "))
+            };
+            let span = span.replace("eps=", "ε = ").replace("rtol=", "rtol ");
+            let label = match solver.strip_suffix(" tanh(v/eps)") {
+                Some(s) => {
+                    format!("{s}, f_crit·tanh(v/ε), {span}{failed} (max |x − x_ref|{when})")
+                }
+                None => format!("{solver}, {span} (max |x − x_ref|, peer program{when})"),
+            };
+            Series::new(label, pts)
+        })
+        .collect()
+}
+
+fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
+    page.h3("diffsol");
+    let d = diffsol(config);
+    if let Some(why) = &d.failure {
+        page.para(
+            "**The diffsol peer could not be measured in this run**; no diffsol figures are shown.",
+        );
+        page.code(why);
+        summary.push(
+            "diffsol: the peer package failed to build or run (see the Peers section)".into(),
+        );
+        return;
+    }
+    if d.rows.is_empty() {
+        page.para(&d.provenance);
+        summary.push(format!(
+            "diffsol: no figures ({})",
+            if config.peers {
+                "none written"
+            } else {
+                "not run"
+            }
+        ));
+        return;
+    }
+    page.para(&d.provenance);
+    page.para(
+        "diffsol (crates.io) solves the same problems through its closure API (`OdeBuilder::rhs_implicit` with the generated \
+         forward dynamics and, as the Jacobian-vector product, the generated symbolic Jacobian; dense nalgebra matrices and LU). \
+         The peer program also times filippov's own methods on exactly the same problems with the same harness, so the rows \
+         compare like with like. On S5 and S6 diffsol integrates the smooth ODE a user would write, \
+         m x'' = −k x + F(t) − f_crit·tanh(v/ε), for a sweep of ε; its error is measured against the exact non-smooth solution \
+         (S6: the closed form; S5: filippov's event-driven run at rtol 1e-12), next to filippov's event-driven integrator on the \
+         Coulomb law itself. The S5 and S6 plots above carry these runs as extra series.",
+    );
+    page.bullets(&d.header);
+    let body: Vec<Vec<String>> = d
+        .rows
+        .iter()
+        .map(|r| {
+            if r.notes.starts_with("failed") {
+                vec![
+                    r.scene.clone(),
+                    r.solver.clone(),
+                    r.setting.clone(),
+                    format!("**failed**: {}", r.notes.trim_start_matches("failed: ")),
+                    String::new(),
+                    String::new(),
+                    String::new(),
+                    String::new(),
+                ]
+            } else {
+                vec![
+                    r.scene.clone(),
+                    r.solver.clone(),
+                    r.setting.clone(),
+                    format!("{:.3}", r.time_ms),
+                    r.steps.clone(),
+                    sci(r.final_error),
+                    sci(r.max_grid_error),
+                    r.notes.clone(),
+                ]
+            }
+        })
+        .collect();
+    page.table(
+        &[
+            "scene",
+            "solver",
+            "setting",
+            "time [ms]",
+            "steps",
+            "final error",
+            "max error (grid)",
+            "notes",
+        ],
+        &body,
+    );
+    let when = if d.this_run {
+        "measured in this run"
+    } else {
+        "from an earlier run"
+    };
+    fn ok(r: &Row) -> bool {
+        r.time_ms.is_finite() && r.max_grid_error.is_finite()
+    }
+    for scene in ["DoublePendulum", "Panda"] {
+        let rows: Vec<&Row> = d
+            .rows
+            .iter()
+            .filter(|r| r.scene == scene)
+            .filter(|r| ok(r))
+            .collect();
+        if rows.is_empty() {
+            continue;
+        }
+        // Every solver at the tightest tolerance of the sweep, fastest first.
+        let tight = rows
+            .iter()
+            .filter_map(|r| {
+                r.setting
+                    .strip_prefix("rtol=")
+                    .and_then(|t| t.parse::<f64>().ok())
+            })
+            .fold(f64::INFINITY, f64::min);
+        let mut at: Vec<&&Row> = rows
+            .iter()
+            .filter(|r| {
+                r.setting
+                    .strip_prefix("rtol=")
+                    .and_then(|t| t.parse::<f64>().ok())
+                    == Some(tight)
+            })
+            .collect();
+        at.sort_by(|a, b| a.time_ms.total_cmp(&b.time_ms));
+        let list: Vec<String> = at
+            .iter()
+            .map(|r| {
+                format!(
+                    "{} {:.3} ms (error {})",
+                    r.solver,
+                    r.time_ms,
+                    sci(r.max_grid_error)
+                )
+            })
+            .collect();
+        summary.push(format!("{scene}, filippov vs diffsol at rtol {tight:.0e} ({when}, same problem and harness): {}", list.join(", ")));
+        // Work-precision: the fastest of each library to a grid error ≤ 1e-2.
+        let best = |prefix: &str| {
+            rows.iter()
+                .filter(|r| r.solver.starts_with(prefix) && r.max_grid_error <= 1e-2)
+                .min_by(|a, b| a.time_ms.total_cmp(&b.time_ms))
+        };
+        match (best("filippov"), best("diffsol")) {
+            (Some(f), Some(g)) => summary.push(format!(
+                "{scene}: fastest to a max grid error ≤ 1e-2 — filippov {} at {} ({:.3} ms) vs diffsol {} at {} ({:.3} ms): {:.1}× {}",
+                f.solver.trim_start_matches("filippov "), f.setting, f.time_ms,
+                g.solver.trim_start_matches("diffsol "), g.setting, g.time_ms,
+                if f.time_ms <= g.time_ms { g.time_ms / f.time_ms } else { f.time_ms / g.time_ms },
+                if f.time_ms <= g.time_ms { "faster (filippov)" } else { "faster (diffsol)" }
+            )),
+            (Some(f), None) => summary.push(format!("{scene}: filippov reaches a max grid error ≤ 1e-2 ({} at {}, {:.3} ms); no diffsol run of the sweep does", f.solver, f.setting, f.time_ms)),
+            (None, Some(g)) => summary.push(format!("{scene}: diffsol reaches a max grid error ≤ 1e-2 ({} at {}, {:.3} ms); no filippov run of the sweep does", g.solver, g.setting, g.time_ms)),
+            (None, None) => {}
+        }
+    }
+    for scene in ["S6", "S5"] {
+        let rows: Vec<&Row> = d.rows.iter().filter(|r| r.scene == scene).collect();
+        let reg = rows
+            .iter()
+            .filter(|r| r.solver.contains("tanh"))
+            .filter(|r| ok(r))
+            .min_by(|a, b| {
+                a.max_grid_error
+                    .total_cmp(&b.max_grid_error)
+                    .then(a.time_ms.total_cmp(&b.time_ms))
+            });
+        let event: Vec<&&Row> = rows
+            .iter()
+            .filter(|r| r.solver.starts_with("filippov"))
+            .filter(|r| ok(r))
+            .collect();
+        let failed = rows
+            .iter()
+            .filter(|r| r.notes.starts_with("failed"))
+            .count();
+        let Some(reg) = reg else {
+            summary.push(format!(
+                "{scene}: no regularised diffsol run completed ({failed} failed)"
+            ));
+            continue;
+        };
+        let mut line = format!(
+            "{scene} ({when}): the best regularised diffsol run reaches a max error in x of {} ({} at {}, {:.3} ms)",
+            sci(reg.max_grid_error),
+            reg.solver.trim_end_matches(" tanh(v/eps)"),
+            reg.setting.replace("eps=", "ε = "),
+            reg.time_ms
+        );
+        // The fastest regularised run within 10 % of that error, when another one is.
+        if let Some(fast) = rows
+            .iter()
+            .filter(|r| r.solver.contains("tanh"))
+            .filter(|r| ok(r) && r.max_grid_error <= 1.1 * reg.max_grid_error)
+            .min_by(|a, b| a.time_ms.total_cmp(&b.time_ms))
+            .filter(|f| f.time_ms < reg.time_ms)
+        {
+            line += &format!(
+                " (within 10 % of it fastest: {} at {}, {} in {:.3} ms)",
+                fast.solver.trim_end_matches(" tanh(v/eps)"),
+                fast.setting.replace("eps=", "ε = "),
+                sci(fast.max_grid_error),
+                fast.time_ms
+            );
+        }
+        if let Some(e) = event
+            .iter()
+            .min_by(|a, b| a.max_grid_error.total_cmp(&b.max_grid_error))
+        {
+            line += &format!(
+                "; filippov event-driven reaches {} (at {}, {:.3} ms)",
+                sci(e.max_grid_error),
+                e.setting,
+                e.time_ms
+            );
+        }
+        if let Some(e) = event
+            .iter()
+            .filter(|e| e.max_grid_error <= reg.max_grid_error)
+            .min_by(|a, b| a.time_ms.total_cmp(&b.time_ms))
+        {
+            line += &format!(
+                ", and beats diffsol's best error already at {} ({} in {:.3} ms)",
+                e.setting,
+                sci(e.max_grid_error),
+                e.time_ms
+            );
+        }
+        if failed > 0 {
+            line += &format!("; {failed} regularised run(s) failed (see the table)");
+        }
+        summary.push(line);
+    }
 }

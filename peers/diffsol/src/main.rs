@@ -1,0 +1,542 @@
+//! diffsol (crates.io) as a peer of filippov, measured in one run and written as a TSV.
+//!
+//! * Smooth scenes (the double pendulum of S8 and the Panda arm), with the generated
+//!   kernels and their symbolic Jacobian handed to diffsol's closure API: diffsol BDF,
+//!   ESDIRK34, TR-BDF2 and TSIT45 against filippov's DOPRI5 and SDIRK4 on the same
+//!   problems, same tolerances, same timing.
+//! * S6 and S5 with the friction regularised as `f_crit·tanh(v/ε)` for a sweep of ε
+//!   (diffsol BDF, ESDIRK34 and TSIT45 at rtol 1e-8), against the exact non-smooth
+//!   solution, next to filippov's event-driven integrator on the non-smooth law itself.
+//!
+//! Usage: `filippov-peer-diffsol [OUT.tsv]` (default `target/report/peers/diffsol.tsv`
+//! under the repository root). See README.md for the columns.
+
+mod exact;
+mod ode;
+mod run;
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use filippov::Mechanism;
+use filippov::nalgebra::SVector;
+use filippov::runtime::{
+    MechanicalSystem, Method, NonSmoothMethod, NonSmoothProblem, Options, Problem, SmoothMethod,
+    Trajectory, solve, solve_nonsmooth,
+};
+use filippov::scenes::{CoulombOscillator, DoublePendulum, Panda};
+
+use exact::CoulombFreeDecay;
+use ode::{Mechanical, Regularised};
+use run::{Solver, median};
+
+/// Timed repetitions after one warm-up.
+const REPEATS: usize = 5;
+/// Grid intervals for the dense error (grid of `GRID + 1` times, ends included).
+const GRID: usize = 200;
+const SMOOTH_RTOLS: [f64; 3] = [1e-4, 1e-6, 1e-8];
+const EPSILONS: [f64; 5] = [1e-1, 1e-2, 1e-3, 1e-4, 1e-5];
+/// Tolerance of the regularised runs (atol = rtol·1e-2).
+const REG_RTOL: f64 = 1e-8;
+/// Tolerances of filippov's event-driven runs on S5/S6.
+const EVENT_RTOLS: [f64; 4] = [1e-4, 1e-6, 1e-8, 1e-10];
+
+struct Row {
+    scene: &'static str,
+    solver: String,
+    setting: String,
+    time_ms: f64,
+    steps: Option<usize>,
+    final_error: f64,
+    max_grid_error: f64,
+    notes: String,
+}
+
+impl Row {
+    fn failed(scene: &'static str, solver: &str, setting: String, why: &str) -> Row {
+        Row {
+            scene,
+            solver: solver.into(),
+            setting,
+            time_ms: f64::NAN,
+            steps: None,
+            final_error: f64::NAN,
+            max_grid_error: f64::NAN,
+            notes: format!("failed: {}", why.replace(['\t', '\n'], " ")),
+        }
+    }
+}
+
+fn grid(t0: f64, tf: f64) -> Vec<f64> {
+    (0..=GRID)
+        .map(|i| {
+            if i == GRID {
+                tf
+            } else {
+                t0 + (tf - t0) * i as f64 / GRID as f64
+            }
+        })
+        .collect()
+}
+
+/// (final error, max error over the grid) over the components `comps` of each state.
+fn errors(values: &[Vec<f64>], reference: &[Vec<f64>], comps: usize) -> (f64, f64) {
+    if values.len() != reference.len() {
+        return (f64::INFINITY, f64::INFINITY);
+    }
+    let diff =
+        |a: &Vec<f64>, b: &Vec<f64>| (0..comps).map(|j| (a[j] - b[j]).abs()).fold(0.0, f64::max);
+    let last = values.len() - 1;
+    let fin = diff(&values[last], &reference[last]);
+    let max = values
+        .iter()
+        .zip(reference)
+        .map(|(a, b)| diff(a, b))
+        .fold(0.0, f64::max);
+    (fin, max)
+}
+
+/// A filippov trajectory at the grid times (NaN outside its range).
+fn on_grid(traj: &Trajectory, grid: &[f64]) -> Vec<Vec<f64>> {
+    grid.iter()
+        .map(|&t| traj.at(t).unwrap_or_else(|| vec![f64::NAN; traj.dim()]))
+        .collect()
+}
+
+fn sci(x: f64) -> String {
+    format!("{x:.3e}")
+}
+
+/// The smooth scene `sys` from `y0` over `[0, tf]`.
+fn smooth<S: Mechanism<N>, const N: usize>(
+    rows: &mut Vec<Row>,
+    header: &mut Vec<String>,
+    scene: &'static str,
+    sys: &S,
+    y0: Vec<f64>,
+    tf: f64,
+) {
+    eprintln!("== {scene}");
+    let grid = grid(0.0, tf);
+    let system = MechanicalSystem::unforced(sys);
+    let problem = Problem::new(0.0, tf, y0.clone());
+    let ref_dopri = solve(
+        &system,
+        &problem,
+        &Method::Dopri5(Options::tolerances(1e-13, 1e-15)),
+    );
+    let h = 1e-5;
+    let ref_rk4 = solve(&system, &problem, &Method::Rk4 { h });
+    let (Ok(ref_dopri), Ok(ref_rk4)) = (ref_dopri, ref_rk4) else {
+        header.push(format!("{scene}: the reference runs failed; no rows"));
+        return;
+    };
+    let (ref_dopri, ref_rk4) = (on_grid(&ref_dopri, &grid), on_grid(&ref_rk4, &grid));
+    let agree = errors(&ref_dopri, &ref_rk4, 2 * N).1;
+    header.push(format!(
+        "{scene}: y0 = {y0:?}, t in [0, {tf}]; references filippov DOPRI5 (rtol 1e-13, atol 1e-15) and RK4 (h = {h:e}) agree to {} over the grid; diffsol rows are measured against the DOPRI5 reference, filippov rows against the RK4 one",
+        sci(agree)
+    ));
+    let ode = Mechanical::new(sys);
+    for solver in [
+        Solver::Bdf,
+        Solver::Esdirk34,
+        Solver::TrBdf2,
+        Solver::Tsit45,
+    ] {
+        for rtol in SMOOTH_RTOLS {
+            let atol = rtol * 1e-2;
+            let setting = format!("rtol={rtol:.0e}");
+            let (time, result) = median(REPEATS, || {
+                run::solve(&ode, solver, rtol, atol, 0.0, &y0, &grid, false)
+            });
+            rows.push(match result {
+                Ok(r) => {
+                    let (fin, max) = errors(&r.values, &ref_dopri, 2 * N);
+                    Row {
+                        scene,
+                        solver: solver.name().into(),
+                        setting,
+                        time_ms: time * 1e3,
+                        steps: Some(r.steps),
+                        final_error: fin,
+                        max_grid_error: max,
+                        notes: format!(
+                            "atol={atol:.0e}; {} error-test failures, {} rhs calls, {} Jacobians ({} LU setups, {} Newton iterations)",
+                            r.error_test_failures, r.rhs_calls, r.jacobians, r.lu_setups, r.newton_iterations
+                        ),
+                    }
+                }
+                Err(e) => Row::failed(scene, solver.name(), setting, &e),
+            });
+        }
+    }
+    type Make = fn(Options) -> Method;
+    let ours: [(&str, Make); 2] = [
+        ("filippov DOPRI5", Method::Dopri5),
+        ("filippov SDIRK4", Method::Sdirk4),
+    ];
+    for (name, make) in ours {
+        for rtol in SMOOTH_RTOLS {
+            let atol = rtol * 1e-2;
+            let setting = format!("rtol={rtol:.0e}");
+            let method = make(Options::tolerances(rtol, atol));
+            let (time, result) = median(REPEATS, || {
+                solve(&system, &problem, &method).map(|t| (on_grid(&t, &grid), t.stats))
+            });
+            rows.push(match result {
+                Ok((values, s)) => {
+                    let (fin, max) = errors(&values, &ref_rk4, 2 * N);
+                    Row {
+                        scene,
+                        solver: name.into(),
+                        setting,
+                        time_ms: time * 1e3,
+                        steps: Some(s.steps),
+                        final_error: fin,
+                        max_grid_error: max,
+                        notes: format!(
+                            "atol={atol:.0e}; {} rejected, {} rhs calls, {} Jacobians",
+                            s.rejected_steps, s.rhs_evaluations, s.jacobian_evaluations
+                        ),
+                    }
+                }
+                Err(e) => Row::failed(scene, name, setting, &e.to_string()),
+            });
+        }
+    }
+}
+
+/// The largest time or position error of the turning points of a run against the exact
+/// ones (infinite when the run has fewer).
+fn switch_error(found: &[(f64, f64)], exact: &[(f64, f64)]) -> f64 {
+    let mut worst = 0.0f64;
+    for (i, (te, xe)) in exact.iter().enumerate() {
+        match found.get(i) {
+            Some((t, x)) => worst = worst.max((t - te).abs()).max((x - xe).abs()),
+            None => return f64::INFINITY,
+        }
+    }
+    worst
+}
+
+/// S5 or S6 with regularised friction (diffsol) and event-driven (filippov), errors in x
+/// against `reference` on the grid.
+#[allow(clippy::too_many_arguments)]
+fn regularised(
+    rows: &mut Vec<Row>,
+    scene: &'static str,
+    coulomb: CoulombOscillator,
+    forcing: fn(f64) -> f64,
+    problem: &NonSmoothProblem<1>,
+    grid: &[f64],
+    reference: &[Vec<f64>],
+    turning_points: Option<&[(f64, f64)]>,
+) {
+    let y0 = [problem.q0[0], problem.v0[0]];
+    for solver in [Solver::Bdf, Solver::Esdirk34, Solver::Tsit45] {
+        for eps in EPSILONS {
+            eprintln!("== {scene}: {} eps = {eps:e}", solver.name());
+            let ode = Regularised::new(coulomb, eps, forcing);
+            let (rtol, atol) = (REG_RTOL, REG_RTOL * 1e-2);
+            let setting = format!("eps={eps:.0e}");
+            let (time, result) = median(REPEATS, || {
+                run::solve(&ode, solver, rtol, atol, problem.t0, &y0, grid, false)
+            });
+            rows.push(match result {
+                Ok(r) => {
+                    let (fin, max) = errors(&r.values, reference, 1);
+                    let mut notes = format!(
+                        "rtol={rtol:.0e}, atol={atol:.0e}; errors in x; {} error-test failures, {} rhs calls, {} Jacobian-vector products",
+                        r.error_test_failures, r.rhs_calls, r.jacobians
+                    );
+                    if let Some(tp) = turning_points {
+                        // Untimed second solve, stepping manually (same steps) to locate
+                        // the velocity zeros.
+                        match run::solve(&ode, solver, rtol, atol, problem.t0, &y0, grid, true) {
+                            Ok(z) => {
+                                let _ = write!(
+                                    notes,
+                                    "; switch_error={}; {} velocity zeros (exact: {})",
+                                    sci(switch_error(&z.velocity_zeros, tp)),
+                                    z.velocity_zeros.len(),
+                                    tp.len()
+                                );
+                            }
+                            Err(e) => {
+                                let _ = write!(notes, "; switch points: failed ({e})");
+                            }
+                        }
+                    }
+                    Row {
+                        scene,
+                        solver: format!("{} tanh(v/eps)", solver.name()),
+                        setting,
+                        time_ms: time * 1e3,
+                        steps: Some(r.steps),
+                        final_error: fin,
+                        max_grid_error: max,
+                        notes,
+                    }
+                }
+                Err(e) => Row::failed(scene, &format!("{} tanh(v/eps)", solver.name()), setting, &e),
+            });
+        }
+    }
+    let name = "filippov event-driven DOPRI5";
+    eprintln!("== {scene}: {name}");
+    let input = move |t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>| {
+        SVector::<f64, 1>::new(forcing(t))
+    };
+    for rtol in EVENT_RTOLS {
+        let atol = rtol * 1e-2;
+        let m = NonSmoothMethod::EventDriven {
+            method: SmoothMethod::Dopri5,
+            options: Options::tolerances(rtol, atol),
+        };
+        let setting = format!("rtol={rtol:.0e}");
+        let (time, result) = median(REPEATS, || {
+            solve_nonsmooth(&coulomb, &input, problem, &m).map(|t| {
+                let v = on_grid(&t, grid);
+                let zeros = velocity_zeros(&t);
+                (v, t.stats, zeros)
+            })
+        });
+        rows.push(match result {
+            Ok((values, s, zeros)) => {
+                let (fin, max) = errors(&values, reference, 1);
+                let mut notes = format!(
+                    "atol={atol:.0e}; errors in x; {} steps, {} rhs calls, {} events",
+                    s.steps, s.rhs_evaluations, s.events
+                );
+                if let Some(tp) = turning_points {
+                    let _ = write!(
+                        notes,
+                        "; switch_error={}; {} velocity zeros (exact: {})",
+                        sci(switch_error(&zeros, tp)),
+                        zeros.len(),
+                        tp.len()
+                    );
+                }
+                Row {
+                    scene,
+                    solver: name.into(),
+                    setting,
+                    time_ms: time * 1e3,
+                    steps: Some(s.steps),
+                    final_error: fin,
+                    max_grid_error: max,
+                    notes,
+                }
+            }
+            Err(e) => Row::failed(scene, name, setting, &e.to_string()),
+        });
+    }
+}
+
+/// Velocity zeros of a filippov trajectory `[x, v, …]`: rows where v reaches zero or
+/// changes sign, located by bisection on the dense output (as the report does).
+fn velocity_zeros(traj: &Trajectory) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    for i in 1..traj.len() {
+        let (a, b) = (traj.state(i - 1)[1], traj.state(i)[1]);
+        if a != 0.0 && (b == 0.0 || a.signum() != b.signum()) {
+            let (mut lo, mut hi) = (traj.times()[i - 1], traj.times()[i]);
+            if b != 0.0 {
+                for _ in 0..60 {
+                    let c = 0.5 * (lo + hi);
+                    let vc = traj.at(c).map_or(0.0, |y| y[1]);
+                    if vc != 0.0 && vc.signum() == a.signum() {
+                        lo = c
+                    } else {
+                        hi = c
+                    }
+                }
+            }
+            if out.last().is_none_or(|(tl, _)| hi - tl > 1e-3) {
+                out.push((hi, traj.at(hi).map_or(f64::NAN, |y| y[0])));
+            }
+        }
+    }
+    out
+}
+
+fn nonsmooth(rows: &mut Vec<Row>, header: &mut Vec<String>) {
+    let tf = 30.0;
+    let grid = grid(0.0, tf);
+    let tight = |m| NonSmoothMethod::EventDriven {
+        method: m,
+        options: Options::tolerances(1e-12, 1e-14),
+    };
+    let unforced = |_t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>| SVector::zeros();
+
+    // S6: closed form, checked against filippov's event-driven solver.
+    eprintln!("== S6");
+    let s6 = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+    };
+    let p6 = NonSmoothProblem::new(0.0, tf, SVector::from([1.0]), SVector::from([0.0]));
+    let exact = CoulombFreeDecay::new(s6.m, s6.k, s6.f_crit, 0.0, 1.0);
+    let exact_grid: Vec<Vec<f64>> = grid
+        .iter()
+        .map(|&t| {
+            let (x, v) = exact.at(t);
+            vec![x, v]
+        })
+        .collect();
+    let tp: Vec<(f64, f64)> = exact
+        .turning_points()
+        .into_iter()
+        .filter(|(t, _)| *t <= tf)
+        .collect();
+    match solve_nonsmooth(&s6, &unforced, &p6, &tight(SmoothMethod::Dopri5)) {
+        Ok(t) => header.push(format!(
+            "S6 (m = k = 1, f_crit = 0.1, x0 = 1, v0 = 0, t in [0, 30]): exact piecewise closed form; filippov event-driven DOPRI5 at rtol 1e-12 agrees with it to {} in x and {} in v over the grid, turning points to {}",
+            sci(errors(&on_grid(&t, &grid), &exact_grid, 1).1),
+            sci(errors(
+                &on_grid(&t, &grid).iter().map(|r| vec![r[1]]).collect::<Vec<_>>(),
+                &exact_grid.iter().map(|r| vec![r[1]]).collect::<Vec<_>>(),
+                1
+            ).1),
+            sci(switch_error(&velocity_zeros(&t), &tp))
+        )),
+        Err(e) => header.push(format!("S6: filippov's event-driven check run failed: {e}")),
+    }
+    regularised(rows, "S6", s6, |_t| 0.0, &p6, &grid, &exact_grid, Some(&tp));
+
+    // S5: filippov's event-driven solution at rtol 1e-12 (SDIRK4 between switches, a
+    // different method from the DOPRI5 rows), checked against DOPRI5 at 1e-12.
+    eprintln!("== S5");
+    let s5 = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.5,
+    };
+    fn forcing5(t: f64) -> f64 {
+        1.2 * (0.5 * t).sin()
+    }
+    let input5 = |t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>| SVector::from([forcing5(t)]);
+    let p5 = NonSmoothProblem::new(0.0, tf, SVector::from([0.25]), SVector::from([0.0]))
+        .with_forces(vec![Some(-0.25)]);
+    let (r_sdirk, r_dopri) = (
+        solve_nonsmooth(&s5, &input5, &p5, &tight(SmoothMethod::Sdirk4)),
+        solve_nonsmooth(&s5, &input5, &p5, &tight(SmoothMethod::Dopri5)),
+    );
+    let (Ok(r_sdirk), Ok(r_dopri)) = (r_sdirk, r_dopri) else {
+        header.push("S5: the reference runs failed; no rows".into());
+        return;
+    };
+    let (r_sdirk, r_dopri) = (on_grid(&r_sdirk, &grid), on_grid(&r_dopri, &grid));
+    header.push(format!(
+        "S5 (m = k = 1, f_crit = 0.5, F = 1.2 sin(0.5 t), x0 = 0.25, v0 = 0 stuck, t in [0, 30]): reference filippov event-driven SDIRK4 at rtol 1e-12; event-driven DOPRI5 at rtol 1e-12 agrees with it to {} in x over the grid",
+        sci(errors(&r_dopri, &r_sdirk, 1).1)
+    ));
+    regularised(rows, "S5", s5, forcing5, &p5, &grid, &r_sdirk, None);
+}
+
+/// How far DOPRI5 at rtol 1e-13 and at 1e-12 drift apart over `[0, tf]` (max over the
+/// grid): the horizon over which the scene's solution can be measured at all.
+fn predictability<S: Mechanism<N>, const N: usize>(sys: &S, y0: &[f64], tf: f64) -> String {
+    let system = MechanicalSystem::unforced(sys);
+    let problem = Problem::new(0.0, tf, y0.to_vec());
+    let run = |rtol: f64| {
+        solve(
+            &system,
+            &problem,
+            &Method::Dopri5(Options::tolerances(rtol, rtol * 1e-2)),
+        )
+    };
+    let grid = grid(0.0, tf);
+    match (run(1e-13), run(1e-12)) {
+        (Ok(a), Ok(b)) => format!(
+            "DoublePendulum over [0, {tf}]: DOPRI5 at rtol 1e-13 and at 1e-12 differ by up to {} over the grid (chaotic), so the runs below use [0, 5]",
+            sci(errors(&on_grid(&a, &grid), &on_grid(&b, &grid), 2 * N).1)
+        ),
+        _ => format!("DoublePendulum over [0, {tf}]: the predictability check failed"),
+    }
+}
+
+/// diffsol's version as resolved in this package's Cargo.lock.
+fn diffsol_version() -> String {
+    let lock = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.lock"))
+        .unwrap_or_default();
+    let mut lines = lock.lines();
+    while let Some(l) = lines.next() {
+        if l.trim() == "name = \"diffsol\""
+            && let Some(v) = lines
+                .next()
+                .and_then(|v| v.trim().strip_prefix("version = "))
+        {
+            return v.trim_matches('"').to_string();
+        }
+    }
+    "unknown".into()
+}
+
+fn main() {
+    let out = std::env::args_os()
+        .nth(1)
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../target/report/peers/diffsol.tsv")
+        });
+    let started = std::time::Instant::now();
+    let mut rows = Vec::new();
+    let mut header = vec![format!(
+        "diffsol {} (dense nalgebra matrices, NalgebraLU); medians of {REPEATS} runs after a warm-up; errors over {} grid times",
+        diffsol_version(),
+        GRID + 1
+    )];
+    // The double pendulum of S8 is chaotic from this start: over [0, 20] two tight runs
+    // of the same method disagree at the O(1) level, so no error can be measured there.
+    // The runs use [0, 5], the report's work-precision horizon; the disagreement over
+    // [0, 20] is measured and stated.
+    let dp = DoublePendulum::default();
+    let dp_y0 = vec![1.2, -0.6, 0.0, 0.0];
+    header.push(predictability(&dp, &dp_y0, 20.0));
+    smooth(&mut rows, &mut header, "DoublePendulum", &dp, dp_y0, 5.0);
+    let mut y0 = vec![0.0; 14];
+    y0[..7].copy_from_slice(&[0.0, 0.3, 0.0, -1.5, 0.0, 1.8, 0.8]);
+    smooth(&mut rows, &mut header, "Panda", &Panda::default(), y0, 2.0);
+    nonsmooth(&mut rows, &mut header);
+    header.push(format!(
+        "whole run {:.1} s",
+        started.elapsed().as_secs_f64()
+    ));
+
+    let mut text = String::new();
+    for h in &header {
+        let _ = writeln!(text, "# {h}");
+    }
+    let _ = writeln!(
+        text,
+        "scene\tsolver\tsetting\ttime_ms\tsteps\tfinal_error\tmax_grid_error\tnotes"
+    );
+    for r in &rows {
+        let _ = writeln!(
+            text,
+            "{}\t{}\t{}\t{:.4}\t{}\t{}\t{}\t{}",
+            r.scene,
+            r.solver,
+            r.setting,
+            r.time_ms,
+            r.steps.map_or("-".into(), |s| s.to_string()),
+            sci(r.final_error),
+            sci(r.max_grid_error),
+            r.notes
+        );
+    }
+    if let Some(dir) = out.parent()
+        && let Err(e) = std::fs::create_dir_all(dir)
+    {
+        eprintln!("cannot create {}: {e}", dir.display());
+        std::process::exit(1);
+    }
+    if let Err(e) = std::fs::write(&out, text) {
+        eprintln!("cannot write {}: {e}", out.display());
+        std::process::exit(1);
+    }
+    eprintln!("wrote {} ({} rows)", out.display(), rows.len());
+}

@@ -99,8 +99,6 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     page.append(c.page);
     page.append(ch.page);
     page.append(p.page);
-    page.h2("Not yet in this report");
-    page.bullets(&["diffsol with regularised friction.".into()]);
     let path = config.out_dir.join("report.md");
     std::fs::write(&path, page.finish())?;
     Ok(path)

@@ -489,6 +489,44 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
             (None, Some(g)) => summary.push(format!("{scene}: diffsol reaches a max grid error ≤ 1e-2 ({} at {}, {:.3} ms); no filippov run of the sweep does", g.solver, g.setting, g.time_ms)),
             (None, None) => {}
         }
+        // The stiff solvers alone (filippov SDIRK4; diffsol BDF, ESDIRK34, TR-BDF2): where
+        // filippov loses, it shows here.
+        let implicit = |r: &Row| {
+            ["SDIRK4", "BDF", "ESDIRK34", "TR-BDF2"]
+                .iter()
+                .any(|m| r.solver.ends_with(m))
+        };
+        for threshold in [1e-1, 1e-2] {
+            let best = |prefix: &str| {
+                rows.iter()
+                    .filter(|r| {
+                        r.solver.starts_with(prefix) && implicit(r) && r.max_grid_error <= threshold
+                    })
+                    .min_by(|a, b| a.time_ms.total_cmp(&b.time_ms))
+            };
+            match (best("filippov"), best("diffsol")) {
+                (Some(f), Some(g)) => summary.push(format!(
+                    "{scene}, stiff solvers, fastest to a max grid error ≤ {threshold:.0e}: filippov {} at {} ({:.3} ms) vs diffsol {} at {} ({:.3} ms): {:.1}× faster ({})",
+                    f.solver.trim_start_matches("filippov "),
+                    f.setting,
+                    f.time_ms,
+                    g.solver.trim_start_matches("diffsol "),
+                    g.setting,
+                    g.time_ms,
+                    f.time_ms.max(g.time_ms) / f.time_ms.min(g.time_ms),
+                    if f.time_ms <= g.time_ms { "filippov" } else { "diffsol" }
+                )),
+                (Some(f), None) => summary.push(format!(
+                    "{scene}, stiff solvers: only filippov reaches a max grid error ≤ {threshold:.0e} ({} at {}, {:.3} ms)",
+                    f.solver, f.setting, f.time_ms
+                )),
+                (None, Some(g)) => summary.push(format!(
+                    "{scene}, stiff solvers: only diffsol reaches a max grid error ≤ {threshold:.0e} ({} at {}, {:.3} ms)",
+                    g.solver, g.setting, g.time_ms
+                )),
+                (None, None) => {}
+            }
+        }
     }
     for scene in ["S6", "S5"] {
         let rows: Vec<&Row> = d.rows.iter().filter(|r| r.scene == scene).collect();

@@ -886,3 +886,36 @@ fn friction_and_stop_on_one_coordinate_hold_together() {
     let last = traj.last().expect("rows").1;
     assert!(last[0] < 0.9, "it slid away: {last:?}");
 }
+
+/// Time-stepping is linearly implicit in the smooth forces: a chain whose second block
+/// hangs on a spring 10⁹ times stiffer than the first (ω ≈ 4.5·10⁴, h ω ≈ 45) runs at
+/// h = 1e-3 and behaves as one rigid block of mass 2 on the soft spring with Coulomb
+/// friction (S6 with m = 2): first turning point at t = π√2, x = −(1 − 2 f1/k1) = −0.8.
+#[test]
+fn time_stepping_is_stable_with_a_stiff_smooth_spring() {
+    type V2 = SVector<f64, 2>;
+    let s = FrictionChain {
+        m1: 1.0,
+        m2: 1.0,
+        k1: 1.0,
+        k2: 1e9,
+        f1: 0.1,
+        f2: 0.2,
+    };
+    let none = |_t: f64, _q: &V2, _v: &V2| V2::zeros();
+    let t_turn = std::f64::consts::PI * 2f64.sqrt();
+    let p = NonSmoothProblem::new(0.0, t_turn, V2::new(1.0, 0.0), V2::zeros());
+    let err = |h: f64| {
+        let traj = solve_nonsmooth(&s, &none, &p, &stepping(h)).expect("stable at h ω ≫ 2");
+        let y = traj.last().expect("rows").1;
+        assert!(
+            y[1].abs() < 1e-8,
+            "the stiff spring barely deflects: x2 = {}",
+            y[1]
+        );
+        (y[0] + 0.8).abs()
+    };
+    let (coarse, fine) = (err(1e-3), err(2.5e-4));
+    assert!(fine < 5e-3, "turning point off by {fine:.3e}");
+    assert!(fine < coarse, "no convergence: {coarse:.3e} → {fine:.3e}");
+}

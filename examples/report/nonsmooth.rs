@@ -651,6 +651,41 @@ pub fn nonsmooth(config: &Config) -> Section {
             );
         }
     }
+    // A stiff spring inside the mechanism: two blocks with friction, the second on a
+    // spring of stiffness k2 relative to the first (k1 = 1): stiffness ratio k2/k1.
+    for k2 in [1e3, 1e6, 1e9, 1e12] {
+        let s = filippov::scenes::FrictionChain {
+            m1: 1.0,
+            m2: 1.0,
+            k1: 1.0,
+            k2,
+            f1: 0.1,
+            f2: 0.2,
+        };
+        type V2 = SVector<f64, 2>;
+        let none = |_t: f64, _q: &V2, _v: &V2| V2::zeros();
+        let p = NonSmoothProblem::new(0.0, short, V2::new(1.0, 1e-3 / k2.sqrt()), V2::zeros());
+        let check = |t: &Trajectory| {
+            let y = t.last().map_or(vec![f64::NAN; 4], |r| r.1.to_vec());
+            format!("final x1 = {:.6}, x2 = {:.3e}", y[0], y[1])
+        };
+        let sdirk = NonSmoothMethod::EventDriven {
+            method: SmoothMethod::Sdirk4,
+            options: Options::tolerances(1e-8, 1e-10),
+        };
+        for (name, m) in [
+            ("event-driven DOPRI5", ed),
+            ("event-driven SDIRK4", sdirk),
+            ("time-stepping h = 1e-3", ts),
+        ] {
+            record(
+                format!("two-block friction chain, k2/k1 = {k2:.0e}"),
+                name,
+                &|| solve_nonsmooth(&s, &none, &p, &m),
+                &check,
+            );
+        }
+    }
     for m in [1e-3, 1e-6, 1e-12] {
         let s = CoulombOscillator {
             m,

@@ -27,10 +27,10 @@
 //! Both locate events ([`LieEvent`]) on their dense output with
 //! `solve_with_events`. [`so3`] has the group's functions.
 
-mod events;
-mod implicit;
-mod mechanism;
-mod rkmk;
+pub mod events;
+pub mod implicit;
+pub mod mechanism;
+pub mod rkmk;
 pub mod so3;
 
 pub use events::{EventDirection, LieEvent, LieEventHit};

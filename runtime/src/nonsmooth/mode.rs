@@ -236,9 +236,10 @@ pub(crate) fn gap(element: &Element, qc: f64) -> f64 {
 /// Coulomb: `d f_crit`. Linear Bingham: `d f_crit + η vc` (the mode's direction, not
 /// `sgn vc`, so the force stays smooth while a root finder looks just past `vc = 0`).
 /// Monotone user law: the `f` with `φ(f) = vc` on the branch `d f > f_crit`, by
-/// safeguarded Newton ([`invert_monotone`]); `d f_crit` where `d vc ≤ 0`. Non-monotone
-/// law: the same inside branch `k`'s force interval `[f_lo, f_hi]` (bracketed by its
-/// folds), clamped to its ends outside the branch's velocity range (so the force stays
+/// safeguarded Newton ([`invert_monotone`]); where `d vc ≤ 0`, the law's tangent at
+/// `f_crit` ([`below_branch`]). Non-monotone law: the same inside branch `k`'s force
+/// interval `[f_lo, f_hi]` (bracketed by its folds), continued by the tangent below the
+/// branch's velocity range and clamped to `f_hi` above it (so the force stays
 /// continuous while a root finder looks just past a fold).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn slip_force<S: NonSmooth<N>, const N: usize>(
@@ -258,7 +259,7 @@ pub(crate) fn slip_force<S: NonSmooth<N>, const N: usize>(
         Law::BinghamNonMonotone { .. } if !branches.slip.is_empty() => {
             let b = branches.slip[k];
             if w <= b.v_lo {
-                d * b.f_lo
+                d * below_branch(system, index, b.f_lo, w - b.v_lo)
             } else if w >= b.v_hi {
                 d * b.f_hi
             } else {
@@ -267,11 +268,31 @@ pub(crate) fn slip_force<S: NonSmooth<N>, const N: usize>(
         }
         Law::BinghamMonotone | Law::BinghamNonMonotone { .. } => {
             if w <= 0.0 {
-                d * f_crit
+                d * below_branch(system, index, f_crit, w)
             } else {
                 d * invert_monotone(|f| system.law(index, f), f_crit, f64::INFINITY, w)
             }
         }
+    }
+}
+
+/// The slip force a distance `dw ≤ 0` below the lower end `(v_lo, f_lo)` of a branch:
+/// the tangent `f_lo + dw / φ'(f_lo)` where the law has a finite positive slope there,
+/// else `f_lo`. Only trial states past the switching point `v = v_lo` see it (the
+/// integrator's stages, the root finder); continuing the law with its tangent keeps the
+/// right-hand side C¹ across that point, so a tight tolerance does not drive the step
+/// size to zero against a kink before the event is seen.
+fn below_branch<S: NonSmooth<N>, const N: usize>(
+    system: &S,
+    index: usize,
+    f_lo: f64,
+    dw: f64,
+) -> f64 {
+    let slope = system.law(index, f_lo).1;
+    if slope > 0.0 && slope.is_finite() {
+        f_lo + dw / slope
+    } else {
+        f_lo
     }
 }
 

@@ -12,8 +12,8 @@ use std::hint::black_box as bb;
 use filippov::nalgebra::{DVector, Matrix3, SVector, Vector3};
 use filippov::runtime::liegroup::{LieMechanical, LieMechanism, so3};
 use filippov::runtime::{
-    FnSystem, LieProblem, LieTrajectory, Method, Options, Problem, Rkmk5, Trajectory, UnitQuat,
-    numeric, solve,
+    FnSystem, LieProblem, LieSdirk, LieTrajectory, Method, Options, Problem, Rkmk5, SolveError,
+    Trajectory, UnitQuat, numeric, solve,
 };
 use filippov::scenes::{BallChain, FreeBody, Satellite};
 
@@ -99,36 +99,43 @@ pub fn lie(config: &Config) -> Section {
     let t_end = (3.0 * period * config.horizon).max(1.0);
     let reference = reference(&body, t_end);
 
-    // Work-precision: tolerance sweep and fixed steps.
-    let mut adaptive = Vec::new();
-    for &tol in &config.tolerances {
-        let method = Rkmk5::new(Options::tolerances(tol, tol * 1e-3));
-        let problem = LieProblem::new(0.0, t_end, s10_initial());
-        let (time, run) = median(config.repeats, || method.solve(&sys, &problem));
-        adaptive.push(match run {
-            Ok(traj) => {
-                let (final_err, dense_err) = errors(&traj, &reference, t_end);
-                let s = traj.stats();
-                Point {
-                    label: format!("rtol {tol:.0e}"),
-                    time,
-                    steps: s.steps,
-                    rejected: s.rejected_steps,
-                    evals: s.rhs_evaluations,
-                    final_err,
-                    dense_err,
-                }
-            }
-            Err(e) => Point {
-                label: format!("rtol {tol:.0e}: failed ({})", e.kind),
+    // Work-precision: tolerance sweeps (explicit Rkmk5, implicit LieSdirk) and fixed
+    // steps.
+    let point = |label: String, time: f64, run: Result<LieTrajectory, SolveError>| match run {
+        Ok(traj) => {
+            let (final_err, dense_err) = errors(&traj, &reference, t_end);
+            let s = traj.stats();
+            Point {
+                label,
                 time,
-                steps: 0,
-                rejected: 0,
-                evals: 0,
-                final_err: f64::NAN,
-                dense_err: f64::NAN,
-            },
-        });
+                steps: s.steps,
+                rejected: s.rejected_steps,
+                evals: s.rhs_evaluations,
+                final_err,
+                dense_err,
+            }
+        }
+        Err(e) => Point {
+            label: format!("{label}: failed ({})", e.kind),
+            time,
+            steps: 0,
+            rejected: 0,
+            evals: 0,
+            final_err: f64::NAN,
+            dense_err: f64::NAN,
+        },
+    };
+    let problem = LieProblem::new(0.0, t_end, s10_initial());
+    let mut adaptive = Vec::new();
+    let mut implicit = Vec::new();
+    for &tol in &config.tolerances {
+        let options = Options::tolerances(tol, tol * 1e-3);
+        let method = Rkmk5::new(options);
+        let (time, run) = median(config.repeats, || method.solve(&sys, &problem));
+        adaptive.push(point(format!("rtol {tol:.0e}"), time, run));
+        let method = LieSdirk::new(options);
+        let (time, run) = median(config.repeats, || method.solve(&sys, &problem));
+        implicit.push(point(format!("rtol {tol:.0e}"), time, run));
     }
     let mut fixed = Vec::new();
     for &n in &config.rk4_steps {
@@ -180,7 +187,8 @@ pub fn lie(config: &Config) -> Section {
     page.para(&format!(
         "`FreeBody` (derive, `free` joint), I = diag(1, 2, 3), ω0 = (0.01, 1, 0); flip period T = {period:.4} \
          (from a tight run). Horizon {t_end:.2} (three flips at the default horizon). Rkmk5 (Munthe-Kaas RK on the \
-         Dormand–Prince tableau), adaptive and at fixed steps. Errors (rotation angle of R_refᵀR, or |ω − ω_ref| if \
+         Dormand–Prince tableau), adaptive and at fixed steps, and LieSdirk (SDIRK4 on the group, \
+         Newton with the generated Jacobian in local coordinates), adaptive. Errors (rotation angle of R_refᵀR, or |ω − ω_ref| if \
          larger) against DOPRI5 at rtol 1e-13 on the embedded quaternion ODE in ℝ⁷ — a different method. Observed order \
          of the fixed-step runs: {}.",
         order.map_or("n/a".into(), |p| format!("{p:.2}"))
@@ -188,6 +196,7 @@ pub fn lie(config: &Config) -> Section {
     let rows: Vec<Vec<String>> = adaptive
         .iter()
         .map(|p| ("Rkmk5 adaptive", p))
+        .chain(implicit.iter().map(|p| ("LieSdirk adaptive", p)))
         .chain(fixed.iter().map(|p| ("Rkmk5 fixed", p)))
         .map(|(m, p)| {
             vec![
@@ -219,6 +228,13 @@ pub fn lie(config: &Config) -> Section {
         Series::new(
             "Rkmk5 adaptive",
             adaptive
+                .iter()
+                .map(|p| (p.time * 1e3, p.dense_err))
+                .collect(),
+        ),
+        Series::new(
+            "LieSdirk adaptive",
+            implicit
                 .iter()
                 .map(|p| (p.time * 1e3, p.dense_err))
                 .collect(),

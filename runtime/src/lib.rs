@@ -6,7 +6,7 @@
 //!   [`numeric::Model`] — the cross-check and the baseline.
 //! * Integration, separated diffsol-style into the problem ([`OdeSystem`], [`Problem`],
 //!   the adapters [`MechanicalSystem`] and [`NumericSystem`]), the methods ([`Rk4`],
-//!   [`Dopri5`], [`Sdirk4`], tableaus in [`tableau`]), their configuration
+//!   [`Dopri5`], [`Sdirk4`], [`Bdf`], tableaus in [`tableau`]), their configuration
 //!   ([`Options`], [`PiController`]) and the result ([`Trajectory`], [`Stats`],
 //!   [`SolveError`]).
 //! * [`liegroup`]: Lie-group integration on SO(3)ᵐ × ℝⁿ ([`LieSystem`]; explicit
@@ -47,7 +47,7 @@ pub use liegroup::{
 };
 pub use mechanical::{InputFn, MechanicalSystem, NumericInputFn, NumericSystem};
 pub use method::tableau;
-pub use method::{Dopri5, Method, Rk4, Sdirk4, solve};
+pub use method::{Bdf, Dopri5, Method, Rk4, Sdirk4, solve};
 pub use nonsmooth::{NonSmooth, NonSmoothMethod, NonSmoothProblem, SmoothMethod, solve_nonsmooth};
 pub use options::Options;
 pub use problem::{FnSystem, OdeSystem, Problem};

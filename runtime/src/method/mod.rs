@@ -6,6 +6,7 @@
 //! | [`Rk4`] | explicit, fixed step, order 4 | convergence studies, baselines |
 //! | [`Dopri5`] | explicit, adaptive 5(4), FSAL, dense output | non-stiff problems |
 //! | [`Sdirk4`] | L-stable SDIRK, adaptive 4(3), simplified Newton | stiff problems |
+//! | [`Bdf`] | variable-order (1–5) variable-step BDF, simplified Newton | smooth stiff problems |
 //!
 //! Shared rules: the problem and options are validated first ([`ErrorKind::InvalidInput`],
 //! never a panic); every right-hand-side value and every new state is checked, and a
@@ -14,11 +15,13 @@
 //! error, and hiding it costs more than reporting it). The trajectory up to the failure
 //! is returned in the [`SolveError`].
 
+mod bdf;
 mod dopri5;
 mod rk4;
 mod sdirk;
 pub mod tableau;
 
+pub use bdf::Bdf;
 pub use dopri5::Dopri5;
 pub use rk4::Rk4;
 pub use sdirk::Sdirk4;
@@ -35,6 +38,8 @@ pub enum Method {
     Dopri5(Options),
     /// Hairer–Wanner SDIRK4, adaptive, for stiff problems.
     Sdirk4(Options),
+    /// Variable-order BDF (orders 1–5), adaptive, for smooth stiff problems.
+    Bdf(Options),
 }
 
 /// Integrates `problem` for `system` with `method`.
@@ -54,6 +59,7 @@ pub fn solve<S: OdeSystem + ?Sized>(
         Method::Rk4 { h } => Rk4::new(h).solve(system, problem),
         Method::Dopri5(options) => Dopri5::new(options).solve(system, problem),
         Method::Sdirk4(options) => Sdirk4::new(options).solve(system, problem),
+        Method::Bdf(options) => Bdf::new(options).solve(system, problem),
     }
 }
 

@@ -112,7 +112,7 @@ fn scene<S: Mechanism<N>, const N: usize>(
         sci(agree)
     ));
     type Make = fn(f64) -> Method;
-    let sweeps: [(&str, Make, Vec<f64>, bool); 3] = [
+    let sweeps: [(&str, Make, Vec<f64>, bool); 4] = [
         (
             "DOPRI5",
             |t| Method::Dopri5(Options::tolerances(t, t * 1e-2)),
@@ -128,6 +128,12 @@ fn scene<S: Mechanism<N>, const N: usize>(
                 .copied()
                 .filter(|t| *t >= 1e-9)
                 .collect(),
+            false,
+        ),
+        (
+            "BDF",
+            |t| Method::Bdf(Options::tolerances(t, t * 1e-2)),
+            config.tolerances.clone(),
             false,
         ),
         (
@@ -260,8 +266,8 @@ pub fn smooth_scenes(config: &Config, progress: &ProgressBar) -> Section {
     };
     out.page.h2("Work-precision: smooth multibody scenes");
     out.page.para(
-        "Each method is swept (tolerance for DOPRI5 and SDIRK4 with atol = rtol/100, step for RK4) on the same problem; \
-         the error is measured against a tight run of a different method. SDIRK4 uses the generated symbolic Jacobian.",
+        "Each method is swept (tolerance for DOPRI5, SDIRK4 and BDF with atol = rtol/100, step for RK4) on the same problem; \
+         the error is measured against a tight run of a different method. SDIRK4 and BDF use the generated symbolic Jacobian.",
     );
     scene(
         config,

@@ -2,7 +2,7 @@
 //!
 //! * Smooth scenes (the double pendulum of S8 and the Panda arm), with the generated
 //!   kernels and their symbolic Jacobian handed to diffsol's closure API: diffsol BDF,
-//!   ESDIRK34, TR-BDF2 and TSIT45 against filippov's DOPRI5 and SDIRK4 on the same
+//!   ESDIRK34, TR-BDF2 and TSIT45 against filippov's DOPRI5, SDIRK4 and BDF on the same
 //!   problems, same tolerances, same timing.
 //! * S6 and S5 with the friction regularised as `f_crit·tanh(v/ε)` for a sweep of ε
 //!   (diffsol BDF, ESDIRK34 and TSIT45 at rtol 1e-8), against the exact non-smooth
@@ -172,9 +172,10 @@ fn smooth<S: Mechanism<N>, const N: usize>(
         }
     }
     type Make = fn(Options) -> Method;
-    let ours: [(&str, Make); 2] = [
+    let ours: [(&str, Make); 3] = [
         ("filippov DOPRI5", Method::Dopri5),
         ("filippov SDIRK4", Method::Sdirk4),
+        ("filippov BDF", Method::Bdf),
     ];
     for (name, make) in ours {
         for rtol in SMOOTH_RTOLS {

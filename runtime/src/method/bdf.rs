@@ -43,7 +43,7 @@
 
 use nalgebra::{DMatrix, DVector, Dyn, LU};
 
-use super::{Run, check_finite, error_norm, initial_step, underflow};
+use super::{Run, check_finite, error_norm, initial_step, jacobian, underflow};
 use crate::trajectory::Interpolant;
 use crate::{ErrorKind, OdeSystem, Options, Problem, SolveError, Trajectory};
 
@@ -191,7 +191,7 @@ impl Bdf {
             }
             h_next = h;
             if newton.jac_needed {
-                jacobian(run, t, &y, &mut newton.jac, &mut scratch)?;
+                jacobian(run, t, &y, &mut scratch, true, &mut newton.jac)?;
                 newton.jac_current = true;
                 newton.jac_needed = false;
                 newton.lu = None;
@@ -417,42 +417,6 @@ fn change_matrix(order: usize, factor: f64) -> DMatrix<f64> {
         }
     }
     r
-}
-
-/// `∂f/∂y(t, y)` from the system, or by forward differences with increments
-/// `√(ε max(10⁻⁵, |y_j|))` around a fresh `f(t, y)` (the stored derivative of an
-/// accepted BDF point is the formula's, not `f`, and differencing against it would
-/// mix the Newton error into `J`).
-fn jacobian<S: OdeSystem + ?Sized>(
-    run: &mut Run<'_, S>,
-    t: f64,
-    y: &[f64],
-    jac: &mut DMatrix<f64>,
-    f: &mut [f64],
-) -> Result<(), ErrorKind> {
-    run.stats().jacobian_evaluations += 1;
-    if !run.system().jacobian(t, y, jac) {
-        run.stats().finite_difference_jacobians += 1;
-        run.rhs(t, y, f)?;
-        let mut yp = y.to_vec();
-        let mut fp = vec![0.0; y.len()];
-        for j in 0..y.len() {
-            let delta = (f64::EPSILON * y[j].abs().max(1e-5)).sqrt();
-            yp[j] = y[j] + delta;
-            run.rhs(t, &yp, &mut fp)?;
-            for i in 0..y.len() {
-                jac[(i, j)] = (fp[i] - f[i]) / delta;
-            }
-            yp[j] = y[j];
-        }
-    }
-    match jac.iter().position(|x| !x.is_finite()) {
-        Some(p) => Err(ErrorKind::NonFinite {
-            t,
-            component: p % y.len(),
-        }),
-        None => Ok(()),
-    }
 }
 
 #[cfg(test)]

@@ -26,6 +26,8 @@ pub use dopri5::Dopri5;
 pub use rk4::Rk4;
 pub use sdirk::Sdirk4;
 
+use nalgebra::DMatrix;
+
 use crate::trajectory::Interpolant;
 use crate::{ErrorKind, OdeSystem, Options, Problem, SolveError, Stats, Trajectory};
 
@@ -154,6 +156,46 @@ pub(crate) fn error_norm(err: &[f64], y0: &[f64], y1: &[f64], options: &Options)
 /// Whether step `h` at time `t` is too small: below `h_min`, or lost in round-off.
 pub(crate) fn underflow(t: f64, h: f64, options: &Options) -> bool {
     h < options.h_min || h <= 16.0 * f64::EPSILON * t.abs() || h <= f64::MIN_POSITIVE
+}
+
+/// `∂f/∂y(t, y)` into `jac`: from the system, or by forward differences with increments
+/// `√(ε max(10⁻⁵, |y_j|))` (Hairer & Wanner II, §IV.8) around `f`. With `fresh`, `f` is
+/// first overwritten by `f(t, y)` (only when differences are needed): for methods whose
+/// stored derivative is not `f(t, y)` itself (BDF's is the formula's), differencing
+/// against it would mix the Newton error into `J`.
+pub(crate) fn jacobian<S: OdeSystem + ?Sized>(
+    run: &mut Run<'_, S>,
+    t: f64,
+    y: &[f64],
+    f: &mut [f64],
+    fresh: bool,
+    jac: &mut DMatrix<f64>,
+) -> Result<(), ErrorKind> {
+    run.stats().jacobian_evaluations += 1;
+    if !run.system().jacobian(t, y, jac) {
+        run.stats().finite_difference_jacobians += 1;
+        if fresh {
+            run.rhs(t, y, f)?;
+        }
+        let mut yp = y.to_vec();
+        let mut fp = vec![0.0; y.len()];
+        for j in 0..y.len() {
+            let delta = (f64::EPSILON * y[j].abs().max(1e-5)).sqrt();
+            yp[j] = y[j] + delta;
+            run.rhs(t, &yp, &mut fp)?;
+            for i in 0..y.len() {
+                jac[(i, j)] = (fp[i] - f[i]) / delta;
+            }
+            yp[j] = y[j];
+        }
+    }
+    match jac.iter().position(|x| !x.is_finite()) {
+        Some(p) => Err(ErrorKind::NonFinite {
+            t,
+            component: p % y.len(),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// Initial step size for a method of order `order` (Hairer, Nørsett & Wanner, *Solving

@@ -14,7 +14,7 @@
 use nalgebra::{DMatrix, DVector, Dyn, LU};
 
 use super::tableau::SDIRK4;
-use super::{Run, error_norm, initial_step, underflow};
+use super::{Run, error_norm, initial_step, jacobian, underflow};
 use crate::control::PiController;
 use crate::trajectory::Interpolant;
 use crate::{ErrorKind, OdeSystem, Options, Problem, SolveError, Trajectory};
@@ -132,7 +132,7 @@ impl Sdirk4 {
                 return Err(non_finite_ahead.unwrap_or(ErrorKind::StepSizeUnderflow { t, h }));
             }
             if newton.jac_needed {
-                jacobian(run, t, &y, &f, &mut newton.jac)?;
+                jacobian(run, t, &y, &mut f, false, &mut newton.jac)?;
                 newton.jac_current = true;
                 newton.jac_needed = false;
                 newton.lu = None;
@@ -291,37 +291,4 @@ impl Sdirk4 {
 fn newton_amplification() -> f64 {
     let s = SDIRK4.stages();
     (0..s).map(|j| SDIRK4.a(s - 1, j).abs()).sum::<f64>() / SDIRK4.a(0, 0)
-}
-
-/// `∂f/∂y(t, y)` from the system, or by forward differences with increments
-/// `√(ε max(10⁻⁵, |y_j|))` (Hairer & Wanner II, §IV.8).
-fn jacobian<S: OdeSystem + ?Sized>(
-    run: &mut Run<'_, S>,
-    t: f64,
-    y: &[f64],
-    f: &[f64],
-    jac: &mut DMatrix<f64>,
-) -> Result<(), ErrorKind> {
-    run.stats().jacobian_evaluations += 1;
-    if !run.system().jacobian(t, y, jac) {
-        run.stats().finite_difference_jacobians += 1;
-        let mut yp = y.to_vec();
-        let mut fp = vec![0.0; y.len()];
-        for j in 0..y.len() {
-            let delta = (f64::EPSILON * y[j].abs().max(1e-5)).sqrt();
-            yp[j] = y[j] + delta;
-            run.rhs(t, &yp, &mut fp)?;
-            for i in 0..y.len() {
-                jac[(i, j)] = (fp[i] - f[i]) / delta;
-            }
-            yp[j] = y[j];
-        }
-    }
-    match jac.iter().position(|x| !x.is_finite()) {
-        Some(p) => Err(ErrorKind::NonFinite {
-            t,
-            component: p % y.len(),
-        }),
-        None => Ok(()),
-    }
 }

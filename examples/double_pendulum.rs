@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use filippov::Mechanism;
 use filippov::nalgebra::SVector;
-use filippov::runtime::{MechanicalSystem, Method, Options, Problem, Trajectory, solve};
+use filippov::runtime::{MechanicalSystem, Method, Options, Problem, Solution, solve};
 use filippov::scenes::DoublePendulum;
 use support::{Scale, Series, line_plot, plot_over_time, plot_path, time_series};
 
@@ -20,7 +20,7 @@ fn energy(p: &DoublePendulum, y: &[f64]) -> f64 {
     p.kinetic_energy(&q, &v) + p.potential_energy(&q)
 }
 
-fn max_drift(p: &DoublePendulum, traj: &Trajectory, e0: f64) -> f64 {
+fn max_drift(p: &DoublePendulum, traj: &Solution, e0: f64) -> f64 {
     (0..traj.len())
         .map(|i| (energy(p, traj.state(i)) - e0).abs())
         .fold(0.0, f64::max)

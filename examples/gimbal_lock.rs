@@ -21,7 +21,7 @@ use filippov::Mechanism;
 use filippov::nalgebra::{Matrix3, Rotation3, SVector};
 use filippov::runtime::liegroup::{LieMechanical, LieMechanism, so3};
 use filippov::runtime::{
-    LieProblem, LieTrajectory, MechanicalSystem, Method, Options, Problem, Rkmk5, Trajectory, solve,
+    LieProblem, LieTrajectory, MechanicalSystem, Method, Options, Problem, Rkmk5, Solution, solve,
 };
 use filippov::scenes::{EulerBody, SphericalBody};
 use support::{Scale, Series, line_plot, plot_path};
@@ -107,13 +107,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let start = Instant::now();
         let result = solve(&sys, &problem, &Method::Dopri5(options));
         let seconds = start.elapsed().as_secs_f64();
-        let (traj, outcome): (Trajectory, String) = match result {
+        let (traj, outcome): (Solution, String) = match result {
             Ok(tr) => (tr, "completed".to_string()),
             Err(e) => (
-                (*e.trajectory).clone(),
+                (*e.solution).clone(),
                 format!(
                     "failed at t = {:.4}: {}",
-                    e.trajectory.last().map_or(0.0, |l| l.0),
+                    e.solution.last().map_or(0.0, |l| l.0),
                     e.kind
                 ),
             ),

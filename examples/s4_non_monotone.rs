@@ -14,9 +14,7 @@ mod ns;
 mod support;
 
 use filippov::nalgebra::SVector;
-use filippov::runtime::{
-    NonSmooth, NonSmoothMethod, NonSmoothProblem, Trajectory, solve_nonsmooth,
-};
+use filippov::runtime::{NonSmooth, NonSmoothMethod, NonSmoothProblem, Solution, solve_nonsmooth};
 use filippov::scenes::{NonMonotoneMaxDissipation, NonMonotoneNoJumps};
 use support::{Scale, Series, line_plot, plot_path};
 
@@ -28,7 +26,7 @@ fn input(t: f64, _q: &V1, _v: &V1) -> V1 {
 
 /// Event-driven (fold jumps for approach 1, the plateau mode for approach 2), then
 /// time-stepping at h and h/10, which must converge to the event-driven result.
-fn approach<S: NonSmooth<1>>(label: &str, s: &S, p: &NonSmoothProblem<1>) -> Option<Trajectory> {
+fn approach<S: NonSmooth<1>>(label: &str, s: &S, p: &NonSmoothProblem<1>) -> Option<Solution> {
     println!("{label}");
     let ed = ns::report(
         "event-driven DOPRI5 (default)",

@@ -15,7 +15,7 @@ use std::f64::consts::PI;
 
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
-    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Trajectory, solve_nonsmooth,
+    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, solve_nonsmooth,
 };
 use filippov::scenes::CoulombOscillator;
 
@@ -28,7 +28,7 @@ fn runs(
     p: &NonSmoothProblem<1>,
     force: impl Fn(f64) -> f64,
     tight: bool,
-) -> [Option<Trajectory>; 3] {
+) -> [Option<Solution>; 3] {
     let input = |t: f64, _q: &V1, _v: &V1| SVector::from([force(t)]);
     let tight_m = NonSmoothMethod::EventDriven {
         method: SmoothMethod::Dopri5,

@@ -49,7 +49,7 @@ fn bad_parameters_are_invalid_input_naming_the_parameter() {
             }
             other => panic!("expected InvalidInput, got {other:?}"),
         }
-        assert!(err.trajectory.is_empty(), "nothing integrated");
+        assert!(err.solution.is_empty(), "nothing integrated");
     }
 }
 
@@ -101,17 +101,13 @@ fn non_finite_forcing_is_reported_with_the_trajectory_so_far() {
             ErrorKind::NonFinite { t, .. } => assert!((0.45..=0.55).contains(&t), "at t = {t}"),
             other => panic!("expected NonFinite, got {other:?}"),
         }
-        let kept = err.trajectory.last().map_or(0.0, |(t, _)| t);
+        let kept = err.solution.last().map_or(0.0, |(t, _)| t);
         assert!(
-            kept > 0.4 && err.trajectory.len() > 2,
+            kept > 0.4 && err.solution.len() > 2,
             "trajectory kept up to {kept}"
         );
         assert!(
-            (0..err.trajectory.len()).all(|i| err
-                .trajectory
-                .state(i)
-                .iter()
-                .all(|x| x.is_finite()))
+            (0..err.solution.len()).all(|i| err.solution.state(i).iter().all(|x| x.is_finite()))
         );
     }
     let s = CoulombOscillator {
@@ -129,9 +125,9 @@ fn non_finite_forcing_is_reported_with_the_trajectory_so_far() {
             err.kind
         );
         assert!(
-            err.trajectory.len() > 1,
+            err.solution.len() > 1,
             "{m:?}: rows before the failure are kept ({} rows, {:?})",
-            err.trajectory.len(),
+            err.solution.len(),
             err.kind
         );
     }
@@ -165,7 +161,7 @@ fn blow_up_is_step_size_underflow_or_non_finite() {
             "{:?}",
             err.kind
         );
-        assert!(err.trajectory.len() > 1);
+        assert!(err.solution.len() > 1);
     }
 }
 
@@ -253,5 +249,5 @@ fn non_unique_stuck_forces_are_an_ill_posed_mode() {
         }
         other => panic!("expected IllPosedMode, got {other:?}"),
     }
-    assert!(err.trajectory.len() > 2, "the motion before is kept");
+    assert!(err.solution.len() > 2, "the motion before is kept");
 }

@@ -4,7 +4,7 @@
 use filippov::nalgebra::SVector;
 use filippov::runtime::nonsmooth::event_driven;
 use filippov::runtime::{
-    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Trajectory, solve_nonsmooth,
+    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, solve_nonsmooth,
 };
 use filippov::scenes::{
     BilinearOscillator, BinghamBlock, BinghamOscillator, CoulombOscillator, FrictionChain,
@@ -34,7 +34,7 @@ fn stepping(h: f64) -> NonSmoothMethod {
 
 /// Times `t` at which component `v` of the trajectory crosses or reaches zero from a
 /// non-zero value (the velocity zeros), with the position there.
-fn velocity_zeros(traj: &Trajectory, x: usize, v: usize) -> Vec<(f64, f64)> {
+fn velocity_zeros(traj: &Solution, x: usize, v: usize) -> Vec<(f64, f64)> {
     let mut out: Vec<(f64, f64)> = Vec::new();
     for i in 1..traj.len() {
         let (a, b) = (traj.state(i - 1)[v], traj.state(i)[v]);
@@ -361,7 +361,7 @@ fn bad_parameters_are_reported_not_integrated() {
             }
             other => panic!("expected InvalidInput, got {other:?}"),
         }
-        assert!(err.trajectory.is_empty());
+        assert!(err.solution.is_empty());
     }
     let s = CoulombOscillator {
         m: f64::NAN,
@@ -918,4 +918,197 @@ fn time_stepping_is_stable_with_a_stiff_smooth_spring() {
     let (coarse, fine) = (err(1e-3), err(2.5e-4));
     assert!(fine < 5e-3, "turning point off by {fine:.3e}");
     assert!(fine < coarse, "no convergence: {coarse:.3e} → {fine:.3e}");
+}
+
+/// A scene with non-smooth elements handed to the smooth path is refused, naming the
+/// elements; `ignoring_elements` integrates its smooth part (here a free oscillator,
+/// x = cos t) when that is what the user asks for.
+#[test]
+fn smooth_path_refuses_a_non_smooth_scene() {
+    use filippov::runtime::{ErrorKind, MechanicalSystem, Method, Problem, solve};
+    let s = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+    };
+    let problem = Problem::new(0.0, 1.0, [1.0, 0.0]);
+    let method = Method::Dopri5(Options::tolerances(1e-10, 1e-12));
+    let err = solve(&MechanicalSystem::unforced(&s), &problem, &method).unwrap_err();
+    match &err.kind {
+        ErrorKind::InvalidInput(msg) => {
+            assert!(
+                msg.contains("`friction_x`") && msg.contains("solve_nonsmooth"),
+                "{msg}"
+            )
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(err.solution.is_empty());
+    let smooth_part = MechanicalSystem::unforced(&s).ignoring_elements();
+    let sol = solve(&smooth_part, &problem, &method).unwrap();
+    assert!((sol.last().unwrap().1[0] - 1f64.cos()).abs() < 1e-8);
+}
+
+/// S6 in closed form (m = k = 1, f_crit = 0.1 from x = 1 at rest): half-periods about the
+/// offsets ±f_crit, turning points (−1)ⁿ (1 − 0.2 n) at t = nπ, stuck at 0 from 5π on.
+fn s6_exact(t: f64) -> [f64; 2] {
+    let pi = std::f64::consts::PI;
+    let n = ((t / pi).floor() as i32).min(5);
+    let xn = (-1f64).powi(n) * (1.0 - 0.2 * f64::from(n));
+    if n >= 5 {
+        return [0.0, 0.0];
+    }
+    let c = 0.1 * xn.signum();
+    let tau = t - f64::from(n) * pi;
+    [c + (xn - c) * tau.cos(), -(xn - c) * tau.sin()]
+}
+
+/// S1 in closed form (m = k = 1, f_crit = 0.1, η = 0.2 from x = 1 at rest): damped
+/// half-periods about ±f_crit between the velocity zeros t_n = nπ/ω_d; with the
+/// switch times and positions.
+fn s1_exact() -> (Vec<(f64, f64)>, impl Fn(f64) -> [f64; 2]) {
+    let (zeta, fc) = (0.1, 0.1);
+    let wd = (1.0f64 - zeta * zeta).sqrt();
+    let half = std::f64::consts::PI / wd;
+    let decay = (-zeta * half).exp();
+    let mut turns = vec![(0.0, 1.0f64)];
+    while turns.last().unwrap().1.abs() > fc {
+        let (t, x) = *turns.last().unwrap();
+        let c = x.signum() * fc;
+        turns.push((t + half, c - (x - c) * decay));
+    }
+    let table = turns.clone();
+    let exact = move |t: f64| {
+        let i = table.partition_point(|(tn, _)| *tn <= t) - 1;
+        let (tn, xn) = table[i];
+        if i + 1 == table.len() {
+            return [xn, 0.0];
+        }
+        let c = xn.signum() * fc;
+        let tau = t - tn;
+        let e = (-zeta * tau).exp();
+        let x = c + (xn - c) * e * ((wd * tau).cos() + zeta / wd * (wd * tau).sin());
+        let v = -(xn - c) * e * (1.0 + zeta * zeta / (wd * wd)) * wd * (wd * tau).sin();
+        [x, v]
+    };
+    (turns[1..].to_vec(), exact)
+}
+
+/// Every switch of S1 and S6 is in the solution's switch log, naming the element and the
+/// modes, at the closed-form times (≤ 1e-9 at rtol 1e-10); the last one is to stick.
+#[test]
+fn switch_logs_of_s1_and_s6_match_the_closed_forms() {
+    use filippov::runtime::SwitchKind;
+    use filippov::runtime::nonsmooth::Mode;
+    let method = NonSmoothMethod::EventDriven {
+        method: SmoothMethod::Dopri5,
+        options: Options::tolerances(1e-10, 1e-12),
+    };
+    let p = NonSmoothProblem::new(0.0, 30.0, V1::new(1.0), V1::new(0.0));
+    let s6 = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+    };
+    let s1 = BinghamOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+        eta: 0.2,
+    };
+    let s6_turns: Vec<f64> = (1..=5).map(|n| n as f64 * std::f64::consts::PI).collect();
+    let s1_turns: Vec<f64> = s1_exact().0.iter().map(|(t, _)| *t).collect();
+    for (name, sol, turns) in [
+        (
+            "S6",
+            solve_nonsmooth(&s6, &unforced::<1>, &p, &method).unwrap(),
+            s6_turns,
+        ),
+        (
+            "S1",
+            solve_nonsmooth(&s1, &unforced::<1>, &p, &method).unwrap(),
+            s1_turns,
+        ),
+    ] {
+        let log = &sol.switches;
+        assert_eq!(log.len(), turns.len(), "{name}: {log:?}");
+        for (s, te) in log.iter().zip(&turns) {
+            assert_eq!(s.kind, SwitchKind::Mode);
+            assert_eq!(s.element.as_deref(), Some("friction_x"));
+            assert!(
+                (s.t - te).abs() <= 1e-9,
+                "{name}: switch at {} vs {te}",
+                s.t
+            );
+            assert_ne!(s.from, s.to);
+        }
+        assert_eq!(log.last().unwrap().to, Some(Mode::Stick), "{name}");
+        let mut csv = Vec::new();
+        sol.write_switches_csv(&mut csv).unwrap();
+        assert_eq!(
+            String::from_utf8(csv).unwrap().lines().count(),
+            turns.len() + 1
+        );
+    }
+}
+
+/// The event-driven solution read back on a 0.01 grid is as accurate as at its own
+/// steps (within 2×), at every tolerance: the method's dense output, cut at the events,
+/// not an interpolant over the stored rows.
+#[test]
+fn event_driven_grid_error_is_within_twice_the_step_error() {
+    let p = NonSmoothProblem::new(0.0, 30.0, V1::new(1.0), V1::new(0.0));
+    let s6 = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+    };
+    let s1 = BinghamOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+        eta: 0.2,
+    };
+    let (_, s1_closed) = s1_exact();
+    for rtol in [1e-6, 1e-8, 1e-10] {
+        for method in [
+            SmoothMethod::Dopri5,
+            SmoothMethod::Sdirk4,
+            SmoothMethod::Bdf,
+        ] {
+            let m = NonSmoothMethod::EventDriven {
+                method,
+                options: Options::tolerances(rtol, rtol * 1e-2),
+            };
+            let runs: [(&str, Solution, &dyn Fn(f64) -> [f64; 2]); 2] = [
+                (
+                    "S6",
+                    solve_nonsmooth(&s6, &unforced::<1>, &p, &m).unwrap(),
+                    &s6_exact,
+                ),
+                (
+                    "S1",
+                    solve_nonsmooth(&s1, &unforced::<1>, &p, &m).unwrap(),
+                    &s1_closed,
+                ),
+            ];
+            for (name, sol, exact) in runs {
+                let err = |t: f64, y: &[f64]| {
+                    let e = exact(t);
+                    (y[0] - e[0]).abs().max((y[1] - e[1]).abs())
+                };
+                let at_steps = sol.rows().map(|(t, y)| err(t, y)).fold(0.0, f64::max);
+                let on_grid = (0..=3000)
+                    .map(|i| {
+                        let t = i as f64 * 0.01;
+                        err(t, &sol.at(t).unwrap())
+                    })
+                    .fold(0.0, f64::max);
+                assert!(
+                    on_grid <= 2.0 * at_steps,
+                    "{name} {method:?} rtol {rtol}: grid {on_grid:.2e} vs steps {at_steps:.2e}"
+                );
+            }
+        }
+    }
 }

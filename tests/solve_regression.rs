@@ -61,7 +61,13 @@ fn panda_through_solve_is_unchanged() {
     let p = Panda::default();
     let sys = MechanicalSystem::unforced(&p);
     let y0: Vec<f64> = (0..14)
-        .map(|i| if i < 7 { 0.3 * (i as f64 + 1.0).sin() } else { 0.0 })
+        .map(|i| {
+            if i < 7 {
+                0.3 * (i as f64 + 1.0).sin()
+            } else {
+                0.0
+            }
+        })
         .collect();
     insta::assert_snapshot!(record(&sys, &y0, 1.0));
 }

@@ -12,8 +12,8 @@ use std::hint::black_box as bb;
 use filippov::nalgebra::{DVector, Matrix3, SVector, Vector3};
 use filippov::runtime::liegroup::{LieMechanical, LieMechanism, so3};
 use filippov::runtime::{
-    FnSystem, LieProblem, LieSdirk, LieTrajectory, Method, Options, Problem, Rkmk5, SolveError,
-    Trajectory, UnitQuat, numeric, solve,
+    FnSystem, LieProblem, LieSdirk, LieTrajectory, Method, Options, Problem, Rkmk5, Solution,
+    SolveError, UnitQuat, numeric, solve,
 };
 use filippov::scenes::{BallChain, FreeBody, Satellite};
 
@@ -25,7 +25,7 @@ use super::timing::{median, ns_per_call};
 use super::workprecision::Section;
 
 /// The embedded reference: state `(w, x, y, z, ω)`.
-fn reference(body: &FreeBody, t_end: f64) -> Trajectory {
+fn reference(body: &FreeBody, t_end: f64) -> Solution {
     let i = Vector3::new(body.i1, body.i2, body.i3);
     let sys = FnSystem::new(7, move |_t, y: &[f64], dy: &mut [f64]| {
         let (w, x, yy, z) = (y[0], y[1], y[2], y[3]);
@@ -48,7 +48,7 @@ fn reference(body: &FreeBody, t_end: f64) -> Trajectory {
     .expect("reference run")
 }
 
-fn ref_at(traj: &Trajectory, t: f64) -> (Matrix3<f64>, Vector3<f64>) {
+fn ref_at(traj: &Solution, t: f64) -> (Matrix3<f64>, Vector3<f64>) {
     let y = traj.at(t).expect("reference covers the grid");
     let q = UnitQuat::try_new(y[0], y[1], y[2], y[3]).expect("unit");
     (q.to_matrix(), Vector3::new(y[4], y[5], y[6]))
@@ -66,7 +66,7 @@ fn lie_at(traj: &LieTrajectory, t: f64) -> Option<(Matrix3<f64>, Vector3<f64>)> 
 
 /// `(final-time error, max over the grid)`: the larger of the rotation angle and the ω
 /// difference.
-fn errors(traj: &LieTrajectory, reference: &Trajectory, t_end: f64) -> (f64, f64) {
+fn errors(traj: &LieTrajectory, reference: &Solution, t_end: f64) -> (f64, f64) {
     let err = |t: f64| {
         lie_at(traj, t).map(|(r, w)| {
             let (rr, wr) = ref_at(reference, t);

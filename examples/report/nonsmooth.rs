@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
-    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Trajectory, solve_nonsmooth,
+    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, solve_nonsmooth,
 };
 use filippov::scenes::{
     BilinearOscillator, BinghamOscillator, BouncingBall, CoulombOscillator, SupportedStop,
@@ -26,7 +26,7 @@ fn unforced(_t: f64, _q: &V1, _v: &V1) -> V1 {
 }
 
 /// Velocity zeros (time, position) of a 1-dof trajectory [x, v, f…].
-fn velocity_zeros(traj: &Trajectory) -> Vec<(f64, f64)> {
+fn velocity_zeros(traj: &Solution) -> Vec<(f64, f64)> {
     let mut out: Vec<(f64, f64)> = Vec::new();
     for i in 1..traj.len() {
         let (a, b) = (traj.state(i - 1)[1], traj.state(i)[1]);
@@ -55,7 +55,7 @@ fn velocity_zeros(traj: &Trajectory) -> Vec<(f64, f64)> {
 
 /// Errors of a run against reference switch points and a reference final position:
 /// (max switch-time error, max switch-position error, final-position error).
-fn switch_errors(traj: &Trajectory, reference: &[(f64, f64)], x_final: f64) -> (f64, f64, f64) {
+fn switch_errors(traj: &Solution, reference: &[(f64, f64)], x_final: f64) -> (f64, f64, f64) {
     let zeros = velocity_zeros(traj);
     let mut dt = 0.0f64;
     let mut dx = 0.0f64;
@@ -273,7 +273,7 @@ fn summarize(name: &str, rows: &[Row], summary: &mut Vec<String>) {
 }
 
 /// Max |x(t) − x_ref(t)| over a grid of 300 times and |x(tf) − x_ref(tf)|.
-fn grid_errors(traj: &Trajectory, reference: &Trajectory, tf: f64) -> (f64, f64) {
+fn grid_errors(traj: &Solution, reference: &Solution, tf: f64) -> (f64, f64) {
     let mut worst = 0.0f64;
     for i in 0..=300 {
         let t = tf * i as f64 / 300.0;
@@ -598,8 +598,8 @@ pub fn nonsmooth(config: &Config) -> Section {
     };
     let mut record = |case: String,
                       method: &str,
-                      run: &dyn Fn() -> Result<Trajectory, filippov::runtime::SolveError>,
-                      check: &dyn Fn(&Trajectory) -> String| {
+                      run: &dyn Fn() -> Result<Solution, filippov::runtime::SolveError>,
+                      check: &dyn Fn(&Solution) -> String| {
         let (time, r) = median(config.repeats.min(3), run);
         let (status, detail) = match r {
             Ok(traj) => (
@@ -614,7 +614,7 @@ pub fn nonsmooth(config: &Config) -> Section {
             ),
             Err(e) => (
                 format!("typed error: {}", e.kind),
-                format!("{} rows kept", e.trajectory.len()),
+                format!("{} rows kept", e.solution.len()),
             ),
         };
         rows.push(vec![
@@ -636,7 +636,7 @@ pub fn nonsmooth(config: &Config) -> Section {
             k_support: ks,
         };
         let p = NonSmoothProblem::new(0.0, short, V1::new(0.0), V1::new(1.0));
-        let check = |t: &Trajectory| {
+        let check = |t: &Solution| {
             format!(
                 "max x = {:.6} (stop at 0.5)",
                 (0..t.len()).map(|i| t.state(i)[0]).fold(f64::MIN, f64::max)
@@ -665,7 +665,7 @@ pub fn nonsmooth(config: &Config) -> Section {
         type V2 = SVector<f64, 2>;
         let none = |_t: f64, _q: &V2, _v: &V2| V2::zeros();
         let p = NonSmoothProblem::new(0.0, short, V2::new(1.0, 1e-3 / k2.sqrt()), V2::zeros());
-        let check = |t: &Trajectory| {
+        let check = |t: &Solution| {
             let y = t.last().map_or(vec![f64::NAN; 4], |r| r.1.to_vec());
             format!("final x1 = {:.6}, x2 = {:.3e}", y[0], y[1])
         };
@@ -693,7 +693,7 @@ pub fn nonsmooth(config: &Config) -> Section {
             f_crit: 0.1,
         };
         let p = NonSmoothProblem::new(0.0, 30.0 * m.sqrt(), V1::new(1.0), V1::new(0.0));
-        let check = |t: &Trajectory| {
+        let check = |t: &Solution| {
             format!(
                 "final x = {:.6} (closed form 0)",
                 t.last().map_or(f64::NAN, |r| r.1[0])
@@ -714,7 +714,7 @@ pub fn nonsmooth(config: &Config) -> Section {
         };
         let p = NonSmoothProblem::new(0.0, short, V1::new(1.0), V1::new(0.0));
         let check =
-            |t: &Trajectory| format!("final x = {:.6}", t.last().map_or(f64::NAN, |r| r.1[0]));
+            |t: &Solution| format!("final x = {:.6}", t.last().map_or(f64::NAN, |r| r.1[0]));
         record(
             format!("S6 with f_crit = {fc:.0e}"),
             "event-driven",
@@ -731,7 +731,7 @@ pub fn nonsmooth(config: &Config) -> Section {
         let force = 0.5 * (1.0 + eps);
         let input = move |_t: f64, _q: &V1, _v: &V1| V1::new(force);
         let p = NonSmoothProblem::new(0.0, 5.0, V1::new(0.0), V1::new(0.0));
-        let check = |t: &Trajectory| {
+        let check = |t: &Solution| {
             format!(
                 "final x = {:.3e}, v = {:.3e}",
                 t.last().map_or(f64::NAN, |r| r.1[0]),
@@ -753,7 +753,7 @@ pub fn nonsmooth(config: &Config) -> Section {
         // Drop from 1 m: accumulation time √(2/g)·(1 + e)/(1 − e).
         let t_acc = (2.0f64 / 9.81).sqrt() * (1.0 + e) / (1.0 - e);
         let p = NonSmoothProblem::new(0.0, 1.5 * t_acc, V1::new(1.0), V1::new(0.0));
-        let check = move |t: &Trajectory| {
+        let check = move |t: &Solution| {
             let y = t.last().map_or(vec![f64::NAN; 3], |r| r.1.to_vec());
             format!(
                 "accumulation at {t_acc:.3}; at tf: x = {:.2e}, v = {:.2e}",

@@ -8,9 +8,7 @@
 use indicatif::ProgressBar;
 
 use filippov::Mechanism;
-use filippov::runtime::{
-    MechanicalSystem, Method, Options, Problem, SolveError, Trajectory, solve,
-};
+use filippov::runtime::{MechanicalSystem, Method, Options, Problem, Solution, SolveError, solve};
 use filippov::scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
 
 use super::config::Config;
@@ -42,7 +40,7 @@ fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-fn errors(traj: &Trajectory, reference: &Trajectory, t0: f64, tf: f64) -> (f64, f64) {
+fn errors(traj: &Solution, reference: &Solution, t0: f64, tf: f64) -> (f64, f64) {
     let last = traj.last().map(|(_, y)| y.to_vec()).unwrap_or_default();
     let ref_last = reference
         .last()
@@ -93,7 +91,7 @@ fn scene<S: Mechanism<N>, const N: usize>(
     let tf = tf * config.horizon;
     let ode = MechanicalSystem::unforced(sys);
     let problem = Problem::new(0.0, tf, y0);
-    let run = |m: &Method| -> Result<Trajectory, SolveError> { solve(&ode, &problem, m) };
+    let run = |m: &Method| -> Result<Solution, SolveError> { solve(&ode, &problem, m) };
     progress.set_message(format!("work-precision: {name}, references"));
     let ref_rk4 = run(&Method::Rk4 { h: tf / 40_000.0 });
     let ref_dopri = run(&Method::Dopri5(Options::tolerances(1e-13, 1e-15)));

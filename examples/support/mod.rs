@@ -154,7 +154,7 @@ fn tick(v: f64) -> String {
 
 /// One series per label: component `j` of the trajectory against time, labelled
 /// `labels[j]`.
-pub fn time_series(traj: &filippov::runtime::Trajectory, labels: &[&str]) -> Vec<Series> {
+pub fn time_series(traj: &filippov::runtime::Solution, labels: &[&str]) -> Vec<Series> {
     labels
         .iter()
         .enumerate()

@@ -3,7 +3,7 @@
 //! plots (x, v, f against t; the f–v plane with the constitutive graph and the path).
 #![allow(dead_code)]
 
-use filippov::runtime::{SolveError, Trajectory};
+use filippov::runtime::{Solution, SolveError};
 
 use super::support::{Scale, Series, line_plot, plot_path};
 
@@ -15,16 +15,8 @@ pub struct Cols {
     pub f: Vec<f64>,
 }
 
-/// Index of component `name` (`q0`, `v0`, `f_<element>`); panics with the names if absent.
-pub fn index(traj: &Trajectory, name: &str) -> usize {
-    traj.names()
-        .iter()
-        .position(|n| n == name)
-        .unwrap_or_else(|| panic!("no component {name} in {:?}", traj.names()))
-}
-
 /// Columns of coordinate 0 and the force of the first element whose name contains `force`.
-pub fn cols(traj: &Trajectory, force: &str) -> Cols {
+pub fn cols(traj: &Solution, force: &str) -> Cols {
     let fi = traj
         .names()
         .iter()
@@ -32,14 +24,17 @@ pub fn cols(traj: &Trajectory, force: &str) -> Cols {
         .unwrap_or_else(|| panic!("no force matching {force} in {:?}", traj.names()));
     Cols {
         t: traj.times().to_vec(),
-        x: traj.component(index(traj, "q0")),
-        v: traj.component(index(traj, "v0")),
+        x: traj.component(0),
+        // The state is [q; v]: the first velocity follows the coordinates.
+        v: traj.component(
+            (traj.names().len() - traj.names().iter().filter(|n| n.starts_with("f_")).count()) / 2,
+        ),
         f: traj.component(fi),
     }
 }
 
 /// Prints an integrator's result: the statistics, or the error (never hidden).
-pub fn report(label: &str, result: Result<Trajectory, SolveError>) -> Option<Trajectory> {
+pub fn report(label: &str, result: Result<Solution, SolveError>) -> Option<Solution> {
     match result {
         Ok(traj) => {
             let s = &traj.stats;
@@ -74,7 +69,7 @@ pub fn max_err(t: &[f64], y: &[f64], exact: impl Fn(f64) -> f64) -> f64 {
 
 /// Largest difference of component `j` of `a` from `reference` on a grid of spacing `dt`
 /// (both interpolated), and the difference at the final time.
-pub fn diff_to(a: &Trajectory, reference: &Trajectory, j: usize, dt: f64) -> (f64, f64) {
+pub fn diff_to(a: &Solution, reference: &Solution, j: usize, dt: f64) -> (f64, f64) {
     let (t0, tf) = (a.times()[0], *a.times().last().unwrap());
     let n = ((tf - t0) / dt).round() as usize;
     let grid = (0..=n)
@@ -199,7 +194,7 @@ pub fn f_range(runs: &[&Cols], floor: f64) -> f64 {
 }
 
 /// Upward zero crossings of component `j`, located by bisection on the interpolant.
-pub fn upward_crossings(traj: &Trajectory, j: usize) -> Vec<f64> {
+pub fn upward_crossings(traj: &Solution, j: usize) -> Vec<f64> {
     let (t, x) = (traj.times(), traj.component(j));
     (1..t.len())
         .filter(|&i| x[i - 1] < 0.0 && x[i] >= 0.0)

@@ -6,7 +6,7 @@
 use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
-    NonSmooth, NonSmoothMethod, NonSmoothProblem, SolveError, Trajectory, solve_nonsmooth,
+    NonSmooth, NonSmoothMethod, NonSmoothProblem, Solution, SolveError, solve_nonsmooth,
 };
 use filippov::scenes::PandaS9;
 
@@ -34,11 +34,7 @@ pub fn s9_problem(t_end: f64) -> NonSmoothProblem<7> {
     NonSmoothProblem::new(0.0, t_end, q0, v0)
 }
 
-pub fn s9_run(
-    arm: &PandaS9,
-    t_end: f64,
-    method: &NonSmoothMethod,
-) -> Result<Trajectory, SolveError> {
+pub fn s9_run(arm: &PandaS9, t_end: f64, method: &NonSmoothMethod) -> Result<Solution, SolveError> {
     let input = |t: f64, _q: &V7, _v: &V7| s9_torque(t);
     solve_nonsmooth(arm, &input, &s9_problem(t_end), method)
 }
@@ -60,7 +56,7 @@ pub struct Balance {
 /// `Σ f_crit |v|` are integrated on each smooth arc between rows (Simpson's rule on the
 /// dense output, `sub` panels per arc); rows sharing a time are impacts, whose energy
 /// jump is the impact loss.
-pub fn s9_balance(arm: &PandaS9, traj: &Trajectory, sub: usize) -> Balance {
+pub fn s9_balance(arm: &PandaS9, traj: &Solution, sub: usize) -> Balance {
     let n = 7;
     let energy = |y: &[f64]| {
         let q = V7::from_column_slice(&y[..n]);

@@ -1,11 +1,12 @@
-//! Why an integration stopped early. The trajectory up to the failure is always kept.
+//! Why an integration stopped early. The solution up to the failure is always kept.
 
 use std::fmt;
 
-use crate::Trajectory;
+use crate::Solution;
 
 /// The reason an integration failed.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum ErrorKind {
     /// The step size fell below `h_min` or the round-off limit at time `t`.
     StepSizeUnderflow { t: f64, h: f64 },
@@ -24,6 +25,8 @@ pub enum ErrorKind {
     /// At time `t` no mode, or more than one, of the switching elements is consistent
     /// (Painlevé-type or non-unique); `detail` names the candidates.
     IllPosedMode { t: f64, detail: String },
+    /// The [`Observer`](crate::Observer) asked to stop after the step ending at `t`.
+    Cancelled { t: f64 },
 }
 
 impl fmt::Display for ErrorKind {
@@ -49,6 +52,7 @@ impl fmt::Display for ErrorKind {
             ErrorKind::IllPosedMode { t, detail } => {
                 write!(f, "no unique consistent mode at t = {t}: {detail}")
             }
+            ErrorKind::Cancelled { t } => write!(f, "cancelled by the observer at t = {t}"),
         }
     }
 }
@@ -57,9 +61,18 @@ impl fmt::Display for ErrorKind {
 #[derive(Clone)]
 pub struct SolveError {
     pub kind: ErrorKind,
-    /// Accepted steps up to the failure (empty for [`ErrorKind::InvalidInput`]); boxed
-    /// to keep `Result<Trajectory, SolveError>` small.
-    pub trajectory: Box<Trajectory>,
+    /// Everything computed up to the failure (empty for [`ErrorKind::InvalidInput`]);
+    /// boxed to keep `Result<Solution, SolveError>` small.
+    pub solution: Box<Solution>,
+}
+
+impl SolveError {
+    pub(crate) fn new(kind: ErrorKind, solution: Solution) -> Self {
+        SolveError {
+            kind,
+            solution: Box::new(solution),
+        }
+    }
 }
 
 impl fmt::Display for SolveError {
@@ -67,20 +80,20 @@ impl fmt::Display for SolveError {
         write!(
             f,
             "{} (after {} accepted steps)",
-            self.kind, self.trajectory.stats.steps
+            self.kind, self.solution.stats.steps
         )
     }
 }
 
-/// Short: the kind and the extent of the kept trajectory, not its rows (an `expect` on
+/// Short: the kind and the extent of the kept solution, not its rows (an `expect` on
 /// a long run would otherwise print megabytes).
 impl fmt::Debug for SolveError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let t = self.trajectory.times();
+        let t = self.solution.times();
         f.debug_struct("SolveError")
             .field("kind", &self.kind)
             .field(
-                "trajectory",
+                "solution",
                 &format_args!(
                     "{} rows{}",
                     t.len(),
@@ -90,7 +103,7 @@ impl fmt::Debug for SolveError {
                     }
                 ),
             )
-            .field("stats", &self.trajectory.stats)
+            .field("stats", &self.solution.stats)
             .finish()
     }
 }

@@ -7,7 +7,7 @@
 //! * Integration, separated diffsol-style into the problem ([`OdeSystem`], [`Problem`],
 //!   the adapters [`MechanicalSystem`] and [`NumericSystem`]), the methods ([`Rk4`],
 //!   [`Dopri5`], [`Sdirk4`], [`Bdf`], tableaus in [`tableau`]), their configuration
-//!   ([`Options`], [`PiController`]) and the result ([`Trajectory`], [`Stats`],
+//!   ([`Options`], [`PiController`]) and the result ([`Solution`], [`Stats`],
 //!   [`SolveError`]).
 //! * [`liegroup`]: Lie-group integration on SO(3)ᵐ × ℝⁿ ([`LieSystem`]; explicit
 //!   [`Rkmk5`], stiff [`LieSdirk`]; event location with [`LieEvent`]), and the trait of
@@ -26,31 +26,36 @@
 //! let x = traj.at(0.5).unwrap()[0];
 //! assert!((x - 0.5f64.cos()).abs() < 1e-6);
 //! ```
-mod control;
 mod error;
 pub mod liegroup;
 mod mechanical;
-mod method;
+pub mod method;
 pub mod nonsmooth;
 pub mod numeric;
+pub mod numerics;
 mod options;
 mod problem;
+mod solution;
+mod solve;
 mod stats;
 pub mod system;
-mod trajectory;
 
-pub use control::PiController;
 pub use error::{ErrorKind, SolveError};
 pub use liegroup::{
     EventDirection, FnLieSystem, LieEvent, LieEventHit, LieInputFn, LieMechanical, LieMechanism,
     LieProblem, LieSdirk, LieState, LieSystem, LieTrajectory, Rkmk5, UnitQuat,
 };
 pub use mechanical::{InputFn, MechanicalSystem, NumericInputFn, NumericSystem};
-pub use method::tableau;
-pub use method::{Bdf, Dopri5, Method, Rk4, Sdirk4, solve};
-pub use nonsmooth::{NonSmooth, NonSmoothMethod, NonSmoothProblem, SmoothMethod, solve_nonsmooth};
+pub use method::{Bdf, Dopri5, Method, Rk4, Sdirk4, Stepper};
+pub use nonsmooth::{
+    NonSmooth, NonSmoothMethod, NonSmoothProblem, SmoothMethod, solve_nonsmooth,
+    solve_nonsmooth_with,
+};
+pub use numerics::control::PiController;
+pub use numerics::tableau;
 pub use options::Options;
 pub use problem::{FnSystem, OdeSystem, Problem};
+pub use solution::{Output, Solution, Switch, SwitchKind};
+pub use solve::{Observer, integrate, solve, solve_with};
 pub use stats::Stats;
 pub use system::{ForwardJacobian, Mechanism, ParameterError};
-pub use trajectory::{Interpolant, Trajectory};

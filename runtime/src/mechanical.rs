@@ -22,9 +22,17 @@ fn zero_input<const N: usize>(_: f64, _: &SVector<f64, N>, _: &SVector<f64, N>) 
 /// when the input does not depend on the state. For state feedback `τ(t, q, v)` it is
 /// an approximation that still serves a simplified Newton iteration (convergence may be
 /// slower); use a wrapper returning `false` from `jacobian` to get finite differences.
+///
+/// A scene with non-smooth elements (friction, Bingham dash-pots, stops) is refused
+/// with [`ErrorKind::InvalidInput`](crate::ErrorKind) naming them: the smooth equations
+/// have no element forces, and integrating them would silently misread the scene. Use
+/// [`solve_nonsmooth`](crate::solve_nonsmooth), or say
+/// [`ignoring_elements`](Self::ignoring_elements) to integrate the smooth part alone.
 pub struct MechanicalSystem<'a, S, F, const N: usize> {
     pub mechanism: &'a S,
     pub input: F,
+    /// Integrate a scene with non-smooth elements as if it had none.
+    pub ignore_elements: bool,
 }
 
 impl<'a, S, F, const N: usize> MechanicalSystem<'a, S, F, N>
@@ -33,7 +41,18 @@ where
     F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
 {
     pub fn new(mechanism: &'a S, input: F) -> Self {
-        MechanicalSystem { mechanism, input }
+        MechanicalSystem {
+            mechanism,
+            input,
+            ignore_elements: false,
+        }
+    }
+
+    /// The smooth part of a scene with non-smooth elements: the elements are left out
+    /// of the equations (see the type's documentation).
+    pub fn ignoring_elements(mut self) -> Self {
+        self.ignore_elements = true;
+        self
     }
 
     fn split(y: &[f64]) -> (SVector<f64, N>, SVector<f64, N>) {
@@ -50,6 +69,7 @@ impl<'a, S: Mechanism<N>, const N: usize> MechanicalSystem<'a, S, InputFn<N>, N>
         MechanicalSystem {
             mechanism,
             input: zero_input::<N>,
+            ignore_elements: false,
         }
     }
 }
@@ -84,13 +104,24 @@ where
     }
 
     fn names(&self) -> Vec<String> {
-        let q = S::JOINTS.iter().map(|j| format!("q_{j}"));
-        let v = S::JOINTS.iter().map(|j| format!("v_{j}"));
-        q.chain(v).collect()
+        crate::system::state_names(&S::JOINTS)
     }
 
-    /// The mechanism's parameters ([`Mechanism::validate`]).
+    /// The mechanism's parameters ([`Mechanism::validate`]), and no non-smooth elements
+    /// unless they are to be ignored.
     fn validate(&self) -> Result<(), String> {
+        if !self.ignore_elements && !S::NON_SMOOTH_ELEMENTS.is_empty() {
+            let names: Vec<String> = S::NON_SMOOTH_ELEMENTS
+                .iter()
+                .map(|e| format!("`{e}`"))
+                .collect();
+            return Err(format!(
+                "the scene has non-smooth elements ({}) that the smooth integrators cannot \
+                 represent: integrate it with `solve_nonsmooth`, or use \
+                 `MechanicalSystem::ignoring_elements()` to integrate it without them",
+                names.join(", ")
+            ));
+        }
         self.mechanism.validate().map_err(|e| e.to_string())
     }
 }

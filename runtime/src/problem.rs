@@ -5,6 +5,8 @@
 
 use nalgebra::DMatrix;
 
+use crate::Output;
+
 /// A first-order ODE system `ẏ = f(t, y)` of fixed dimension.
 pub trait OdeSystem {
     /// Number of state components.
@@ -55,12 +57,14 @@ impl<F: Fn(f64, &[f64], &mut [f64])> OdeSystem for FnSystem<F> {
     }
 }
 
-/// An initial-value problem: integrate from `(t0, y0)` to `tf ≥ t0`.
+/// An initial-value problem: integrate from `(t0, y0)` to `tf ≥ t0`, keeping the rows
+/// `output` says (every accepted step by default).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Problem {
     pub t0: f64,
     pub tf: f64,
     pub y0: Vec<f64>,
+    pub output: Output,
 }
 
 impl Problem {
@@ -69,7 +73,14 @@ impl Problem {
             t0,
             tf,
             y0: y0.into(),
+            output: Output::Steps,
         }
+    }
+
+    /// The same problem keeping the rows `output` says.
+    pub fn with_output(mut self, output: Output) -> Self {
+        self.output = output;
+        self
     }
 
     /// Checks the problem against the system: `t0`, `tf` finite, `tf ≥ t0`, `y0` of
@@ -93,6 +104,6 @@ impl Problem {
         if let Some(i) = self.y0.iter().position(|x| !x.is_finite()) {
             return Err(format!("y0[{i}] = {} is not finite", self.y0[i]));
         }
-        Ok(())
+        self.output.validate(self.t0, self.tf)
     }
 }

@@ -22,7 +22,7 @@ use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
     MechanicalSystem, Method, NonSmoothMethod, NonSmoothProblem, Options, Problem, SmoothMethod,
-    Trajectory, solve, solve_nonsmooth,
+    Solution, solve, solve_nonsmooth,
 };
 use filippov::scenes::{CoulombOscillator, DoublePendulum, Panda};
 
@@ -97,7 +97,7 @@ fn errors(values: &[Vec<f64>], reference: &[Vec<f64>], comps: usize) -> (f64, f6
 }
 
 /// A filippov trajectory at the grid times (NaN outside its range).
-fn on_grid(traj: &Trajectory, grid: &[f64]) -> Vec<Vec<f64>> {
+fn on_grid(traj: &Solution, grid: &[f64]) -> Vec<Vec<f64>> {
     grid.iter()
         .map(|&t| traj.at(t).unwrap_or_else(|| vec![f64::NAN; traj.dim()]))
         .collect()
@@ -337,7 +337,7 @@ fn regularised(
 
 /// Velocity zeros of a filippov trajectory `[x, v, …]`: rows where v reaches zero or
 /// changes sign, located by bisection on the dense output (as the report does).
-fn velocity_zeros(traj: &Trajectory) -> Vec<(f64, f64)> {
+fn velocity_zeros(traj: &Solution) -> Vec<(f64, f64)> {
     let mut out: Vec<(f64, f64)> = Vec::new();
     for i in 1..traj.len() {
         let (a, b) = (traj.state(i - 1)[1], traj.state(i)[1]);

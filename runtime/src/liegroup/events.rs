@@ -26,7 +26,7 @@
 use super::rkmk::{LieRun, LieTrajectory};
 use super::{LieProblem, LieState, LieSystem};
 use crate::ErrorKind;
-use crate::nonsmooth::rootfind::find_root;
+use crate::numerics::rootfind::find_root;
 
 /// Which sign changes of an event function count.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

@@ -78,8 +78,8 @@ use super::events::{EventTracker, LieEvent, LieEventHit};
 use super::rkmk::{LieMethod, LieRun, chart_field, drive, initial_step, magnitudes, retract};
 use super::so3::{self, UnitQuat};
 use super::{LieProblem, LieState, LieSystem, LieTrajectory};
-use crate::method::tableau::SDIRK4;
-use crate::method::{error_norm, underflow};
+use crate::numerics::tableau::SDIRK4;
+use crate::numerics::{error_norm, underflow};
 use crate::{ErrorKind, Options, PiController, SolveError};
 
 /// Newton iterations per stage before the step counts as failed (as `Sdirk4`).

@@ -44,10 +44,9 @@
 use super::events::{EventTracker, LieEvent, LieEventHit};
 use super::so3::{self, UnitQuat};
 use super::{LieState, LieSystem};
-use crate::method::tableau::{DOPRI5, DOPRI5_DENSE, dopri5_dense};
-use crate::method::{error_norm, underflow};
-use crate::trajectory::Interpolant;
-use crate::{ErrorKind, Options, PiController, SolveError, Stats, Trajectory};
+use crate::numerics::tableau::{DOPRI5, DOPRI5_DENSE, dopri5_dense};
+use crate::numerics::{error_norm, underflow};
+use crate::{ErrorKind, Options, Output, PiController, Solution, SolveError, Stats};
 use nalgebra::Vector3;
 
 /// An initial-value problem for a [`LieSystem`]: integrate from `(t0, y0)` to `tf ≥ t0`.
@@ -297,20 +296,14 @@ pub(super) fn drive<M: LieMethod, S: LieSystem + ?Sized>(
     let mut tracker = match checked.and_then(|()| EventTracker::new(events, problem)) {
         Ok(tracker) => tracker,
         Err(msg) => {
-            return Err(SolveError {
-                kind: ErrorKind::InvalidInput(msg),
-                trajectory: Box::new(traj.flat),
-            });
+            return Err(SolveError::new(ErrorKind::InvalidInput(msg), traj.flat));
         }
     };
     let mut run = LieRun { system, traj };
     let tracker_ref = (!events.is_empty()).then_some(&mut tracker);
     match method.integrate(&mut run, problem, tracker_ref) {
         Ok(()) => Ok((run.traj, tracker.into_hits())),
-        Err(kind) => Err(SolveError {
-            kind,
-            trajectory: Box::new(run.traj.flat),
-        }),
+        Err(kind) => Err(SolveError::new(kind, run.traj.flat)),
     }
 }
 
@@ -505,7 +498,7 @@ pub(super) fn initial_step<S: LieSystem + ?Sized>(
 
 /// The accepted states of a Lie-group integration with their dense output.
 ///
-/// Stored twice over: as a flat [`Trajectory`] (per point the quaternions `w, x, y, z`
+/// Stored twice over: as a flat [`Solution`] (per point the quaternions `w, x, y, z`
 /// of every rotation, then `x`, then `v`; derivatives `q̇ = ½ q ⊗ (0, ω)`, `ẋ = u`,
 /// `v̇ = f`; its own interpolation is cubic Hermite and leaves the group), and per step
 /// the local-coordinate data of the continuous extension (Dormand–Prince for
@@ -515,7 +508,7 @@ pub(super) fn initial_step<S: LieSystem + ?Sized>(
 pub struct LieTrajectory {
     n_rot: usize,
     n_euclid: usize,
-    pub(super) flat: Trajectory,
+    pub(super) flat: Solution,
     /// Per interval: `Θ₁, K₁, K₇, r₅`, each of the local dimension (`K₁`, `K₇` the
     /// derivatives of `Θ` at the ends; `r₅ = 0` gives the cubic Hermite interpolant).
     chart: Vec<f64>,
@@ -535,7 +528,7 @@ impl LieTrajectory {
         LieTrajectory {
             n_rot,
             n_euclid,
-            flat: Trajectory::new(names, Interpolant::Hermite),
+            flat: Solution::new(names, 0, Output::Steps),
             chart: Vec::new(),
             steps: Vec::new(),
         }
@@ -559,7 +552,7 @@ impl LieTrajectory {
         flat.extend_from_slice(&y.velocity);
         dflat.extend_from_slice(y.euclid_velocity());
         dflat.extend_from_slice(f);
-        self.flat.push(t, &flat, &dflat);
+        self.flat.push_step(t, &flat, &dflat, None, false);
     }
 
     /// The continuous extension of the interval ending at the last pushed point: a step
@@ -582,12 +575,14 @@ impl LieTrajectory {
     /// interval (a terminal event); the interval keeps its step's interpolant.
     pub(super) fn truncate_last(&mut self, t: f64, y: &LieState, f: &[f64]) {
         let n = self.len();
-        let mut flat = Trajectory::new(self.flat.names().to_vec(), Interpolant::Hermite);
+        let mut flat = Solution::new(self.flat.names().to_vec(), 0, Output::Steps);
         for i in 0..n - 1 {
-            flat.push(
+            flat.push_step(
                 self.flat.times()[i],
                 self.flat.state(i),
                 self.flat.derivative(i),
+                None,
+                false,
             );
         }
         flat.stats = self.flat.stats;
@@ -661,7 +656,7 @@ impl LieTrajectory {
     }
 
     /// The flat trajectory (layout in the type's documentation), e.g. for CSV output.
-    pub fn flat(&self) -> &Trajectory {
+    pub fn flat(&self) -> &Solution {
         &self.flat
     }
 

@@ -228,7 +228,7 @@ fn typed_errors() {
         ErrorKind::NonFinite { t, component } => assert!(t > 0.5 && component == 5),
         ref other => panic!("{other:?}"),
     }
-    assert!(!err.trajectory.is_empty());
+    assert!(!err.solution.is_empty());
     // A finite-time singularity: the step size underflows.
     let singular = FnLieSystem::new(1, 0, |t, _y: &LieState, dv: &mut [f64]| {
         dv.fill(0.0);
@@ -358,7 +358,7 @@ fn s10_through_gimbal_lock_lie_group_versus_euler_angles() {
         // The Euler model may also fail outright (step-size underflow at the pole).
         let (euler_traj, failure) = match euler {
             Ok(traj) => (traj, None),
-            Err(e) => ((*e.trajectory).clone(), Some(e.kind)),
+            Err(e) => ((*e.solution).clone(), Some(e.kind)),
         };
         let (t_end, ye) = euler_traj.last().unwrap();
         let euler_rot = if failure.is_none() {

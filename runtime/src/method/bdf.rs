@@ -33,19 +33,25 @@
 //! discontinuous right-hand side, many restarts or a very low accuracy, [`Sdirk4`]
 //! (one-step, L-stable) is the safer choice.
 //!
-//! **Dense output.** Every accepted point is stored with the derivative the formula
-//! assigns to it, `f_{n+1} = (ψ + d)/c` (equal to `f(t_{n+1}, y_{n+1})` up to the
-//! Newton tolerance, without the extra evaluation and without amplifying the Newton
-//! error by the stiff part of `J`), and the [`Trajectory`] interpolates by cubic
-//! Hermite.
+//! **Dense output.** The interpolating polynomial of the step's order `k` through
+//! `y_{n+1}, y_n, …, y_{n+1−k}`, which the backward differences represent:
+//! `y(t_{n+1} + s h) = Σ_{j≤k} D_j Π_{m<j} (s + m)/(m + 1)` for `s ∈ [−1, 0]` (local
+//! error `O(h^{k+1})`, as the step's). Every accepted point carries the derivative the
+//! formula assigns to it, `f_{n+1} = (ψ + d)/c` (equal to `f(t_{n+1}, y_{n+1})` up to
+//! the Newton tolerance, without the extra evaluation and without amplifying the Newton
+//! error by the stiff part of `J`).
+//!
+//! **Restart** at a discontinuity drops the history (back to order 1 from the new
+//! point) and keeps `h` and `J`.
 //!
 //! [`Sdirk4`]: super::Sdirk4
 
-use nalgebra::{DMatrix, DVector, Dyn, LU};
+use nalgebra::{DMatrix, DVector};
 
-use super::{Run, check_finite, error_norm, initial_step, jacobian, underflow};
-use crate::trajectory::Interpolant;
-use crate::{ErrorKind, OdeSystem, Options, Problem, SolveError, Trajectory};
+use super::stepper::{DenseStep, Eval, Stepper, check_budget};
+use crate::numerics::newton::NewtonMatrix;
+use crate::numerics::{check_finite, error_norm, initial_step, underflow};
+use crate::{ErrorKind, OdeSystem, Options};
 
 /// Highest order.
 pub const MAX_ORDER: usize = 5;
@@ -65,31 +71,12 @@ pub struct Bdf {
     pub options: Options,
 }
 
-/// The Newton matrix `I − cJ` and what it was built from.
-struct NewtonMatrix {
-    jac: DMatrix<f64>,
-    /// `J` was evaluated at the current accepted point.
-    jac_current: bool,
-    /// `J` must be (re)evaluated before the next attempt.
-    jac_needed: bool,
-    lu: Option<LU<f64, Dyn, Dyn>>,
-    /// The `c = h / γ_k` of the factorised matrix.
-    lu_c: f64,
-}
-
 /// Outcome of the corrector of one attempt.
 enum NewtonOutcome {
     /// Converged after `iterations`; `y1` and `correction` hold the result.
     Converged { iterations: usize },
     /// Diverged, too slow, or met a non-finite value (kept for reporting).
     Failed { non_finite: Option<ErrorKind> },
-}
-
-/// Buffers of [`Bdf::newton`], allocated once per integration.
-struct NewtonWork {
-    predictor: Vec<f64>,
-    fz: Vec<f64>,
-    delta: DVector<f64>,
 }
 
 /// `γ_k = Σ_{j=1}^{k} 1/j` for `k = 0 … MAX_ORDER + 1`.
@@ -111,117 +98,202 @@ impl Bdf {
         Bdf { options }
     }
 
-    pub fn solve<S: OdeSystem + ?Sized>(
+    /// Integrates `problem` (the same as [`solve`](crate::solve) with
+    /// `Method::Bdf(options)`).
+    pub fn solve<S: crate::OdeSystem + ?Sized>(
         &self,
         system: &S,
-        problem: &Problem,
-    ) -> Result<Trajectory, SolveError> {
-        let mut run = Run::start(system, problem, Interpolant::Hermite, Some(&self.options))?;
-        let outcome = self.integrate(&mut run, problem);
-        run.finish(outcome)
+        problem: &crate::Problem,
+    ) -> Result<crate::Solution, crate::SolveError> {
+        crate::solve(system, problem, &crate::Method::Bdf(self.options))
     }
 
-    fn integrate<S: OdeSystem + ?Sized>(
-        &self,
-        run: &mut Run<'_, S>,
-        problem: &Problem,
+    /// The stepping state for states of `dim` components.
+    pub fn stepper(&self, dim: usize) -> BdfStepper {
+        BdfStepper {
+            options: self.options,
+            gamma: gamma(),
+            newton: NewtonMatrix::new(dim),
+            t: 0.0,
+            h: 0.0,
+            h_next: 0.0,
+            order: 1,
+            equal_steps: 0,
+            y: vec![0.0; dim],
+            f: vec![0.0; dim],
+            diff: vec![vec![0.0; dim]; MAX_ORDER + 3],
+            y1: vec![0.0; dim],
+            y_prev: vec![0.0; dim],
+            psi: vec![0.0; dim],
+            predictor: vec![0.0; dim],
+            fz: vec![0.0; dim],
+            delta: DVector::zeros(dim),
+            correction: vec![0.0; dim],
+            scratch: vec![0.0; dim],
+            dense: DenseStep::new(dim),
+        }
+    }
+}
+
+/// The state of a [`Bdf`] integration (see [`Stepper`]).
+#[derive(Debug)]
+pub struct BdfStepper {
+    options: Options,
+    gamma: [f64; MAX_ORDER + 2],
+    newton: NewtonMatrix,
+    t: f64,
+    /// The spacing of the differences in `diff`.
+    h: f64,
+    /// The spacing wanted for the next step.
+    h_next: f64,
+    order: usize,
+    equal_steps: usize,
+    y: Vec<f64>,
+    f: Vec<f64>,
+    /// `D_j = ∇ʲ y_n` at spacing `h`, `j = 0 … MAX_ORDER + 2`.
+    diff: Vec<Vec<f64>>,
+    y1: Vec<f64>,
+    y_prev: Vec<f64>,
+    psi: Vec<f64>,
+    predictor: Vec<f64>,
+    fz: Vec<f64>,
+    delta: DVector<f64>,
+    correction: Vec<f64>,
+    scratch: Vec<f64>,
+    dense: DenseStep,
+}
+
+impl BdfStepper {
+    /// Order 1 from the current point, differences at spacing `h`.
+    fn reset_history(&mut self) {
+        self.diff[0].copy_from_slice(&self.y);
+        for (d, fi) in self.diff[1].iter_mut().zip(&self.f) {
+            *d = self.h * fi;
+        }
+        self.order = 1;
+        self.equal_steps = 0;
+        self.h_next = self.h;
+    }
+
+    /// The interpolating polynomial of the accepted step from `t0` (see the module
+    /// documentation) into `dense`, in powers of `θ = s + 1`.
+    fn set_dense(&mut self, t0: f64) {
+        let (n, k) = (self.y.len(), self.order);
+        let c = self.dense.reset(t0, self.h, k);
+        // basis_j(θ) = Π_{m<j} (θ − 1 + m)/(m + 1), built up one factor at a time.
+        let mut basis = [0.0; MAX_ORDER + 1];
+        basis[0] = 1.0;
+        for j in 0..=k {
+            if j > 0 {
+                let a = (j - 1) as f64 - 1.0;
+                let scale = 1.0 / j as f64;
+                for p in (0..=j).rev() {
+                    let shifted = if p > 0 { basis[p - 1] } else { 0.0 };
+                    basis[p] = (shifted + a * basis[p]) * scale;
+                }
+            }
+            for (p, &b) in basis.iter().enumerate().take(j + 1) {
+                if b != 0.0 {
+                    for i in 0..n {
+                        c[p * n + i] += b * self.diff[j][i];
+                    }
+                }
+            }
+        }
+    }
+}
+
+impl Stepper for BdfStepper {
+    fn name(&self) -> &'static str {
+        "BDF"
+    }
+
+    fn options(&self) -> Options {
+        self.options
+    }
+
+    fn start<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+        span: f64,
     ) -> Result<(), ErrorKind> {
-        let opts = &self.options;
-        let n = problem.y0.len();
-        let gamma = gamma();
-        let mut t = problem.t0;
-        let mut y = problem.y0.clone();
-        let mut f = vec![0.0; n];
-        run.rhs(t, &y, &mut f)?;
-        run.traj.push(t, &y, &f);
-        if problem.tf == problem.t0 {
-            return Ok(());
+        self.options.validate().map_err(ErrorKind::InvalidInput)?;
+        self.t = t;
+        self.y.copy_from_slice(y);
+        ev.rhs(t, y, &mut self.f)?;
+        self.newton = NewtonMatrix::new(y.len());
+        if span > 0.0 {
+            self.h = initial_step(t, y, &self.f, span, 1, &self.options, |t, y, dy| {
+                ev.rhs(t, y, dy)
+            })?;
         }
-        // `h` is the spacing of the differences in `diff`; `h_next` the wanted one.
-        let mut h = initial_step(run, problem, &f, 1, opts)?;
-        let mut h_next = h;
-        let mut diff = vec![vec![0.0; n]; MAX_ORDER + 3];
-        diff[0].copy_from_slice(&y);
-        for (d, fi) in diff[1].iter_mut().zip(&f) {
-            *d = h * fi;
-        }
-        let mut order = 1;
-        let mut equal_steps = 0;
-        let mut newton = NewtonMatrix {
-            jac: DMatrix::zeros(n, n),
-            jac_current: false,
-            jac_needed: true,
-            lu: None,
-            lu_c: f64::NAN,
-        };
-        let mut y1 = vec![0.0; n];
-        let mut y_prev = vec![0.0; n];
-        let mut psi = vec![0.0; n];
-        let mut work = NewtonWork {
-            predictor: vec![0.0; n],
-            fz: vec![0.0; n],
-            delta: DVector::zeros(n),
-        };
-        let mut correction = vec![0.0; n];
-        let mut scratch = vec![0.0; n];
+        self.reset_history();
+        Ok(())
+    }
+
+    fn restart<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+    ) -> Result<(), ErrorKind> {
+        self.t = t;
+        self.y.copy_from_slice(y);
+        ev.rhs(t, y, &mut self.f)?;
+        self.newton.mark_stale();
+        self.h = self.h_next;
+        self.reset_history();
+        Ok(())
+    }
+
+    fn step<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t_end: f64,
+    ) -> Result<(), ErrorKind> {
+        let n = self.y.len();
         let mut failures = 0;
-        let mut attempts = 0;
         // A non-finite rhs value met ahead of the current time (see `Sdirk4`): a
         // Newton failure, but what is reported if the step then underflows.
         let mut non_finite_ahead: Option<ErrorKind> = None;
         loop {
-            if attempts >= opts.max_steps {
-                return Err(ErrorKind::MaxSteps { t });
-            }
-            attempts += 1;
-            let mut h_new = h_next.min(opts.h_max);
-            let last = t + 1.01 * h_new >= problem.tf;
+            let t = self.t;
+            check_budget(ev.stats, &self.options, t)?;
+            let mut h_new = self.h_next.min(self.options.h_max);
+            let last = t + 1.01 * h_new >= t_end;
             if last {
-                h_new = problem.tf - t;
+                h_new = t_end - t;
             }
-            if underflow(t, h_new, opts) {
+            if underflow(t, h_new, &self.options) {
                 return Err(
                     non_finite_ahead.unwrap_or(ErrorKind::StepSizeUnderflow { t, h: h_new })
                 );
             }
-            if h_new != h {
-                rescale(&mut diff, order, h_new / h);
-                h = h_new;
-                equal_steps = 0;
+            if h_new != self.h {
+                rescale(&mut self.diff, self.order, h_new / self.h);
+                self.h = h_new;
+                self.equal_steps = 0;
             }
-            h_next = h;
-            if newton.jac_needed {
-                jacobian(run, t, &y, &mut scratch, true, &mut newton.jac)?;
-                newton.jac_current = true;
-                newton.jac_needed = false;
-                newton.lu = None;
-            }
-            let c = h / gamma[order];
-            if newton.lu.is_none() || newton.lu_c != c {
-                let m = DMatrix::identity(n, n) - &newton.jac * c;
-                newton.lu = Some(m.lu());
-                newton.lu_c = c;
-                run.stats().lu_factorisations += 1;
-            }
+            let (h, order) = (self.h, self.order);
+            self.h_next = h;
+            self.newton
+                .update_jacobian(ev, t, &self.y, &mut self.scratch, true)?;
+            let c = h / self.gamma[order];
+            self.newton.factor(c, &mut ev.stats.lu_factorisations);
             // Predictor and the constant part ψ of the corrector.
             for i in 0..n {
-                y1[i] = (0..=order).map(|j| diff[j][i]).sum();
-                psi[i] = (1..=order).map(|j| gamma[j] * diff[j][i]).sum::<f64>() / gamma[order];
+                self.y1[i] = (0..=order).map(|j| self.diff[j][i]).sum();
+                self.psi[i] = (1..=order)
+                    .map(|j| self.gamma[j] * self.diff[j][i])
+                    .sum::<f64>()
+                    / self.gamma[order];
             }
-            let t1 = if last { problem.tf } else { t + h };
-            let outcome = self.newton(
-                run,
-                &newton,
-                &mut work,
-                t1,
-                c,
-                &psi,
-                &mut y1,
-                &mut correction,
-            );
-            let iterations = match outcome {
+            let t1 = if last { t_end } else { t + h };
+            let iterations = match self.newton(ev, t1, c) {
                 NewtonOutcome::Failed { non_finite } => {
-                    run.stats().rejected_steps += 1;
+                    ev.stats.rejected_steps += 1;
                     failures += 1;
                     if non_finite.is_some() {
                         non_finite_ahead = non_finite;
@@ -230,10 +302,10 @@ impl Bdf {
                         return Err(non_finite_ahead.unwrap_or(ErrorKind::NewtonDivergence { t }));
                     }
                     // A stale Jacobian is refreshed first; with a fresh one, halve h.
-                    if newton.jac_current {
-                        h_next = 0.5 * h;
+                    if self.newton.jac_current {
+                        self.h_next = 0.5 * h;
                     } else {
-                        newton.jac_needed = true;
+                        self.newton.jac_needed = true;
                     }
                     continue;
                 }
@@ -242,97 +314,108 @@ impl Bdf {
             failures = 0;
             let safety = 0.9 * (2 * MAX_NEWTON_ITERATIONS + 1) as f64
                 / (2 * MAX_NEWTON_ITERATIONS + iterations) as f64;
-            for (e, d) in scratch.iter_mut().zip(&correction) {
+            for (e, d) in self.scratch.iter_mut().zip(&self.correction) {
                 *e = error_constant(order) * d;
             }
-            let err = error_norm(&scratch, &y, &y1, opts);
+            let err = error_norm(&self.scratch, &self.y, &self.y1, &self.options);
             if err > 1.0 {
-                run.stats().rejected_steps += 1;
+                ev.stats.rejected_steps += 1;
                 let factor = (safety * err.powf(-1.0 / (order + 1) as f64)).max(MIN_FACTOR);
-                h_next = h * factor;
+                self.h_next = h * factor;
                 continue;
             }
             // Accepted: update the differences (∇^{k+2}, ∇^{k+1}, then the lower ones).
             for i in 0..n {
-                diff[order + 2][i] = correction[i] - diff[order + 1][i];
-                diff[order + 1][i] = correction[i];
+                self.diff[order + 2][i] = self.correction[i] - self.diff[order + 1][i];
+                self.diff[order + 1][i] = self.correction[i];
             }
             for j in (0..=order).rev() {
-                let (lo, hi) = diff.split_at_mut(j + 1);
+                let (lo, hi) = self.diff.split_at_mut(j + 1);
                 for (a, b) in lo[j].iter_mut().zip(&hi[0]) {
                     *a += b;
                 }
             }
-            t = t1;
-            y_prev.copy_from_slice(&y);
-            y.copy_from_slice(&y1);
+            self.set_dense(t);
+            self.t = t1;
+            self.y_prev.copy_from_slice(&self.y);
+            self.y.copy_from_slice(&self.y1);
             for i in 0..n {
-                f[i] = (psi[i] + correction[i]) / c;
+                self.f[i] = (self.psi[i] + self.correction[i]) / c;
             }
-            run.traj.push(t, &y, &f);
-            run.stats().steps += 1;
-            if matches!(non_finite_ahead, Some(ErrorKind::NonFinite { t: bad, .. }) if bad <= t) {
-                non_finite_ahead = None;
+            ev.stats.steps += 1;
+            self.newton.jac_current = false;
+            self.equal_steps += 1;
+            if self.equal_steps >= order + 1 {
+                self.select_order(err, safety);
             }
-            if last {
-                return Ok(());
-            }
-            newton.jac_current = false;
-            equal_steps += 1;
-            if equal_steps < order + 1 {
-                continue;
-            }
-            // Order selection from the error estimates of orders k − 1, k, k + 1.
-            let mut estimate = |k: usize, d: &[f64]| {
-                for (e, x) in scratch.iter_mut().zip(d) {
-                    *e = error_constant(k) * x;
-                }
-                error_norm(&scratch, &y_prev, &y, opts)
-            };
-            let err_down = if order > 1 {
-                estimate(order - 1, &diff[order])
-            } else {
-                f64::INFINITY
-            };
-            let err_up = if order < MAX_ORDER {
-                estimate(order + 1, &diff[order + 2])
-            } else {
-                f64::INFINITY
-            };
-            let factors = [
-                err_down.powf(-1.0 / order as f64),
-                err.powf(-1.0 / (order + 1) as f64),
-                err_up.powf(-1.0 / (order + 2) as f64),
-            ];
-            let best = (0..3)
-                .max_by(|&a, &b| factors[a].total_cmp(&factors[b]))
-                .expect("three candidates");
-            order = order + best - 1;
-            h_next = h * (safety * factors[best]).min(MAX_FACTOR);
+            return Ok(());
         }
+    }
+
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    fn f(&self) -> &[f64] {
+        &self.f
+    }
+
+    fn dense(&self) -> &DenseStep {
+        &self.dense
+    }
+}
+
+impl BdfStepper {
+    /// Order selection from the error estimates of orders k − 1, k, k + 1 after an
+    /// accepted step with error `err`.
+    fn select_order(&mut self, err: f64, safety: f64) {
+        let order = self.order;
+        let (y_prev, y, opts) = (&self.y_prev, &self.y, &self.options);
+        let scratch = &mut self.scratch;
+        let mut estimate = |k: usize, d: &[f64]| {
+            for (e, x) in scratch.iter_mut().zip(d) {
+                *e = error_constant(k) * x;
+            }
+            error_norm(scratch, y_prev, y, opts)
+        };
+        let err_down = if order > 1 {
+            estimate(order - 1, &self.diff[order])
+        } else {
+            f64::INFINITY
+        };
+        let err_up = if order < MAX_ORDER {
+            estimate(order + 1, &self.diff[order + 2])
+        } else {
+            f64::INFINITY
+        };
+        let factors = [
+            err_down.powf(-1.0 / order as f64),
+            err.powf(-1.0 / (order + 1) as f64),
+            err_up.powf(-1.0 / (order + 2) as f64),
+        ];
+        let best = (0..3)
+            .max_by(|&a, &b| factors[a].total_cmp(&factors[b]))
+            .expect("three candidates");
+        self.order = order + best - 1;
+        self.h_next = self.h * (safety * factors[best]).min(MAX_FACTOR);
     }
 
     /// Simplified Newton for the correction `d`: on entry `y1` is the predictor, on
     /// success `y1 = y⁽⁰⁾ + d` and `correction = d`.
-    #[allow(clippy::too_many_arguments)]
     fn newton<S: OdeSystem + ?Sized>(
-        &self,
-        run: &mut Run<'_, S>,
-        newton: &NewtonMatrix,
-        work: &mut NewtonWork,
+        &mut self,
+        ev: &mut Eval<'_, S>,
         t1: f64,
         c: f64,
-        psi: &[f64],
-        y1: &mut [f64],
-        correction: &mut [f64],
     ) -> NewtonOutcome {
-        let n = y1.len();
-        let lu = newton.lu.as_ref().expect("factorised before Newton");
-        let NewtonWork {
-            predictor,
-            fz,
-            delta,
-        } = work;
+        let n = self.y1.len();
+        let lu = self.newton.lu();
+        let (predictor, fz, delta) = (&mut self.predictor, &mut self.fz, &mut self.delta);
+        let (y1, correction, psi) = (&mut self.y1, &mut self.correction, &self.psi);
         predictor.copy_from_slice(y1);
         // Stop when the estimated remaining error is a small fraction of the tolerance
         // (Shampine & Reichelt's choice), never below ten round-offs of `y`.
@@ -342,12 +425,12 @@ impl Bdf {
         correction.fill(0.0);
         let mut norm_prev = f64::NAN;
         for iteration in 0..MAX_NEWTON_ITERATIONS {
-            if let Err(kind) = run.rhs(t1, y1, fz) {
+            if let Err(kind) = ev.rhs(t1, y1, fz) {
                 return NewtonOutcome::Failed {
                     non_finite: Some(kind),
                 };
             }
-            run.stats().newton_iterations += 1;
+            ev.stats.newton_iterations += 1;
             for i in 0..n {
                 delta[i] = c * fz[i] - psi[i] - correction[i];
             }

@@ -1,26 +1,19 @@
 //! Dormand–Prince 5(4): adaptive explicit Runge–Kutta with FSAL and dense output
-//! ([`tableau::DOPRI5`](super::tableau::DOPRI5)), following Hairer's `dopri5.f`
+//! ([`tableau::DOPRI5`](crate::tableau::DOPRI5)), following Hairer's `dopri5.f`
 //! (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.5–II.6).
 
-use super::tableau::{DOPRI5, DOPRI5_DENSE};
-use super::{Run, check_finite, error_norm, initial_step, underflow};
-use crate::control::PiController;
-use crate::trajectory::Interpolant;
-use crate::{ErrorKind, OdeSystem, Options, Problem, SolveError, Trajectory};
+use super::stepper::{DenseStep, Eval, Stepper, check_budget};
+use crate::numerics::control::PiController;
+use crate::numerics::tableau::{DOPRI5, DOPRI5_DENSE};
+use crate::numerics::{check_finite, error_norm, initial_step, underflow};
+use crate::{ErrorKind, OdeSystem, Options};
 
 /// Adaptive Dormand–Prince 5(4) with local extrapolation (the fifth-order solution is
-/// propagated), a [`PiController`], and the fourth-order continuous extension stored
-/// in the [`Trajectory`].
+/// propagated), a [`PiController`], and the fourth-order continuous extension as dense
+/// output.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Dopri5 {
     pub options: Options,
-}
-
-/// Stage derivatives `k_1 … k_7` of one step; `k_7 = f(t + h, y_1)` is the next `k_1`.
-struct Stages {
-    k: [Vec<f64>; 7],
-    y1: Vec<f64>,
-    scratch: Vec<f64>,
 }
 
 impl Dopri5 {
@@ -28,102 +21,172 @@ impl Dopri5 {
         Dopri5 { options }
     }
 
-    pub fn solve<S: OdeSystem + ?Sized>(
+    /// Integrates `problem` (the same as [`solve`](crate::solve) with
+    /// `Method::Dopri5(options)`).
+    pub fn solve<S: crate::OdeSystem + ?Sized>(
         &self,
         system: &S,
-        problem: &Problem,
-    ) -> Result<Trajectory, SolveError> {
-        let mut run = Run::start(system, problem, Interpolant::Dopri5, Some(&self.options))?;
-        let outcome = self.integrate(&mut run, problem);
-        run.finish(outcome)
+        problem: &crate::Problem,
+    ) -> Result<crate::Solution, crate::SolveError> {
+        crate::solve(system, problem, &crate::Method::Dopri5(self.options))
     }
 
-    fn integrate<S: OdeSystem + ?Sized>(
-        &self,
-        run: &mut Run<'_, S>,
-        problem: &Problem,
-    ) -> Result<(), ErrorKind> {
-        let opts = &self.options;
-        let n = problem.y0.len();
-        let mut st = Stages {
-            k: std::array::from_fn(|_| vec![0.0; n]),
-            y1: vec![0.0; n],
-            scratch: vec![0.0; n],
-        };
-        let mut t = problem.t0;
-        let mut y = problem.y0.clone();
-        run.rhs(t, &y, &mut st.k[0])?;
-        run.traj.push(t, &y, &st.k[0]);
-        if problem.tf == problem.t0 {
-            return Ok(());
-        }
-        let mut h = initial_step(run, problem, &st.k[0], 5, opts)?;
-        let mut controller = PiController::new(4);
-        let e = DOPRI5.error_weights();
-        let mut err_vec = vec![0.0; n];
-        let mut r5 = vec![0.0; n];
-        let mut attempts = 0;
-        loop {
-            if attempts >= opts.max_steps {
-                return Err(ErrorKind::MaxSteps { t });
-            }
-            attempts += 1;
-            h = h.min(opts.h_max);
-            // Stretch the last step to hit tf rather than leave a sliver.
-            let last = t + 1.01 * h >= problem.tf;
-            if last {
-                h = problem.tf - t;
-            }
-            if underflow(t, h, opts) {
-                return Err(ErrorKind::StepSizeUnderflow { t, h });
-            }
-            Self::stages(run, t, h, &y, &mut st)?;
-            for (i, ei) in err_vec.iter_mut().enumerate() {
-                *ei = h * (0..7).map(|j| e[j] * st.k[j][i]).sum::<f64>();
-            }
-            let err = error_norm(&err_vec, &y, &st.y1, opts);
-            if err <= 1.0 {
-                for (i, r) in r5.iter_mut().enumerate() {
-                    *r = h * (0..7).map(|j| DOPRI5_DENSE[j] * st.k[j][i]).sum::<f64>();
-                }
-                t = if last { problem.tf } else { t + h };
-                y.copy_from_slice(&st.y1);
-                let (first, rest) = st.k.split_at_mut(6);
-                first[0].copy_from_slice(&rest[0]);
-                run.traj.push(t, &y, &st.k[0]);
-                run.traj.push_dense(&r5);
-                run.stats().steps += 1;
-                if last {
-                    return Ok(());
-                }
-                h *= controller.accept(err);
-            } else {
-                run.stats().rejected_steps += 1;
-                h *= controller.reject(err);
-            }
+    /// The stepping state for states of `dim` components.
+    pub fn stepper(&self, dim: usize) -> Dopri5Stepper {
+        Dopri5Stepper {
+            options: self.options,
+            controller: PiController::new(4),
+            t: 0.0,
+            h: 0.0,
+            y: vec![0.0; dim],
+            k: std::array::from_fn(|_| vec![0.0; dim]),
+            y1: vec![0.0; dim],
+            scratch: vec![0.0; dim],
+            err: vec![0.0; dim],
+            r5: vec![0.0; dim],
+            dense: DenseStep::new(dim),
         }
     }
+}
 
-    /// Stages 2–7 from `k_1 = f(t, y)`; leaves `y_1` (fifth order) in `st.y1`.
+/// The state of a [`Dopri5`] integration (see [`Stepper`]).
+#[derive(Clone, Debug)]
+pub struct Dopri5Stepper {
+    options: Options,
+    controller: PiController,
+    t: f64,
+    /// Next step to try.
+    h: f64,
+    y: Vec<f64>,
+    /// Stage derivatives `k_1 … k_7`; `k_7 = f(t + h, y_1)` is the next `k_1`.
+    k: [Vec<f64>; 7],
+    y1: Vec<f64>,
+    scratch: Vec<f64>,
+    err: Vec<f64>,
+    r5: Vec<f64>,
+    dense: DenseStep,
+}
+
+impl Dopri5Stepper {
+    /// Stages 2–7 from `k_1 = f(t, y)`; leaves `y_1` (fifth order) in `y1`.
     fn stages<S: OdeSystem + ?Sized>(
-        run: &mut Run<'_, S>,
-        t: f64,
+        &mut self,
+        ev: &mut Eval<'_, S>,
         h: f64,
-        y: &[f64],
-        st: &mut Stages,
     ) -> Result<(), ErrorKind> {
+        let (t, y) = (self.t, &self.y);
         for s in 1..7 {
-            for (i, x) in st.scratch.iter_mut().enumerate() {
-                *x = y[i] + h * (0..s).map(|j| DOPRI5.a(s, j) * st.k[j][i]).sum::<f64>();
+            for (i, x) in self.scratch.iter_mut().enumerate() {
+                *x = y[i] + h * (0..s).map(|j| DOPRI5.a(s, j) * self.k[j][i]).sum::<f64>();
             }
             if s == 6 {
                 // Row 7 of A is b: this stage value is the new state.
-                check_finite(t + h, &st.scratch)?;
-                st.y1.copy_from_slice(&st.scratch);
+                check_finite(t + h, &self.scratch)?;
+                self.y1.copy_from_slice(&self.scratch);
             }
-            let (_, rest) = st.k.split_at_mut(s);
-            run.rhs(t + DOPRI5.c[s] * h, &st.scratch, &mut rest[0])?;
+            let (_, rest) = self.k.split_at_mut(s);
+            ev.rhs(t + DOPRI5.c[s] * h, &self.scratch, &mut rest[0])?;
         }
         Ok(())
+    }
+}
+
+impl Stepper for Dopri5Stepper {
+    fn name(&self) -> &'static str {
+        "DOPRI5"
+    }
+
+    fn options(&self) -> Options {
+        self.options
+    }
+
+    fn start<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+        span: f64,
+    ) -> Result<(), ErrorKind> {
+        self.options.validate().map_err(ErrorKind::InvalidInput)?;
+        self.t = t;
+        self.y.copy_from_slice(y);
+        ev.rhs(t, y, &mut self.k[0])?;
+        self.controller = PiController::new(4);
+        if span > 0.0 {
+            self.h = initial_step(t, y, &self.k[0], span, 5, &self.options, |t, y, dy| {
+                ev.rhs(t, y, dy)
+            })?;
+        }
+        Ok(())
+    }
+
+    fn restart<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+    ) -> Result<(), ErrorKind> {
+        self.t = t;
+        self.y.copy_from_slice(y);
+        self.controller = PiController::new(4);
+        ev.rhs(t, y, &mut self.k[0])
+    }
+
+    fn step<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t_end: f64,
+    ) -> Result<(), ErrorKind> {
+        let e = DOPRI5.error_weights();
+        loop {
+            check_budget(ev.stats, &self.options, self.t)?;
+            let t = self.t;
+            let mut h = self.h.min(self.options.h_max);
+            // Stretch the last step to hit t_end rather than leave a sliver.
+            let last = t + 1.01 * h >= t_end;
+            if last {
+                h = t_end - t;
+            }
+            if underflow(t, h, &self.options) {
+                return Err(ErrorKind::StepSizeUnderflow { t, h });
+            }
+            self.stages(ev, h)?;
+            for (i, ei) in self.err.iter_mut().enumerate() {
+                *ei = h * (0..7).map(|j| e[j] * self.k[j][i]).sum::<f64>();
+            }
+            let err = error_norm(&self.err, &self.y, &self.y1, &self.options);
+            if err <= 1.0 {
+                for (i, r) in self.r5.iter_mut().enumerate() {
+                    *r = h * (0..7).map(|j| DOPRI5_DENSE[j] * self.k[j][i]).sum::<f64>();
+                }
+                self.dense
+                    .set_dopri5(t, h, &self.y, &self.y1, &self.k[0], &self.k[6], &self.r5);
+                self.t = if last { t_end } else { t + h };
+                self.y.copy_from_slice(&self.y1);
+                let (first, rest) = self.k.split_at_mut(6);
+                first[0].copy_from_slice(&rest[0]);
+                ev.stats.steps += 1;
+                self.h = h * self.controller.accept(err);
+                return Ok(());
+            }
+            ev.stats.rejected_steps += 1;
+            self.h = h * self.controller.reject(err);
+        }
+    }
+
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    fn f(&self) -> &[f64] {
+        &self.k[0]
+    }
+
+    fn dense(&self) -> &DenseStep {
+        &self.dense
     }
 }

@@ -1,12 +1,14 @@
-//! The classic fourth-order Runge–Kutta method with a fixed step ([`tableau::RK4`]).
+//! The classic fourth-order Runge–Kutta method with a fixed step ([`tableau::RK4`](crate::tableau::RK4)).
 
-use super::tableau::RK4;
-use super::{Run, check_finite};
-use crate::trajectory::Interpolant;
-use crate::{ErrorKind, OdeSystem, Problem, SolveError, Trajectory};
+use super::stepper::{DenseStep, Eval, Stepper};
+use crate::numerics::check_finite;
+use crate::numerics::tableau::RK4;
+use crate::{ErrorKind, OdeSystem, Options};
 
 /// Fixed-step classic Runge–Kutta (Kutta 1901; Hairer, Nørsett & Wanner, *Solving ODEs
-/// I*, §II.1). The last step is shortened to end exactly at `tf`.
+/// I*, §II.1). The last step before `t_end` is shortened to end exactly there; the
+/// dense output is cubic Hermite on each step (local error `O(h⁴)`, the order of the
+/// method's global error).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rk4 {
     /// Step size, positive.
@@ -18,60 +20,142 @@ impl Rk4 {
         Rk4 { h }
     }
 
-    pub fn solve<S: OdeSystem + ?Sized>(
+    /// Integrates `problem` (the same as [`solve`](crate::solve) with
+    /// `Method::Rk4 { h: h }`).
+    pub fn solve<S: crate::OdeSystem + ?Sized>(
         &self,
         system: &S,
-        problem: &Problem,
-    ) -> Result<Trajectory, SolveError> {
-        let mut run = Run::start(system, problem, Interpolant::Hermite, None)?;
-        if !(self.h.is_finite() && self.h > 0.0) {
-            return Err(run.fail(ErrorKind::InvalidInput(format!(
-                "step size h = {} must be positive and finite",
-                self.h
-            ))));
-        }
-        let outcome = self.integrate(&mut run, problem);
-        run.finish(outcome)
+        problem: &crate::Problem,
+    ) -> Result<crate::Solution, crate::SolveError> {
+        crate::solve(system, problem, &crate::Method::Rk4 { h: self.h })
     }
 
-    fn integrate<S: OdeSystem + ?Sized>(
-        &self,
-        run: &mut Run<'_, S>,
-        problem: &Problem,
-    ) -> Result<(), ErrorKind> {
-        let n = problem.y0.len();
-        let mut t = problem.t0;
-        let mut y = problem.y0.clone();
-        let mut k: Vec<Vec<f64>> = vec![vec![0.0; n]; 4];
-        let mut stage = vec![0.0; n];
-        let mut f_next = vec![0.0; n];
-        run.rhs(t, &y, &mut k[0])?;
-        run.traj.push(t, &y, &k[0]);
-        // Number of steps fixed up front so that round-off cannot add a sliver step.
-        let steps = ((problem.tf - problem.t0) / self.h * (1.0 - 1e-12)).ceil() as usize;
-        for step in 0..steps {
-            let h = if step + 1 == steps {
-                problem.tf - t
-            } else {
-                self.h
-            };
-            for s in 1..4 {
-                for i in 0..n {
-                    stage[i] = y[i] + h * (0..s).map(|j| RK4.a(s, j) * k[j][i]).sum::<f64>();
-                }
-                let (_, rest) = k.split_at_mut(s);
-                run.rhs(t + RK4.c[s] * h, &stage, &mut rest[0])?;
-            }
-            for i in 0..n {
-                y[i] += h * (0..4).map(|j| RK4.b[j] * k[j][i]).sum::<f64>();
-            }
-            t = if step + 1 == steps { problem.tf } else { t + h };
-            check_finite(t, &y)?;
-            run.rhs(t, &y, &mut f_next)?;
-            k[0].copy_from_slice(&f_next);
-            run.traj.push(t, &y, &f_next);
-            run.stats().steps += 1;
+    /// The stepping state for states of `dim` components.
+    pub fn stepper(&self, dim: usize) -> Rk4Stepper {
+        Rk4Stepper {
+            h: self.h,
+            t: 0.0,
+            y: vec![0.0; dim],
+            k: vec![vec![0.0; dim]; 4],
+            stage: vec![0.0; dim],
+            f_next: vec![0.0; dim],
+            dense: DenseStep::new(dim),
+            plan: (f64::NAN, 0),
         }
+    }
+}
+
+/// The state of an [`Rk4`] integration (see [`Stepper`]).
+#[derive(Clone, Debug)]
+pub struct Rk4Stepper {
+    h: f64,
+    t: f64,
+    y: Vec<f64>,
+    /// Stage derivatives; `k[0] = f(t, y)`.
+    k: Vec<Vec<f64>>,
+    stage: Vec<f64>,
+    f_next: Vec<f64>,
+    dense: DenseStep,
+    /// The `t_end` the steps were counted for, and how many are left: counted once, so
+    /// that round-off in the accumulated time cannot add a sliver step.
+    plan: (f64, usize),
+}
+
+impl Stepper for Rk4Stepper {
+    fn name(&self) -> &'static str {
+        "RK4"
+    }
+
+    /// Defaults with `h0` set to the fixed step (no step limit applies).
+    fn options(&self) -> Options {
+        Options {
+            h0: Some(self.h),
+            max_steps: usize::MAX,
+            ..Options::default()
+        }
+    }
+
+    fn start<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+        _span: f64,
+    ) -> Result<(), ErrorKind> {
+        if !(self.h.is_finite() && self.h > 0.0) {
+            return Err(ErrorKind::InvalidInput(format!(
+                "step size h = {} must be positive and finite",
+                self.h
+            )));
+        }
+        self.restart(ev, t, y)
+    }
+
+    fn restart<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+    ) -> Result<(), ErrorKind> {
+        self.t = t;
+        self.y.copy_from_slice(y);
+        self.plan = (f64::NAN, 0);
+        ev.rhs(t, y, &mut self.k[0])
+    }
+
+    fn step<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t_end: f64,
+    ) -> Result<(), ErrorKind> {
+        let n = self.y.len();
+        let t = self.t;
+        if self.plan.0 != t_end {
+            self.plan = (
+                t_end,
+                ((t_end - t) / self.h * (1.0 - 1e-12)).ceil() as usize,
+            );
+        }
+        let last = self.plan.1 <= 1;
+        self.plan.1 = self.plan.1.saturating_sub(1);
+        let h = if last { t_end - t } else { self.h };
+        for s in 1..4 {
+            for i in 0..n {
+                self.stage[i] =
+                    self.y[i] + h * (0..s).map(|j| RK4.a(s, j) * self.k[j][i]).sum::<f64>();
+            }
+            let (_, rest) = self.k.split_at_mut(s);
+            ev.rhs(t + RK4.c[s] * h, &self.stage, &mut rest[0])?;
+        }
+        // y1 into `stage`, keeping y for the dense output.
+        for i in 0..n {
+            self.stage[i] = self.y[i] + h * (0..4).map(|j| RK4.b[j] * self.k[j][i]).sum::<f64>();
+        }
+        let t1 = if last { t_end } else { t + h };
+        check_finite(t1, &self.stage)?;
+        ev.rhs(t1, &self.stage, &mut self.f_next)?;
+        self.dense
+            .set_hermite(t, h, &self.y, &self.k[0], &self.stage, &self.f_next);
+        self.t = t1;
+        self.y.copy_from_slice(&self.stage);
+        self.k[0].copy_from_slice(&self.f_next);
+        ev.stats.steps += 1;
         Ok(())
+    }
+
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    fn f(&self) -> &[f64] {
+        &self.k[0]
+    }
+
+    fn dense(&self) -> &DenseStep {
+        &self.dense
     }
 }

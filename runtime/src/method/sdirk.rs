@@ -1,4 +1,4 @@
-//! Hairer–Wanner SDIRK4 ([`tableau::SDIRK4`](super::tableau::SDIRK4)): an L-stable,
+//! Hairer–Wanner SDIRK4 ([`tableau::SDIRK4`](crate::tableau::SDIRK4)): an L-stable,
 //! stiffly accurate singly diagonally implicit Runge–Kutta method of order 4 with an
 //! embedded order-3 error estimate (Hairer & Wanner, *Solving ODEs II*, §IV.6).
 //!
@@ -10,14 +10,17 @@
 //! DIRK amplifies stage errors, see [`KAPPA`]). On failure the step is halved and, if
 //! the Jacobian was old, refreshed; after [`MAX_NEWTON_FAILURES`] consecutive failures
 //! the integration stops with [`ErrorKind::NewtonDivergence`].
+//! The dense output is cubic Hermite on the step's ends (local error `O(h⁴)`, the
+//! order of the global error).
 
-use nalgebra::{DMatrix, DVector, Dyn, LU};
+use nalgebra::DVector;
 
-use super::tableau::SDIRK4;
-use super::{Run, error_norm, initial_step, jacobian, underflow};
-use crate::control::PiController;
-use crate::trajectory::Interpolant;
-use crate::{ErrorKind, OdeSystem, Options, Problem, SolveError, Trajectory};
+use super::stepper::{DenseStep, Eval, Stepper, check_budget};
+use crate::numerics::control::PiController;
+use crate::numerics::newton::NewtonMatrix;
+use crate::numerics::tableau::SDIRK4;
+use crate::numerics::{error_norm, initial_step, underflow};
+use crate::{ErrorKind, OdeSystem, Options};
 
 /// Newton iterations per stage before the step counts as failed.
 const MAX_NEWTON_ITERATIONS: usize = 10;
@@ -46,19 +49,6 @@ pub struct Sdirk4 {
     pub options: Options,
 }
 
-/// The Newton matrix `I − hγJ` and what it was built from.
-struct NewtonMatrix {
-    jac: DMatrix<f64>,
-    /// `J` was evaluated at the current accepted point.
-    jac_current: bool,
-    /// `J` must be (re)evaluated before the next attempt.
-    jac_needed: bool,
-    lu: Option<LU<f64, Dyn, Dyn>>,
-    lu_h: f64,
-    /// Last convergence-rate estimate `η`, carried across stages (Hairer's `FACCON`).
-    eta: f64,
-}
-
 /// Outcome of the stage solves of one attempt.
 enum StageOutcome {
     /// All stages converged; the slowest observed contraction rate.
@@ -72,80 +62,136 @@ impl Sdirk4 {
         Sdirk4 { options }
     }
 
-    pub fn solve<S: OdeSystem + ?Sized>(
+    /// Integrates `problem` (the same as [`solve`](crate::solve) with
+    /// `Method::Sdirk4(options)`).
+    pub fn solve<S: crate::OdeSystem + ?Sized>(
         &self,
         system: &S,
-        problem: &Problem,
-    ) -> Result<Trajectory, SolveError> {
-        let mut run = Run::start(system, problem, Interpolant::Hermite, Some(&self.options))?;
-        let outcome = self.integrate(&mut run, problem);
-        run.finish(outcome)
+        problem: &crate::Problem,
+    ) -> Result<crate::Solution, crate::SolveError> {
+        crate::solve(system, problem, &crate::Method::Sdirk4(self.options))
     }
 
-    fn integrate<S: OdeSystem + ?Sized>(
-        &self,
-        run: &mut Run<'_, S>,
-        problem: &Problem,
+    /// The stepping state for states of `dim` components.
+    pub fn stepper(&self, dim: usize) -> Sdirk4Stepper {
+        Sdirk4Stepper {
+            options: self.options,
+            controller: PiController::new(3),
+            newton: NewtonMatrix::new(dim),
+            eta: 1.0,
+            t: 0.0,
+            h: 0.0,
+            y: vec![0.0; dim],
+            f: vec![0.0; dim],
+            stage_f: vec![vec![0.0; dim]; SDIRK4.stages()],
+            y1: vec![0.0; dim],
+            base: vec![0.0; dim],
+            z: vec![0.0; dim],
+            fz: vec![0.0; dim],
+            delta: DVector::zeros(dim),
+            dense: DenseStep::new(dim),
+        }
+    }
+}
+
+/// The state of an [`Sdirk4`] integration (see [`Stepper`]).
+#[derive(Debug)]
+pub struct Sdirk4Stepper {
+    options: Options,
+    controller: PiController,
+    newton: NewtonMatrix,
+    /// Last convergence-rate estimate `η`, carried across stages (Hairer's `FACCON`).
+    eta: f64,
+    t: f64,
+    /// Next step to try.
+    h: f64,
+    y: Vec<f64>,
+    f: Vec<f64>,
+    stage_f: Vec<Vec<f64>>,
+    y1: Vec<f64>,
+    base: Vec<f64>,
+    z: Vec<f64>,
+    fz: Vec<f64>,
+    delta: DVector<f64>,
+    dense: DenseStep,
+}
+
+impl Stepper for Sdirk4Stepper {
+    fn name(&self) -> &'static str {
+        "SDIRK4"
+    }
+
+    fn options(&self) -> Options {
+        self.options
+    }
+
+    fn start<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+        span: f64,
     ) -> Result<(), ErrorKind> {
-        let opts = &self.options;
-        let n = problem.y0.len();
+        self.options.validate().map_err(ErrorKind::InvalidInput)?;
+        self.t = t;
+        self.y.copy_from_slice(y);
+        ev.rhs(t, y, &mut self.f)?;
+        self.controller = PiController::new(3);
+        self.newton = NewtonMatrix::new(y.len());
+        self.eta = 1.0;
+        if span > 0.0 {
+            self.h = initial_step(t, y, &self.f, span, 4, &self.options, |t, y, dy| {
+                ev.rhs(t, y, dy)
+            })?;
+        }
+        Ok(())
+    }
+
+    fn restart<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+    ) -> Result<(), ErrorKind> {
+        self.t = t;
+        self.y.copy_from_slice(y);
+        self.controller = PiController::new(3);
+        self.newton.mark_stale();
+        ev.rhs(t, y, &mut self.f)
+    }
+
+    fn step<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t_end: f64,
+    ) -> Result<(), ErrorKind> {
+        let n = self.y.len();
         let s = SDIRK4.stages();
         let gamma = SDIRK4.a(0, 0);
-        let mut t = problem.t0;
-        let mut y = problem.y0.clone();
-        let mut f = vec![0.0; n];
-        run.rhs(t, &y, &mut f)?;
-        run.traj.push(t, &y, &f);
-        if problem.tf == problem.t0 {
-            return Ok(());
-        }
-        let mut h = initial_step(run, problem, &f, 4, opts)?;
-        let mut controller = PiController::new(3);
-        let mut newton = NewtonMatrix {
-            jac: DMatrix::zeros(n, n),
-            jac_current: false,
-            jac_needed: true,
-            lu: None,
-            lu_h: f64::NAN,
-            eta: 1.0,
-        };
-        let mut stage_f: Vec<Vec<f64>> = vec![vec![0.0; n]; s];
-        let mut y1 = vec![0.0; n];
         let e = SDIRK4.error_weights();
         let mut failures = 0;
-        let mut attempts = 0;
         // A non-finite rhs value met ahead of the current time. Inside Newton it is
         // treated as a failure (the iterate may just have strayed), but if the step
         // size then underflows in front of it, it is what gets reported.
         let mut non_finite_ahead: Option<ErrorKind> = None;
         loop {
-            if attempts >= opts.max_steps {
-                return Err(ErrorKind::MaxSteps { t });
-            }
-            attempts += 1;
-            h = h.min(opts.h_max);
-            let last = t + 1.01 * h >= problem.tf;
+            let t = self.t;
+            check_budget(ev.stats, &self.options, t)?;
+            let mut h = self.h.min(self.options.h_max);
+            let last = t + 1.01 * h >= t_end;
             if last {
-                h = problem.tf - t;
+                h = t_end - t;
             }
-            if underflow(t, h, opts) {
+            if underflow(t, h, &self.options) {
                 return Err(non_finite_ahead.unwrap_or(ErrorKind::StepSizeUnderflow { t, h }));
             }
-            if newton.jac_needed {
-                jacobian(run, t, &y, &mut f, false, &mut newton.jac)?;
-                newton.jac_current = true;
-                newton.jac_needed = false;
-                newton.lu = None;
-            }
-            if newton.lu.is_none() || newton.lu_h != h {
-                let m = DMatrix::identity(n, n) - &newton.jac * (h * gamma);
-                newton.lu = Some(m.lu());
-                newton.lu_h = h;
-                run.stats().lu_factorisations += 1;
-            }
-            match self.stages(run, &mut newton, t, h, &y, &f, &mut stage_f, &mut y1) {
+            self.newton
+                .update_jacobian(ev, t, &self.y, &mut self.f, false)?;
+            self.newton
+                .factor(h * gamma, &mut ev.stats.lu_factorisations);
+            match self.stages(ev, t, h) {
                 StageOutcome::Failed { non_finite } => {
-                    run.stats().rejected_steps += 1;
+                    ev.stats.rejected_steps += 1;
                     failures += 1;
                     if non_finite.is_some() {
                         non_finite_ahead = non_finite;
@@ -153,107 +199,119 @@ impl Sdirk4 {
                     if failures >= MAX_NEWTON_FAILURES {
                         return Err(non_finite_ahead.unwrap_or(ErrorKind::NewtonDivergence { t }));
                     }
-                    if !newton.jac_current {
-                        newton.jac_needed = true;
-                    }
-                    h *= 0.5;
-                    continue;
+                    self.newton.refresh_if_stale();
+                    self.h = 0.5 * h;
                 }
                 StageOutcome::Converged { theta_max } => {
                     failures = 0;
                     // Error estimate h Σ (b_i − b̂_i) F_i, filtered through (I − hγJ)⁻¹
                     // so that stiff components do not inflate it (Shampine's device, as
                     // in RADAU5: Hairer & Wanner II, §IV.8).
+                    let stage_f = &self.stage_f;
                     let mut err = DVector::from_fn(n, |i, _| {
                         h * (0..s).map(|j| e[j] * stage_f[j][i]).sum::<f64>()
                     });
-                    let lu = newton.lu.as_ref().expect("factorised above");
-                    if !lu.solve_mut(&mut err) {
+                    if !self.newton.lu().solve_mut(&mut err) {
                         err.fill(f64::INFINITY);
                     }
-                    let err = error_norm(err.as_slice(), &y, &y1, opts);
+                    let err = error_norm(err.as_slice(), &self.y, &self.y1, &self.options);
                     if err <= 1.0 {
-                        t = if last { problem.tf } else { t + h };
-                        y.copy_from_slice(&y1);
-                        run.rhs(t, &y, &mut f)?;
-                        run.traj.push(t, &y, &f);
-                        run.stats().steps += 1;
-                        if matches!(non_finite_ahead, Some(ErrorKind::NonFinite { t: bad, .. }) if bad <= t)
-                        {
-                            non_finite_ahead = None;
-                        }
-                        if last {
-                            return Ok(());
-                        }
-                        newton.jac_current = false;
-                        newton.jac_needed = theta_max > THETA_REUSE_JACOBIAN;
-                        let fac = controller.accept(err);
+                        let t1 = if last { t_end } else { t + h };
+                        // f at the new point into `fz` first: the dense output needs
+                        // both ends.
+                        ev.rhs(t1, &self.y1, &mut self.fz)?;
+                        self.dense
+                            .set_hermite(t, h, &self.y, &self.f, &self.y1, &self.fz);
+                        self.t = t1;
+                        self.y.copy_from_slice(&self.y1);
+                        self.f.copy_from_slice(&self.fz);
+                        ev.stats.steps += 1;
+                        self.newton.jac_current = false;
+                        self.newton.jac_needed = theta_max > THETA_REUSE_JACOBIAN;
+                        let fac = self.controller.accept(err);
                         // Keep h (and the LU) when it would grow only a little.
-                        if !(1.0..=1.2).contains(&fac) {
-                            h *= fac;
-                        }
-                    } else {
-                        run.stats().rejected_steps += 1;
-                        h *= controller.reject(err);
-                        if !newton.jac_current {
-                            newton.jac_needed = true;
-                        }
+                        self.h = if (1.0..=1.2).contains(&fac) {
+                            h
+                        } else {
+                            h * fac
+                        };
+                        return Ok(());
                     }
+                    ev.stats.rejected_steps += 1;
+                    self.h = h * self.controller.reject(err);
+                    self.newton.refresh_if_stale();
                 }
             }
         }
     }
 
-    /// Solves the stages of one step; on success `stage_f[i] = F_i` and `y1 = Y_s`.
-    #[allow(clippy::too_many_arguments)]
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    fn f(&self) -> &[f64] {
+        &self.f
+    }
+
+    fn dense(&self) -> &DenseStep {
+        &self.dense
+    }
+}
+
+impl Sdirk4Stepper {
+    /// Solves the stages of one step from `(t, y)`; on success `stage_f[i] = F_i` and
+    /// `y1 = Y_s`.
     fn stages<S: OdeSystem + ?Sized>(
-        &self,
-        run: &mut Run<'_, S>,
-        newton: &mut NewtonMatrix,
+        &mut self,
+        ev: &mut Eval<'_, S>,
         t: f64,
         h: f64,
-        y: &[f64],
-        f: &[f64],
-        stage_f: &mut [Vec<f64>],
-        y1: &mut [f64],
     ) -> StageOutcome {
-        let n = y.len();
+        let n = self.y.len();
         let gamma = SDIRK4.a(0, 0);
         let hg = h * gamma;
-        let lu = newton.lu.as_ref().expect("factorised before the stages");
-        let mut base = vec![0.0; n];
-        let mut z = vec![0.0; n];
-        let mut fz = vec![0.0; n];
-        let mut delta = DVector::zeros(n);
+        let y = &self.y;
         let mut theta_max: f64 = 0.0;
         // Never ask for less than ten round-offs of `y` (as RADAU5's `10 uround / rtol`,
         // but also valid when `rtol = 0`).
         let roundoff = 10.0 * f64::EPSILON * error_norm(y, y, y, &self.options);
         let newton_tol = (KAPPA / (10.0 * newton_amplification())).max(roundoff);
+        let lu = self.newton.lu();
         for i in 0..SDIRK4.stages() {
             for k in 0..n {
-                base[k] = y[k] + h * (0..i).map(|j| SDIRK4.a(i, j) * stage_f[j][k]).sum::<f64>();
+                self.base[k] = y[k]
+                    + h * (0..i)
+                        .map(|j| SDIRK4.a(i, j) * self.stage_f[j][k])
+                        .sum::<f64>();
                 // Predictor: the previous stage's derivative (f(t, y) for the first).
-                let guess = if i == 0 { f[k] } else { stage_f[i - 1][k] };
-                z[k] = base[k] + hg * guess;
+                let guess = if i == 0 {
+                    self.f[k]
+                } else {
+                    self.stage_f[i - 1][k]
+                };
+                self.z[k] = self.base[k] + hg * guess;
             }
-            let mut eta = newton.eta.max(f64::EPSILON).powf(0.8);
+            let mut eta = self.eta.max(f64::EPSILON).powf(0.8);
             let mut norm_prev = f64::NAN;
             let mut converged = false;
             for iteration in 0..MAX_NEWTON_ITERATIONS {
-                if let Err(kind) = run.rhs(t + SDIRK4.c[i] * h, &z, &mut fz) {
+                if let Err(kind) = ev.rhs(t + SDIRK4.c[i] * h, &self.z, &mut self.fz) {
                     return StageOutcome::Failed {
                         non_finite: Some(kind),
                     };
                 }
-                run.stats().newton_iterations += 1;
+                ev.stats.newton_iterations += 1;
                 for k in 0..n {
-                    delta[k] = -(z[k] - base[k] - hg * fz[k]);
+                    self.delta[k] = -(self.z[k] - self.base[k] - hg * self.fz[k]);
                 }
-                if !lu.solve_mut(&mut delta) {
+                if !lu.solve_mut(&mut self.delta) {
                     return StageOutcome::Failed { non_finite: None };
                 }
-                let norm = error_norm(delta.as_slice(), y, y, &self.options);
+                let norm = error_norm(self.delta.as_slice(), y, y, &self.options);
                 if iteration > 0 {
                     let theta = norm / norm_prev;
                     theta_max = theta_max.max(theta);
@@ -263,7 +321,7 @@ impl Sdirk4 {
                     eta = theta / (1.0 - theta);
                 }
                 for k in 0..n {
-                    z[k] += delta[k];
+                    self.z[k] += self.delta[k];
                 }
                 norm_prev = norm;
                 if eta * norm <= newton_tol || norm == 0.0 {
@@ -274,14 +332,14 @@ impl Sdirk4 {
             if !converged {
                 return StageOutcome::Failed { non_finite: None };
             }
-            newton.eta = eta;
+            self.eta = eta;
             // F_i from the converged stage value (not f(Y_i)): avoids amplifying the
             // Newton error by the stiff part (Hairer & Wanner II, §IV.8).
             for k in 0..n {
-                stage_f[i][k] = (z[k] - base[k]) / hg;
+                self.stage_f[i][k] = (self.z[k] - self.base[k]) / hg;
             }
         }
-        y1.copy_from_slice(&z);
+        self.y1.copy_from_slice(&self.z);
         StageOutcome::Converged { theta_max }
     }
 }

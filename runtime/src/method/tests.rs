@@ -1,7 +1,7 @@
 //! Reference problems against closed forms, convergence orders, stiffness, failures.
 
 use super::*;
-use crate::FnSystem;
+use crate::{ErrorKind, FnSystem, OdeSystem, Options, Problem, Solution, solve};
 
 fn oscillator() -> FnSystem<impl Fn(f64, &[f64], &mut [f64])> {
     FnSystem::new(2, |_t, y: &[f64], dy: &mut [f64]| {
@@ -10,7 +10,7 @@ fn oscillator() -> FnSystem<impl Fn(f64, &[f64], &mut [f64])> {
     })
 }
 
-fn oscillator_error(traj: &Trajectory) -> f64 {
+fn oscillator_error(traj: &Solution) -> f64 {
     let (t, y) = traj.last().unwrap();
     ((y[0] - t.cos()).powi(2) + (y[1] + t.sin()).powi(2)).sqrt()
 }
@@ -75,7 +75,6 @@ fn dopri5_dense_output_is_accurate_between_steps() {
     let traj = Dopri5::new(Options::tolerances(1e-9, 1e-12))
         .solve(&oscillator(), &problem)
         .unwrap();
-    assert_eq!(traj.interpolant(), Interpolant::Dopri5);
     let worst = (0..1000)
         .map(|i| {
             let t = i as f64 * 0.01;
@@ -180,7 +179,7 @@ fn nan_rhs_is_reported_with_the_trajectory_kept() {
             panic!("{method:?}: {err}");
         };
         assert!(t > 0.5 && component == 0, "{method:?}: {err}");
-        let (t_last, y_last) = err.trajectory.last().unwrap();
+        let (t_last, y_last) = err.solution.last().unwrap();
         assert!(t_last <= 0.5 && t_last > 0.3, "{method:?}: last t {t_last}");
         assert!(y_last[0].is_finite());
         assert!(err.to_string().contains("non-finite"));
@@ -207,7 +206,7 @@ fn blow_up_gives_step_size_underflow() {
             }
             _ => panic!("{method:?}: {err}"),
         }
-        assert!(err.trajectory.len() > 10);
+        assert!(err.solution.len() > 10);
     }
 }
 
@@ -221,7 +220,7 @@ fn max_steps_is_reported() {
         .solve(&oscillator(), &Problem::new(0.0, 100.0, [1.0, 0.0]))
         .unwrap_err();
     assert!(matches!(err.kind, ErrorKind::MaxSteps { .. }));
-    assert!(!err.trajectory.is_empty());
+    assert!(!err.solution.is_empty());
 }
 
 #[test]
@@ -272,7 +271,7 @@ fn invalid_input_is_an_error_not_a_panic() {
             matches!(err.kind, ErrorKind::InvalidInput(_)),
             "{problem:?} {method:?}: {err}"
         );
-        assert!(err.trajectory.is_empty());
+        assert!(err.solution.is_empty());
     }
 }
 
@@ -331,4 +330,117 @@ fn sdirk4_global_error_is_proportional_to_the_tolerance() {
     eprintln!("error ∝ tol^{slope:.3}, error ∝ steps^-{order:.3}");
     assert!((0.9..=1.1).contains(&slope), "error ∝ tol^{slope}");
     assert!((3.6..=4.6).contains(&order), "observed order {order}");
+}
+
+/// The dense output of one step from the exact state of `y'' = −y`, evaluated mid-step:
+/// its error is the local error of the continuous extension, `O(h^{p+1})` for an
+/// extension of order `p` — 4 for DOPRI5's (degree 4), 3 for cubic Hermite (RK4,
+/// SDIRK4). Halving `h` must divide it by `2^{p+1}`.
+#[test]
+fn dense_output_has_the_order_of_its_method() {
+    fn midstep_error<St: Stepper>(mut stepper: St, h: f64) -> f64 {
+        let sys = oscillator();
+        let mut stats = crate::Stats::default();
+        let mut ev = Eval::new(&sys, &mut stats);
+        let t0 = 0.3;
+        stepper
+            .start(&mut ev, t0, &[t0.cos(), -t0.sin()], h)
+            .unwrap();
+        stepper.step(&mut ev, t0 + h).unwrap();
+        assert_eq!(
+            stepper.t(),
+            t0 + h,
+            "{}: one step to the end",
+            stepper.name()
+        );
+        let mut y = [0.0; 2];
+        let tm = t0 + 0.5 * h;
+        stepper.dense().eval(tm, &mut y);
+        (y[0] - tm.cos()).abs().max((y[1] + tm.sin()).abs())
+    }
+    // Huge tolerances: the first step is accepted as it is.
+    let loose = Options {
+        h0: Some(1.0),
+        ..Options::tolerances(1e3, 1e3)
+    };
+    let orders = |f: &dyn Fn(f64) -> f64| {
+        let e: Vec<f64> = [0.2, 0.1, 0.05].iter().map(|&h| f(h)).collect();
+        [(e[0] / e[1]).log2(), (e[1] / e[2]).log2()]
+    };
+    for (name, expected, measured) in [
+        (
+            "RK4",
+            4.0,
+            orders(&|h| midstep_error(Rk4::new(h).stepper(2), h)),
+        ),
+        (
+            "DOPRI5",
+            5.0,
+            orders(&|h| {
+                midstep_error(
+                    Dopri5::new(Options {
+                        h0: Some(h),
+                        ..loose
+                    })
+                    .stepper(2),
+                    h,
+                )
+            }),
+        ),
+        (
+            "SDIRK4",
+            4.0,
+            orders(&|h| {
+                midstep_error(
+                    Sdirk4::new(Options {
+                        h0: Some(h),
+                        ..loose
+                    })
+                    .stepper(2),
+                    h,
+                )
+            }),
+        ),
+    ] {
+        for m in measured {
+            assert!(
+                (m - expected).abs() < 0.3,
+                "{name}: local dense error order {m:.2}, expected {expected}"
+            );
+        }
+    }
+}
+
+/// Between the steps the dense output is as accurate as the steps themselves: on the
+/// oscillator, the largest error on a fine grid is within 2× of the largest error at
+/// the accepted points, for every method and tolerance.
+#[test]
+fn grid_error_is_within_twice_the_step_error() {
+    let problem = Problem::new(0.0, 10.0, [1.0, 0.0]);
+    for rtol in [1e-6, 1e-9] {
+        let o = Options::tolerances(rtol, rtol * 1e-2);
+        for method in [
+            Method::Dopri5(o),
+            Method::Sdirk4(o),
+            Method::Bdf(o),
+            Method::Rk4 { h: 0.05 },
+        ] {
+            let sol = solve(&oscillator(), &problem, &method).unwrap();
+            let err = |t: f64, y: &[f64]| (y[0] - t.cos()).abs().max((y[1] + t.sin()).abs());
+            let at_steps = sol.rows().map(|(t, y)| err(t, y)).fold(0.0, f64::max);
+            let mut y = [0.0; 2];
+            let on_grid = (0..=1000)
+                .map(|i| {
+                    let t = i as f64 * 0.01;
+                    assert!(sol.at_into(t, &mut y));
+                    err(t, &y)
+                })
+                .fold(0.0, f64::max);
+            assert!(
+                on_grid <= 2.0 * at_steps,
+                "{} at rtol {rtol}: grid {on_grid:.2e} vs steps {at_steps:.2e}",
+                method.name()
+            );
+        }
+    }
 }

@@ -8,16 +8,17 @@
 //!   functions of the velocity, stuck/contact forces from the Delassus system, the
 //!   constrained coordinates frozen exactly: their derivatives are `0.0`, so `q_c` and
 //!   `v_c = 0.0` do not move by a single bit).
-//! * **Between switches** the smooth method (DOPRI5 for non-stiff problems, SDIRK4 for
-//!   stiff ones) integrates that ODE in windows of at most [`WINDOW_STEPS`] step
-//!   attempts, continuing with the step size it had reached.
+//! * **Between switches** one [`Stepper`] (DOPRI5 for non-stiff problems, SDIRK4 or BDF
+//!   for stiff ones) integrates that ODE step by step; at a switch it is restarted at the
+//!   new state, keeping its step size and Jacobian (BDF drops its history).
 //! * **Events.** Each element has a switching function, positive while its mode holds
 //!   (stick: `f_crit − |f|`; slip: `±v_c`; free stop: gap; contact: `λ`; compressed:
-//!   penetration). Inside every accepted step the functions are sampled on the dense
-//!   output (DOPRI5's continuous extension; cubic Hermite for SDIRK4) at
-//!   [`SAMPLES`] points; a sign change is located by the Anderson–Björck root finder
-//!   ([`rootfind`](super::rootfind)) to `TIME_TOL` relative in time, and the
-//!   integration restarts exactly at the first time past the root.
+//!   penetration). Inside every accepted step the functions are sampled on the method's
+//!   dense output ([`DenseStep`]) at [`SAMPLES`] points; a sign change is located by the
+//!   Anderson–Björck root finder ([`rootfind`](crate::numerics::rootfind)) to `TIME_TOL`
+//!   relative in time, the step is cut there (its dense output restricted to the part
+//!   before the event) and the integration restarts exactly at the first time past the
+//!   root.
 //! * **Transitions.** At the event the switching elements are updated (a slipping
 //!   velocity that reached zero is set to `0.0`; a rigid stop applies Newton's impact law
 //!   `v⁺_c = −e v⁻_c` through the generalised impulse `−M⁻¹ e_c P`; a spring-backed stop
@@ -41,14 +42,15 @@
 //!   cluster's duration), counted in [`Stats::zeno_handovers`], and the event-driven
 //!   integration resumes from its final state with a fresh consistent initialisation.
 //!
-//! Statistics: `steps`, `rejected_steps`, `rhs_evaluations`, … add up every smooth
-//! window, including the steps taken past an event and then discarded (they were paid
-//! for), plus the time-stepping of handed-over spans; `events` counts switching
-//! instants, `mode_changes` element mode changes (also on resuming after a handover).
+//! Statistics: `steps`, `rejected_steps`, `rhs_evaluations`, … count every step,
+//! including the part of a step past an event (it was paid for), plus the
+//! time-stepping of handed-over spans; `events` counts switching instants,
+//! `mode_changes` element mode changes (also on resuming after a handover).
 //!
-//! The output has the components `q<i>`, `v<i>` and `f_<element>`; at every event two
-//! rows share the event time (before and after the switch), so jumps show in plots.
-//! It interpolates with cubic Hermite (the force rows with zero slopes).
+//! The [`Solution`] has the columns `q_<joint>`, `v_<joint>` and `f_<element>`; at every
+//! event two rows share the event time (before and after the switch), so jumps show in
+//! plots. Between the rows it is the method's dense output (forces linear), and its
+//! [`switches`](Solution::switches) log every mode change, impact and hand-over.
 //!
 //! **Non-monotone laws** (theory.md §3, 4.9b). The increasing pieces of `v = φ(f)`
 //! between its folds are *branches* ([`Graph::branches`]); a slip mode carries its
@@ -82,20 +84,19 @@ use nalgebra::SVector;
 
 use super::law::{Branches, Graph};
 use super::mode::{self, Choices, Mode};
-use super::rootfind::find_root;
-use super::time_stepping;
+use super::timestepping::time_stepping_observed;
 use super::{
     ElementKind, Law, NonSmooth, NonSmoothMethod, NonSmoothProblem, Selection, SmoothMethod,
     StopKind,
 };
+use crate::method::{DenseStep, Eval, Stepper};
 use crate::nonsmooth::Element;
+use crate::numerics::rootfind::find_root;
+use crate::solve::{Observer, unobserved};
 use crate::{
-    Dopri5, ErrorKind, Interpolant, OdeSystem, Options, Problem, Sdirk4, SolveError, Stats,
-    Trajectory,
+    Bdf, Dopri5, ErrorKind, OdeSystem, Options, Sdirk4, Solution, SolveError, Stats, Switch,
+    SwitchKind,
 };
-
-/// Step attempts per call of the smooth method before the events are checked.
-pub const WINDOW_STEPS: usize = 12;
 /// Samples of the switching functions per accepted step (the last at the step's end).
 pub const SAMPLES: usize = 4;
 /// Relative width in time of a located event bracket.
@@ -124,25 +125,42 @@ pub fn solve_nonsmooth<S, F, const N: usize>(
     input: &F,
     problem: &NonSmoothProblem<N>,
     method: &NonSmoothMethod,
-) -> Result<Trajectory, SolveError>
+) -> Result<Solution, SolveError>
 where
     S: NonSmooth<N>,
     F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
 {
+    solve_nonsmooth_with(system, input, problem, method, &mut unobserved)
+}
+
+/// [`solve_nonsmooth`] with an [`Observer`] called after every accepted step (of the
+/// state `[q; v]`); breaking ends the run with [`ErrorKind::Cancelled`].
+pub fn solve_nonsmooth_with<S, F, O, const N: usize>(
+    system: &S,
+    input: &F,
+    problem: &NonSmoothProblem<N>,
+    method: &NonSmoothMethod,
+    observer: &mut O,
+) -> Result<Solution, SolveError>
+where
+    S: NonSmooth<N>,
+    F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
+    O: Observer + ?Sized,
+{
     // Parameters first: a non-positive mass or a negative critical force is reported by
     // name before anything is integrated.
     if let Err(e) = system.validate() {
-        return Err(SolveError {
-            kind: ErrorKind::InvalidInput(e.to_string()),
-            trajectory: Box::new(Trajectory::new(names::<S, N>(system), Interpolant::Hermite)),
-        });
+        return Err(SolveError::new(
+            ErrorKind::InvalidInput(e.to_string()),
+            Solution::new(names::<S, N>(system), 2 * N, problem.output.clone()),
+        ));
     }
     match *method {
         NonSmoothMethod::EventDriven { method, options } => {
-            event_driven(system, input, problem, method, &options)
+            event_driven_observed(system, input, problem, method, &options, observer)
         }
         NonSmoothMethod::TimeStepping { h, theta } => {
-            time_stepping(system, input, problem, h, theta)
+            time_stepping_observed(system, input, problem, h, theta, observer)
         }
     }
 }
@@ -155,12 +173,28 @@ pub fn event_driven<S, F, const N: usize>(
     problem: &NonSmoothProblem<N>,
     method: SmoothMethod,
     options: &Options,
-) -> Result<Trajectory, SolveError>
+) -> Result<Solution, SolveError>
 where
     S: NonSmooth<N>,
     F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
 {
-    let out = Trajectory::new(names::<S, N>(system), Interpolant::Hermite);
+    event_driven_observed(system, input, problem, method, options, &mut unobserved)
+}
+
+fn event_driven_observed<S, F, O, const N: usize>(
+    system: &S,
+    input: &F,
+    problem: &NonSmoothProblem<N>,
+    method: SmoothMethod,
+    options: &Options,
+    observer: &mut O,
+) -> Result<Solution, SolveError>
+where
+    S: NonSmooth<N>,
+    F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
+    O: Observer + ?Sized,
+{
+    let out = Solution::new(names::<S, N>(system), 2 * N, problem.output.clone());
     let elements: Vec<Element> = (0..S::ELEMENTS).map(|e| system.element(e)).collect();
     let mut driver = Driver {
         system,
@@ -174,7 +208,6 @@ where
         v: problem.v0,
         out,
         event_times: VecDeque::new(),
-        method,
         options: *options,
         span: problem.tf - problem.t0,
     };
@@ -183,25 +216,65 @@ where
         .and_then(|()| driver.build_branches())
     {
         driver.out.stats = Stats::default();
-        return Err(SolveError {
-            kind: ErrorKind::InvalidInput(msg),
-            trajectory: Box::new(driver.out),
-        });
+        return Err(SolveError::new(ErrorKind::InvalidInput(msg), driver.out));
     }
-    match driver.run(problem) {
+    let outcome = match method {
+        SmoothMethod::Dopri5 => {
+            driver.run(&mut Dopri5::new(*options).stepper(2 * N), problem, observer)
+        }
+        SmoothMethod::Sdirk4 => {
+            driver.run(&mut Sdirk4::new(*options).stepper(2 * N), problem, observer)
+        }
+        SmoothMethod::Bdf => driver.run(&mut Bdf::new(*options).stepper(2 * N), problem, observer),
+    };
+    match outcome {
         Ok(()) => Ok(driver.out),
-        Err(kind) => Err(SolveError {
-            kind,
-            trajectory: Box::new(driver.out),
-        }),
+        Err(kind) => Err(SolveError::new(kind, driver.out)),
     }
 }
 
-fn names<S: NonSmooth<N>, const N: usize>(system: &S) -> Vec<String> {
-    let mut names: Vec<String> = (0..N).map(|i| format!("q{i}")).collect();
-    names.extend((0..N).map(|i| format!("v{i}")));
+/// Column names of a non-smooth solution: those of the mechanism's state
+/// ([`state_names`](crate::system::state_names)), then `f_<element>`.
+pub(crate) fn names<S: NonSmooth<N>, const N: usize>(system: &S) -> Vec<String> {
+    let mut names = crate::system::state_names(&S::JOINTS);
     names.extend((0..S::ELEMENTS).map(|e| format!("f_{}", system.element(e).name)));
     names
+}
+
+/// The ODE of the driver's current modes (a macro rather than a method, so that it
+/// borrows only the fields it reads and the statistics stay free to be counted in).
+macro_rules! mode_system {
+    ($d:expr) => {
+        ModeSystem {
+            system: $d.system,
+            input: $d.input,
+            elements: &$d.elements,
+            branches: &$d.branches,
+            modes: &$d.modes,
+        }
+    };
+}
+
+/// Where a row of the output comes from.
+#[derive(Clone, Copy)]
+enum Row<'d> {
+    /// The first row of the integration.
+    Start,
+    /// The end of an accepted step (or of a step cut at an event, `keep`), with the
+    /// method's dense output over it.
+    Step {
+        dense: Option<&'d DenseStep>,
+        keep: bool,
+    },
+    /// A second row at the same time (after a switch).
+    Jump,
+}
+
+/// The switching functions' state along one smooth arc (see [`Driver::scan`]).
+struct Arming {
+    armed: Vec<bool>,
+    /// The last sample where each function was seen positive, with its value.
+    last_positive: Vec<(f64, f64)>,
 }
 
 /// The smooth ODE `(q̇, v̇) = (v, a)` of one mode assignment.
@@ -259,18 +332,16 @@ struct Driver<'a, S, F, const N: usize> {
     t: f64,
     q: SVector<f64, N>,
     v: SVector<f64, N>,
-    out: Trajectory,
+    out: Solution,
     /// Times of the recent events, for the Zeno test.
     event_times: VecDeque<f64>,
-    method: SmoothMethod,
     options: Options,
     span: f64,
 }
 
-/// A located event: the interval of the smooth window it lies in, its time (the first
-/// time past the root) and the elements whose switching functions fired.
+/// A located event: its time (the first time past the root) and the elements whose
+/// switching functions fired.
 struct Located {
-    interval: usize,
     t: f64,
     triggered: Vec<usize>,
 }
@@ -328,77 +399,84 @@ where
         Ok(())
     }
 
-    fn run(&mut self, problem: &NonSmoothProblem<N>) -> Result<(), ErrorKind> {
-        self.initialise(problem)?;
+    fn run<St: Stepper, O: Observer + ?Sized>(
+        &mut self,
+        stepper: &mut St,
+        problem: &NonSmoothProblem<N>,
+        observer: &mut O,
+    ) -> Result<(), ErrorKind> {
+        self.initialise(problem, false)?;
         let tf = problem.tf;
-        let mut h0: Option<f64> = None;
-        let mut stalls = 0;
+        let mut y = self.state();
+        {
+            let sys = mode_system!(self);
+            stepper.start(
+                &mut Eval::new(&sys, &mut self.out.stats),
+                self.t,
+                &y,
+                tf - self.t,
+            )?;
+        }
+        let mut arming = self.arm(self.t, &y);
+        let mut buf = vec![0.0; 2 * N];
         while self.t < tf {
-            let used = self.out.stats.steps + self.out.stats.rejected_steps;
-            if used >= self.options.max_steps {
-                return Err(ErrorKind::MaxSteps { t: self.t });
+            {
+                let sys = mode_system!(self);
+                stepper.step(&mut Eval::new(&sys, &mut self.out.stats), tf)?;
             }
-            let inner = self.smooth_window(tf, h0)?;
-            let n = inner.len();
-            if n < 2 {
-                stalls += 1;
-                if stalls > 3 {
-                    return Err(ErrorKind::StepSizeUnderflow {
-                        t: self.t,
-                        h: h0.unwrap_or(0.0),
-                    });
-                }
-                h0 = None;
-                continue;
-            }
-            stalls = 0;
-            match self.scan(&inner) {
+            let (t1, y1) = (stepper.t(), stepper.y());
+            match self.scan(stepper.dense(), t1, y1, &mut arming, &mut buf) {
                 None => {
-                    for i in 1..n {
-                        self.push_inner(&inner, i)?;
-                    }
-                    let times = inner.times();
-                    h0 = Some(times[n - 1] - times[n - 2]);
-                    let (t, y) = inner.last().expect("n ≥ 2");
-                    self.set_state(t, y);
+                    let q = SVector::from_column_slice(&y1[..N]);
+                    let v = SVector::from_column_slice(&y1[N..]);
+                    let last = t1 >= tf;
+                    self.push_row(
+                        t1,
+                        &q,
+                        &v,
+                        Row::Step {
+                            dense: Some(stepper.dense()),
+                            keep: last,
+                        },
+                    )?;
+                    self.t = t1;
+                    self.q = q;
+                    self.v = v;
                 }
                 Some(event) => {
-                    for i in 1..=event.interval {
-                        self.push_inner(&inner, i)?;
-                    }
-                    let y = inner.at(event.t).expect("event inside the window");
-                    self.transition(event.t, &y, &event.triggered)?;
+                    let mut dense = stepper.dense().clone();
+                    dense.truncate(event.t);
+                    dense.eval(event.t, &mut buf);
+                    self.transition(event.t, &buf, &event.triggered, &dense)?;
                     if let Some(end) = self.check_accumulation(tf)? {
-                        self.hand_over(end)?;
+                        self.hand_over(end, observer)?;
                     }
-                    h0 = None;
+                    y = self.state();
+                    let sys = mode_system!(self);
+                    stepper.restart(&mut Eval::new(&sys, &mut self.out.stats), self.t, &y)?;
+                    arming = self.arm(self.t, &y);
                 }
+            }
+            if observer.observe(self.t, &self.state()).is_break() {
+                return Err(ErrorKind::Cancelled { t: self.t });
             }
         }
         Ok(())
     }
 
-    fn set_state(&mut self, t: f64, y: &[f64]) {
-        self.t = t;
-        self.q = SVector::from_column_slice(&y[..N]);
-        self.v = SVector::from_column_slice(&y[N..2 * N]);
+    /// The current `[q; v]`.
+    fn state(&self) -> Vec<f64> {
+        self.q.iter().chain(self.v.iter()).copied().collect()
     }
 
-    /// Appends stored point `i` of a smooth window to the output.
-    fn push_inner(&mut self, inner: &Trajectory, i: usize) -> Result<(), ErrorKind> {
-        let y = inner.state(i);
-        let q = SVector::from_column_slice(&y[..N]);
-        let v = SVector::from_column_slice(&y[N..]);
-        self.push_row(inner.times()[i], &q, &v)
-    }
-
-    /// Appends `(q, v, f)` at `t` in the current modes.
+    /// Appends `(q, v, f)` at `t` in the current modes; returns the element forces.
     fn push_row(
         &mut self,
         t: f64,
         q: &SVector<f64, N>,
         v: &SVector<f64, N>,
-    ) -> Result<(), ErrorKind> {
+        row: Row<'_>,
+    ) -> Result<Vec<f64>, ErrorKind> {
         let tau = (self.input)(t, q, v);
         let ev = mode::evaluate(
             self.system,
@@ -417,60 +495,24 @@ where
         y.extend_from_slice(&ev.f);
         let mut dy: Vec<f64> = v.iter().chain(ev.a.iter()).copied().collect();
         dy.extend(std::iter::repeat_n(0.0, ev.f.len()));
-        self.out.push(t, &y, &dy);
-        Ok(())
+        match row {
+            Row::Start => self.out.push_start(t, &y, &dy),
+            Row::Step { dense, keep } => self.out.push_step(t, &y, &dy, dense, keep),
+            Row::Jump => self.out.push_jump(t, &y, &dy),
+        }
+        Ok(ev.f)
     }
 
-    /// Runs the smooth method in the current modes for at most [`WINDOW_STEPS`] step
-    /// attempts (fewer if it reaches `tf`).
-    fn smooth_window(&mut self, tf: f64, h0: Option<f64>) -> Result<Trajectory, ErrorKind> {
-        let system = ModeSystem {
-            system: self.system,
-            input: self.input,
-            elements: &self.elements,
-            branches: &self.branches,
-            modes: &self.modes,
-        };
-        let y0: Vec<f64> = self.q.iter().chain(self.v.iter()).copied().collect();
-        let problem = Problem::new(self.t, tf, y0);
-        let options = Options {
-            max_steps: WINDOW_STEPS,
-            h0: h0.map(|h| h.min(tf - self.t)).filter(|h| *h > 0.0),
-            ..self.options
-        };
-        let result = match self.method {
-            SmoothMethod::Dopri5 => Dopri5::new(options).solve(&system, &problem),
-            SmoothMethod::Sdirk4 => Sdirk4::new(options).solve(&system, &problem),
-        };
-        let (inner, failure) = match result {
-            Ok(traj) => (traj, None),
-            Err(err) => match err.kind {
-                ErrorKind::MaxSteps { .. } => (*err.trajectory, None),
-                kind => (*err.trajectory, Some(kind)),
-            },
-        };
-        add_stats(&mut self.out.stats, &inner.stats);
-        match failure {
-            Some(kind) => {
-                // Keep what was computed before the failure: the window's rows up to the
-                // first sign change of a switching function (past it, the mode would
-                // have changed, so later rows are not a solution).
-                if inner.len() > 1 {
-                    let start = self.switching_all(inner.times()[0], inner.state(0));
-                    for i in 1..inner.len() {
-                        let g = self.switching_all(inner.times()[i], inner.state(i));
-                        if g.iter()
-                            .zip(&start)
-                            .any(|(a, b)| !a.is_finite() || a.signum() != b.signum())
-                        {
-                            break;
-                        }
-                        self.push_inner(&inner, i)?;
-                    }
-                }
-                Err(kind)
-            }
-            None => Ok(inner),
+    /// The switching functions at the start of a smooth arc: a function is armed when
+    /// positive there.
+    fn arm(&self, t: f64, y: &[f64]) -> Arming {
+        let g0 = self.switching_all(t, y);
+        Arming {
+            armed: g0.iter().map(|g| *g > 0.0).collect(),
+            last_positive: g0
+                .iter()
+                .map(|g| (t, if *g > 0.0 { *g } else { f64::MIN_POSITIVE }))
+                .collect(),
         }
     }
 
@@ -512,83 +554,99 @@ where
         }
     }
 
-    /// The first event in a smooth window, if any.
+    /// The first event in the accepted step ending at `(t1, y1)` with dense output
+    /// `dense`, if any.
     ///
     /// A switching function is *armed* once it has been seen positive in its mode; an
     /// armed function fires when it reaches `≤ 0`, an unarmed one (entered on its
-    /// boundary) when it goes below zero, with the bracket starting at the window start.
-    fn scan(&self, inner: &Trajectory) -> Option<Located> {
+    /// boundary, where it is `0`) when it goes below zero, with the bracket starting at
+    /// the step's start.
+    fn scan(
+        &self,
+        dense: &DenseStep,
+        t1: f64,
+        y1: &[f64],
+        arming: &mut Arming,
+        buf: &mut [f64],
+    ) -> Option<Located> {
         let m = self.elements.len();
         if m == 0 {
             return None;
         }
-        let times = inner.times();
-        let g0 = self.switching_all(times[0], inner.state(0));
-        let mut armed: Vec<bool> = g0.iter().map(|g| *g > 0.0).collect();
-        let mut last_positive: Vec<(f64, f64)> = g0
-            .iter()
-            .map(|g| (times[0], if *g > 0.0 { *g } else { f64::MIN_POSITIVE }))
-            .collect();
-        for i in 0..times.len() - 1 {
-            let (ta, tb) = (times[i], times[i + 1]);
-            for s in 1..=SAMPLES {
-                let (ts, y) = if s == SAMPLES {
-                    (tb, inner.state(i + 1).to_vec())
-                } else {
-                    let ts = ta + (tb - ta) * s as f64 / SAMPLES as f64;
-                    (ts, inner.at(ts).expect("inside the window"))
-                };
-                let g = self.switching_all(ts, &y);
-                let fired: Vec<usize> = (0..m)
-                    .filter(|&e| (armed[e] && g[e] <= 0.0) || g[e] < 0.0)
-                    .collect();
-                if fired.is_empty() {
-                    for e in 0..m {
-                        if g[e] > 0.0 {
-                            armed[e] = true;
-                            last_positive[e] = (ts, g[e]);
-                        }
-                    }
-                    continue;
-                }
-                let xtol = TIME_TOL * ts.abs().max(1.0);
-                let brackets: Vec<(usize, f64, f64)> = fired
-                    .iter()
-                    .map(|&e| {
-                        let (a, ga) = last_positive[e];
-                        let r = find_root(
-                            |t| {
-                                let y = inner.at(t).expect("inside the window");
-                                self.switching_all(t, &y)[e]
-                            },
-                            a,
-                            ts,
-                            ga,
-                            g[e],
-                            xtol,
-                        );
-                        (e, r.lo, r.hi)
-                    })
-                    .collect();
-                let t_event = brackets.iter().map(|b| b.2).fold(f64::INFINITY, f64::min);
-                let triggered = brackets
-                    .iter()
-                    .filter(|b| b.1 < t_event || b.2 == t_event)
-                    .map(|b| b.0)
-                    .collect();
-                return Some(Located {
-                    interval: i,
-                    t: t_event,
-                    triggered,
-                });
+        let ta = dense.t0();
+        let Arming {
+            armed,
+            last_positive,
+        } = arming;
+        for e in 0..m {
+            if !armed[e] {
+                last_positive[e] = (ta, f64::MIN_POSITIVE);
             }
+        }
+        for s in 1..=SAMPLES {
+            let ts = if s == SAMPLES {
+                buf.copy_from_slice(y1);
+                t1
+            } else {
+                let ts = ta + (t1 - ta) * s as f64 / SAMPLES as f64;
+                dense.eval(ts, buf);
+                ts
+            };
+            let g = self.switching_all(ts, buf);
+            let fired: Vec<usize> = (0..m)
+                .filter(|&e| (armed[e] && g[e] <= 0.0) || g[e] < 0.0)
+                .collect();
+            if fired.is_empty() {
+                for e in 0..m {
+                    if g[e] > 0.0 {
+                        armed[e] = true;
+                        last_positive[e] = (ts, g[e]);
+                    }
+                }
+                continue;
+            }
+            let xtol = TIME_TOL * ts.abs().max(1.0);
+            let brackets: Vec<(usize, f64, f64)> = fired
+                .iter()
+                .map(|&e| {
+                    let (a, ga) = last_positive[e];
+                    let r = find_root(
+                        |t| {
+                            dense.eval(t, buf);
+                            self.switching_all(t, buf)[e]
+                        },
+                        a,
+                        ts,
+                        ga,
+                        g[e],
+                        xtol,
+                    );
+                    (e, r.lo, r.hi)
+                })
+                .collect();
+            let t_event = brackets.iter().map(|b| b.2).fold(f64::INFINITY, f64::min);
+            let triggered = brackets
+                .iter()
+                .filter(|b| b.1 < t_event || b.2 == t_event)
+                .map(|b| b.0)
+                .collect();
+            return Some(Located {
+                t: t_event,
+                triggered,
+            });
         }
         None
     }
 
     /// Applies the transitions of the `triggered` elements at `t` (state `y` before
     /// the switch), selects the new modes, and records both rows.
-    fn transition(&mut self, t: f64, y: &[f64], triggered: &[usize]) -> Result<(), ErrorKind> {
+    fn transition(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        triggered: &[usize],
+        dense: &DenseStep,
+    ) -> Result<(), ErrorKind> {
         let mut q = SVector::<f64, N>::from_column_slice(&y[..N]);
         let mut v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
         // A slipping element's event is its velocity reaching zero (or, on a branch of a
@@ -603,8 +661,17 @@ where
                 v[c] = d * mode::branch_end(&self.branches[e], k, d * v[c]);
             }
         }
-        self.push_row(t, &q, &v)?;
+        let forces_before = self.push_row(
+            t,
+            &q,
+            &v,
+            Row::Step {
+                dense: Some(dense),
+                keep: true,
+            },
+        )?;
         let old = self.modes.clone();
+        let mut impacts: Vec<(usize, f64)> = Vec::new();
         let mut excluded: Vec<Option<Mode>> = vec![None; self.elements.len()];
         let mut jumped = false;
         for &e in triggered {
@@ -639,7 +706,7 @@ where
                     q[c] = position;
                     // Approaching: gap rate −s v_c < 0.
                     if mode::side_sign(side) * v[c] > 0.0 {
-                        self.impact(&q, &mut v, c, restitution);
+                        impacts.push((e, self.impact(&q, &mut v, c, restitution)));
                         jumped = true;
                     }
                 }
@@ -666,18 +733,53 @@ where
         self.t = t;
         self.q = q;
         self.v = v;
-        self.push_row(t, &q, &v)
+        let forces_after = self.push_row(t, &q, &v, Row::Jump)?;
+        for (e, impulse) in impacts {
+            self.log(t, SwitchKind::Impact, e, old[e], impulse);
+        }
+        for e in 0..self.elements.len() {
+            if old[e] != self.modes[e] {
+                self.log(
+                    t,
+                    SwitchKind::Mode,
+                    e,
+                    old[e],
+                    forces_after[e] - forces_before[e],
+                );
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds a switch of element `e` (from mode `from` to its current mode) to the log.
+    fn log(&mut self, t: f64, kind: SwitchKind, e: usize, from: Mode, jump: f64) {
+        self.out.switches.push(Switch {
+            t,
+            kind,
+            element: Some(self.elements[e].name.to_string()),
+            from: Some(from),
+            to: Some(self.modes[e]),
+            jump,
+        });
     }
 
     /// Newton's impact law at coordinate `c`: the generalised impulse `P e_c` with
     /// `v⁺ = v⁻ − M⁻¹ e_c P` and `v⁺_c = −e v⁻_c` (the other coordinates move with the
     /// impulse through the coupling of `M`; bounded element forces carry no impulse).
-    fn impact(&self, q: &SVector<f64, N>, v: &mut SVector<f64, N>, c: usize, restitution: f64) {
+    /// Returns `P`.
+    fn impact(
+        &self,
+        q: &SVector<f64, N>,
+        v: &mut SVector<f64, N>,
+        c: usize,
+        restitution: f64,
+    ) -> f64 {
         let w = self.system.inverse_mass_matrix(q);
         let before = v[c];
         let p = (1.0 + restitution) * before / w[(c, c)];
         *v -= w.column(c) * p;
         v[c] = -restitution * before;
+        p
     }
 
     /// Re-selects the modes of every element at rest on a switching surface
@@ -771,8 +873,13 @@ where
         Ok(())
     }
 
-    /// Consistent initial modes (see the module documentation) and the first row.
-    fn initialise(&mut self, problem: &NonSmoothProblem<N>) -> Result<(), ErrorKind> {
+    /// Consistent initial modes (see the module documentation) and the first row (a
+    /// second row at the same time when `resuming` after a hand-over).
+    fn initialise(
+        &mut self,
+        problem: &NonSmoothProblem<N>,
+        resuming: bool,
+    ) -> Result<(), ErrorKind> {
         let (mut q, mut v) = (problem.q0, problem.v0);
         for (e, el) in self.elements.iter().enumerate() {
             let Some(f) = problem.forces0.get(e).copied().flatten() else {
@@ -815,7 +922,7 @@ where
                     if g <= 0.0 {
                         q[c] = position;
                         if mode::side_sign(side) * v[c] > 0.0 {
-                            self.impact(&q, &mut v, c, restitution);
+                            let _impulse = self.impact(&q, &mut v, c, restitution);
                         }
                     }
                     Mode::Free
@@ -843,7 +950,8 @@ where
         self.t = problem.t0;
         self.q = q;
         self.v = v;
-        self.push_row(problem.t0, &q, &v)
+        let row = if resuming { Row::Jump } else { Row::Start };
+        self.push_row(problem.t0, &q, &v, row).map(|_| ())
     }
 
     /// Zeno / chattering test after an event (see the module documentation): the end
@@ -891,22 +999,40 @@ where
     /// appends its rows, and re-initialises the modes at its final state. A rigid stop
     /// that the velocity-level time-stepping left slightly penetrated is projected onto
     /// its surface first.
-    fn hand_over(&mut self, end: f64) -> Result<(), ErrorKind> {
+    fn hand_over<O: Observer + ?Sized>(
+        &mut self,
+        end: f64,
+        observer: &mut O,
+    ) -> Result<(), ErrorKind> {
         self.out.stats.zeno_detected += 1;
         self.event_times.clear();
         if end <= self.t {
             return Ok(());
         }
+        self.out.switches.push(Switch {
+            t: self.t,
+            kind: SwitchKind::HandOverToTimeStepping,
+            element: None,
+            from: None,
+            to: None,
+            jump: 0.0,
+        });
         let problem = NonSmoothProblem::new(self.t, end, self.q, self.v);
         let h = (end - self.t) / HANDOVER_STEPS as f64;
-        let traj = time_stepping(self.system, self.input, &problem, h, 1.0).map_err(|e| e.kind)?;
+        let traj = time_stepping_observed(self.system, self.input, &problem, h, 1.0, observer)
+            .map_err(|e| e.kind)?;
         self.out.stats.zeno_handovers += 1;
         self.out.stats.steps += traj.stats.steps;
         self.out.stats.rhs_evaluations += traj.stats.rhs_evaluations;
         self.out.stats.newton_iterations += traj.stats.newton_iterations;
         for i in 1..traj.len() {
-            self.out
-                .push(traj.times()[i], traj.state(i), traj.derivative(i));
+            self.out.push_step(
+                traj.times()[i],
+                traj.state(i),
+                traj.derivative(i),
+                None,
+                false,
+            );
         }
         let (t, y) = traj.last().expect("time-stepping keeps the first row");
         let mut q = SVector::<f64, N>::from_column_slice(&y[..N]);
@@ -927,7 +1053,7 @@ where
         self.hints = (0..self.elements.len())
             .map(|e| Some(y[2 * N + e]))
             .collect();
-        let resumed = self.initialise(&resume);
+        let resumed = self.initialise(&resume, true);
         self.hints = vec![None; self.elements.len()];
         resumed?;
         self.out.stats.mode_changes += before
@@ -935,19 +1061,16 @@ where
             .zip(&self.modes)
             .filter(|(a, b)| a != b)
             .count();
+        self.out.switches.push(Switch {
+            t,
+            kind: SwitchKind::HandBack,
+            element: None,
+            from: None,
+            to: None,
+            jump: 0.0,
+        });
         Ok(())
     }
-}
-
-/// Adds the cost of a smooth window to the total.
-fn add_stats(total: &mut Stats, s: &Stats) {
-    total.steps += s.steps;
-    total.rejected_steps += s.rejected_steps;
-    total.rhs_evaluations += s.rhs_evaluations;
-    total.jacobian_evaluations += s.jacobian_evaluations;
-    total.finite_difference_jacobians += s.finite_difference_jacobians;
-    total.lu_factorisations += s.lu_factorisations;
-    total.newton_iterations += s.newton_iterations;
 }
 
 #[cfg(test)]

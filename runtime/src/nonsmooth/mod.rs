@@ -17,10 +17,9 @@ mod element;
 mod event;
 mod mode;
 mod problem;
-pub mod rootfind;
 
 pub use element::*;
-pub use event::{event_driven, solve_nonsmooth};
+pub use event::{event_driven, solve_nonsmooth, solve_nonsmooth_with};
 pub use mode::Mode;
 pub use problem::*;
 pub mod law;

@@ -2,6 +2,7 @@
 
 use nalgebra::SVector;
 
+use crate::Output;
 use crate::options::Options;
 
 /// `q(t0) = q0`, `v(t0) = v0` on `[t0, tf]`. Where the initial state leaves an element's
@@ -15,6 +16,8 @@ pub struct NonSmoothProblem<const N: usize> {
     pub q0: SVector<f64, N>,
     pub v0: SVector<f64, N>,
     pub forces0: Vec<Option<f64>>,
+    /// Which rows the solution keeps (every step by default; event rows always).
+    pub output: Output,
 }
 
 impl<const N: usize> NonSmoothProblem<N> {
@@ -25,7 +28,14 @@ impl<const N: usize> NonSmoothProblem<N> {
             q0,
             v0,
             forces0: Vec::new(),
+            output: Output::Steps,
         }
+    }
+
+    /// The same problem keeping the rows `output` says.
+    pub fn with_output(mut self, output: Output) -> Self {
+        self.output = output;
+        self
     }
 
     /// With initial element forces (see the type's documentation).
@@ -37,9 +47,15 @@ impl<const N: usize> NonSmoothProblem<N> {
 
 /// The smooth method the event-driven integrator uses between switches.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum SmoothMethod {
+    /// Explicit, for non-stiff arcs (the default).
     Dopri5,
+    /// L-stable one-step implicit, for stiff arcs with many switches.
     Sdirk4,
+    /// Variable-order multistep implicit, for stiff arcs that are long between switches
+    /// (it restarts at order 1 after each).
+    Bdf,
 }
 
 /// How to integrate a non-smooth problem.

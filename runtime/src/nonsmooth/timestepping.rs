@@ -49,7 +49,8 @@ use nalgebra::{DMatrix, SMatrix, SVector};
 
 use super::law::{Graph, LawError, Line, Mode, StepState};
 use super::{ElementKind, NonSmooth, NonSmoothProblem};
-use crate::{ErrorKind, Interpolant, SolveError, Trajectory};
+use crate::solve::{Observer, unobserved};
+use crate::{ErrorKind, Solution, SolveError};
 
 /// Gauss–Seidel sweeps allowed per step for coupled elements.
 pub const MAX_SWEEPS: usize = 10_000;
@@ -58,9 +59,9 @@ const SWEEP_TOL: f64 = 1e-13;
 
 /// Integrates `problem` with fixed step `h` (the last step is shortened to end at `tf`).
 ///
-/// `input(t, q, v)` gives the applied generalised forces `τ`. The trajectory has one row
-/// per step with components `[q (N); v (N); f_e (one per element)]`, named `q<i>`, `v<i>`,
-/// `f_<element name>`; each row's stored derivative is the backward difference of the
+/// `input(t, q, v)` gives the applied generalised forces `τ`. The solution has one row
+/// per step with components `[q (N); v (N); f_e (one per element)]`, named `q_<joint>`,
+/// `v_<joint>`, `f_<element name>`; each row's stored derivative is the backward difference of the
 /// step that ends there (`q̇ = v_{n+1}`, `(v_{n+1} − v_n)/h`, `(f_{n+1} − f_n)/h`; the
 /// first row has `v0` and zeros). The forces of the first row are `problem.forces0`, or
 /// for missing entries the force of a slipping dash-pot's velocity, else `0` (the first
@@ -80,22 +81,32 @@ pub fn time_stepping<S, F, const N: usize>(
     problem: &NonSmoothProblem<N>,
     h: f64,
     theta: f64,
-) -> Result<Trajectory, SolveError>
+) -> Result<Solution, SolveError>
 where
     S: NonSmooth<N>,
     F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
 {
+    time_stepping_observed(system, input, problem, h, theta, &mut unobserved)
+}
+
+/// [`time_stepping`] with an [`Observer`] called after every step.
+pub(crate) fn time_stepping_observed<S, F, O, const N: usize>(
+    system: &S,
+    input: &F,
+    problem: &NonSmoothProblem<N>,
+    h: f64,
+    theta: f64,
+    observer: &mut O,
+) -> Result<Solution, SolveError>
+where
+    S: NonSmooth<N>,
+    F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
+    O: Observer + ?Sized,
+{
     let ne = S::ELEMENTS;
-    let names = (0..N)
-        .map(|i| format!("q{i}"))
-        .chain((0..N).map(|i| format!("v{i}")))
-        .chain((0..ne).map(|e| format!("f_{}", system.element(e).name)))
-        .collect();
-    let mut traj = Trajectory::new(names, Interpolant::Hermite);
-    let invalid = |traj: Trajectory, msg: String| SolveError {
-        kind: ErrorKind::InvalidInput(msg),
-        trajectory: Box::new(traj),
-    };
+    let names = super::event::names::<S, N>(system);
+    let mut traj = Solution::new(names, 2 * N, problem.output.clone());
+    let invalid = |traj: Solution, msg: String| SolveError::new(ErrorKind::InvalidInput(msg), traj);
     let graphs = match validate(system, problem, h, theta) {
         Ok(graphs) => graphs,
         Err(msg) => return Err(invalid(traj, msg)),
@@ -111,7 +122,7 @@ where
     };
     let mut dy0 = vec![0.0; 2 * N + ne];
     dy0[..N].copy_from_slice(v.as_slice());
-    traj.push(problem.t0, &row(&q, &v, &f), &dy0);
+    traj.push_start(problem.t0, &row(&q, &v, &f), &dy0);
 
     let span = problem.tf - problem.t0;
     // Steps of size h, the last one shortened; a remainder below 1e-9 h is dropped.
@@ -126,12 +137,7 @@ where
             problem.t0 + (n + 1) as f64 * h
         };
         let hn = t_next - t;
-        let fail = |traj: Trajectory, kind: ErrorKind| {
-            Err(SolveError {
-                kind,
-                trajectory: Box::new(traj),
-            })
-        };
+        let fail = |traj: Solution, kind: ErrorKind| Err(SolveError::new(kind, traj));
 
         // Smooth prediction at q_θ, linearly implicit: with A_q = ∂a/∂q, A_v = ∂a/∂v
         // (the generated Jacobian, τ held fixed) and G = (I − θh A_v − θh² A_q)⁻¹,
@@ -256,9 +262,12 @@ where
             .chain((v_next - v).iter().map(|dv| dv / hn))
             .chain(f.iter().zip(&f_prev).map(|(a, b)| (a - b) / hn))
             .collect();
-        traj.push(t_next, &y, &dy);
+        traj.push_step(t_next, &y, &dy, None, n + 1 == steps);
         traj.stats.steps += 1;
         (q, v, t) = (q_next, v_next, t_next);
+        if observer.observe(t, &y[..2 * N]).is_break() {
+            return fail(traj, ErrorKind::Cancelled { t });
+        }
     }
     Ok(traj)
 }
@@ -732,7 +741,7 @@ mod tests {
             let input = |t: f64, _q: &V1, _v: &V1| V1::new(3.0 * (0.5 * t).sin());
             time_stepping(&sys, &input, &problem1(40.0, 0.0, 0.0), h, 0.5).unwrap()
         };
-        let x_end = |traj: &Trajectory| traj.last().unwrap().1[0];
+        let x_end = |traj: &Solution| traj.last().unwrap().1[0];
         let (a1, a2) = (
             run(Selection::NoVelocityJumps, 2e-3),
             run(Selection::MaximalDissipation, 2e-3),
@@ -806,7 +815,7 @@ mod tests {
     fn bad_input_gives_typed_errors() {
         let sys = oscillator(1.0, 1.0, [dashpot("friction", 0, Law::Coulomb, 0.1)], cubic);
         let p = problem1(1.0, 1.0, 0.0);
-        let invalid = |r: Result<Trajectory, SolveError>, needle: &str| match r {
+        let invalid = |r: Result<Solution, SolveError>, needle: &str| match r {
             Err(SolveError {
                 kind: ErrorKind::InvalidInput(msg),
                 ..
@@ -856,7 +865,7 @@ mod tests {
         match time_stepping(&sys, &nan, &p, 0.1, 0.0) {
             Err(SolveError {
                 kind: ErrorKind::NonFinite { t, .. },
-                trajectory,
+                solution: trajectory,
             }) => {
                 assert!(t > 0.5 && trajectory.len() >= 6);
             }

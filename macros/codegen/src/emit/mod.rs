@@ -228,9 +228,17 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
             }
         }
     } else {
+        // Named so that the smooth path can refuse a scene it would silently misread.
+        let elements = if model.elements.is_empty() {
+            quote!()
+        } else {
+            let e = model.elements.iter().map(|e| e.name.as_str());
+            quote!(const NON_SMOOTH_ELEMENTS: &'static [&'static str] = &[#(#e),*];)
+        };
         quote! {
             impl ::filippov::runtime::system::Mechanism<#n> for #ident {
                 const JOINTS: [&'static str; #n] = [#(#names),*];
+                #elements
                 #methods
                 #validate
                 #describe

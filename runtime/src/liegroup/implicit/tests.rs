@@ -449,7 +449,7 @@ fn typed_errors() {
         ErrorKind::NonFinite { t, component } => assert!(t > 0.5 && component == 5, "{err}"),
         ref other => panic!("{other:?}"),
     }
-    let (t_last, _) = err.trajectory.last().unwrap();
+    let (t_last, _) = err.solution.last().unwrap();
     assert!(t_last <= 0.5 && t_last > 0.3, "{t_last}");
 
     // A finite-time singularity with h_min: the step size underflows before t = 1.
@@ -484,8 +484,8 @@ fn typed_errors() {
     );
     let err = LieSdirk::default().solve(&dry, &at_rest).unwrap_err();
     assert_eq!(err.kind, ErrorKind::NewtonDivergence { t: 0.0 }, "{err}");
-    assert_eq!(err.trajectory.len(), 1);
-    assert!(err.trajectory.stats.rejected_steps >= MAX_NEWTON_FAILURES);
+    assert_eq!(err.solution.len(), 1);
+    assert!(err.solution.stats.rejected_steps >= MAX_NEWTON_FAILURES);
     // Fixed steps: one retry with a fresh Jacobian, then the same error.
     let err = LieSdirk::fixed(0.1).solve(&dry, &at_rest).unwrap_err();
     assert_eq!(err.kind, ErrorKind::NewtonDivergence { t: 0.0 }, "{err}");

@@ -149,7 +149,7 @@ fn problem1(tf: f64, x0: f64, v0: f64) -> NonSmoothProblem<1> {
 }
 
 /// `(t, state before, state after)` of every event: the rows that share a time.
-fn events(traj: &Trajectory) -> Vec<(f64, Vec<f64>, Vec<f64>)> {
+fn events(traj: &Solution) -> Vec<(f64, Vec<f64>, Vec<f64>)> {
     let t = traj.times();
     (1..t.len())
         .filter(|&i| t[i] == t[i - 1])
@@ -651,7 +651,7 @@ fn s4_input(t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>) -> SVector<f64, 
     SVector::from([3.0 * (0.5 * t).sin()])
 }
 
-fn s4_event_driven(selection: crate::nonsmooth::Selection) -> Trajectory {
+fn s4_event_driven(selection: crate::nonsmooth::Selection) -> Solution {
     event_driven(
         &s4_system(selection),
         &s4_input,
@@ -664,7 +664,7 @@ fn s4_event_driven(selection: crate::nonsmooth::Selection) -> Trajectory {
 
 /// Largest difference of x between a time-stepping run and the event-driven one at the
 /// time-stepping's grid points.
-fn s4_distance(ed: &Trajectory, ts: &Trajectory) -> f64 {
+fn s4_distance(ed: &Solution, ts: &Solution) -> f64 {
     (0..ts.len())
         .map(|i| {
             let t = ts.times()[i];

@@ -1,0 +1,87 @@
+//! The step-level trait every method implements, and what drivers build on.
+//!
+//! A [`Stepper`] owns the method's state between steps (current point, step size,
+//! controller, Newton matrix, history) and nothing of the problem: each call is handed
+//! the system through an [`Eval`], so a driver may change the equations between steps
+//! (the event-driven integrator does, at every mode switch) and keep the stepper.
+//!
+//! The life of a stepper:
+//!
+//! 1. [`start`](Stepper::start) at `(t₀, y₀)`: checks the configuration, evaluates
+//!    `f(t₀, y₀)` and chooses the first step (Hairer, Nørsett & Wanner I, §II.4).
+//! 2. [`step`](Stepper::step) towards `t_end`: attempts steps — each accepted or
+//!    rejected by the method's error estimate and step-size controller, or failed by
+//!    Newton — until one is accepted, never passing `t_end` (a step that would nearly
+//!    reach it is stretched to end exactly there). Afterwards [`t`](Stepper::t),
+//!    [`y`](Stepper::y), [`f`](Stepper::f) are the new point and
+//!    [`dense`](Stepper::dense) the method's continuous extension over the step.
+//! 3. [`restart`](Stepper::restart) at a discontinuity `(t, y⁺)`: everything that
+//!    assumed a smooth past (the FSAL derivative, BDF's history, the controller's memory)
+//!    is dropped; the step size and the Jacobian are kept (a stale Jacobian still serves
+//!    a simplified Newton iteration and is refreshed at its first failure).
+//!
+//! Attempts are counted in the [`Stats`](crate::Stats) of the `Eval` (`steps +
+//! rejected_steps`); reaching the method's `max_steps` there ends with
+//! [`ErrorKind::MaxSteps`].
+
+pub use crate::numerics::dense::DenseStep;
+pub use crate::numerics::eval::Eval;
+use crate::{ErrorKind, OdeSystem, Options};
+
+/// One method's stepping state (see the module documentation).
+pub trait Stepper {
+    /// Name of the method, for messages and reports.
+    fn name(&self) -> &'static str;
+
+    /// The options the method runs with (for a fixed-step method, the defaults with its
+    /// step as `h0`).
+    fn options(&self) -> Options;
+
+    /// Begins at `(t, y)`; `span` is the length of the interval to integrate (it bounds
+    /// the first step; `0` takes no step). Invalid options are
+    /// [`ErrorKind::InvalidInput`] before anything is evaluated.
+    fn start<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+        span: f64,
+    ) -> Result<(), ErrorKind>;
+
+    /// Advances by one accepted step, ending at or before `t_end`.
+    fn step<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t_end: f64,
+    ) -> Result<(), ErrorKind>;
+
+    /// Continues from `(t, y)` after a discontinuity (see the module documentation).
+    fn restart<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+    ) -> Result<(), ErrorKind>;
+
+    /// Current time.
+    fn t(&self) -> f64;
+    /// Current state.
+    fn y(&self) -> &[f64];
+    /// `f(t, y)` at the current point (for BDF, the derivative its formula assigns).
+    fn f(&self) -> &[f64];
+    /// The continuous extension over the last accepted step.
+    fn dense(&self) -> &DenseStep;
+}
+
+/// Checks that the step budget is not used up (see the module documentation).
+pub(crate) fn check_budget(
+    stats: &crate::Stats,
+    options: &Options,
+    t: f64,
+) -> Result<(), ErrorKind> {
+    if stats.steps + stats.rejected_steps >= options.max_steps {
+        Err(ErrorKind::MaxSteps { t })
+    } else {
+        Ok(())
+    }
+}

@@ -1,0 +1,252 @@
+//! Dense output of one step: the method's own continuous extension as a polynomial in
+//! the step fraction, `y(t₀ + θh) = Σ_k c_k θᵏ` for `θ ∈ [0, 1]`, component by component.
+//!
+//! Every method writes its extension in this one form, so that drivers (event location,
+//! output at requested times) and the [`Solution`](crate::Solution) need not know which
+//! method made it:
+//!
+//! | method | extension | degree | local error |
+//! |---|---|---|---|
+//! | DOPRI5 | Dormand–Prince continuous extension ([`set_dopri5`](DenseStep::set_dopri5)) | 4 | `O(h⁵)` |
+//! | BDF of order k | the interpolating polynomial through its `k + 1` last points | k | `O(h^{k+1})` |
+//! | RK4, SDIRK4 | cubic Hermite on the step's ends ([`set_hermite`](DenseStep::set_hermite)) | 3 | `O(h⁴)` |
+//!
+//! The monomial form is well conditioned on `[0, 1]` for these degrees (≤ 5) and is
+//! evaluated by Horner's rule without allocation.
+
+/// The continuous extension of one accepted step from `t0` to `t0 + h`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DenseStep {
+    t0: f64,
+    h: f64,
+    degree: usize,
+    dim: usize,
+    /// `c_k` of component `i` at `k · dim + i`, `k = 0 … degree`.
+    coeffs: Vec<f64>,
+}
+
+impl DenseStep {
+    /// An empty extension for states of `dim` components.
+    pub fn new(dim: usize) -> Self {
+        DenseStep {
+            dim,
+            ..DenseStep::default()
+        }
+    }
+
+    /// Start of the step.
+    pub fn t0(&self) -> f64 {
+        self.t0
+    }
+
+    /// End of the step.
+    pub fn t1(&self) -> f64 {
+        self.t0 + self.h
+    }
+
+    /// Length of the step.
+    pub fn h(&self) -> f64 {
+        self.h
+    }
+
+    /// Degree of the polynomial.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// Number of state components.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// All coefficients, `c_k` of component `i` at `k · dim + i`.
+    pub fn coefficients(&self) -> &[f64] {
+        &self.coeffs
+    }
+
+    /// Prepares a polynomial of `degree` over `[t0, t0 + h]` and returns its coefficients
+    /// to be filled (layout as in [`coefficients`](Self::coefficients)).
+    pub(crate) fn reset(&mut self, t0: f64, h: f64, degree: usize) -> &mut [f64] {
+        self.t0 = t0;
+        self.h = h;
+        self.degree = degree;
+        self.coeffs.clear();
+        self.coeffs.resize((degree + 1) * self.dim, 0.0);
+        &mut self.coeffs
+    }
+
+    /// Cubic Hermite interpolation of `y0, f0` at `t0` and `y1, f1` at `t0 + h`.
+    pub(crate) fn set_hermite(
+        &mut self,
+        t0: f64,
+        h: f64,
+        y0: &[f64],
+        f0: &[f64],
+        y1: &[f64],
+        f1: &[f64],
+    ) {
+        let n = self.dim;
+        let c = self.reset(t0, h, 3);
+        for i in 0..n {
+            let d = y1[i] - y0[i];
+            let (a, b) = (h * f0[i], h * f1[i]);
+            c[i] = y0[i];
+            c[n + i] = a;
+            c[2 * n + i] = 3.0 * d - 2.0 * a - b;
+            c[3 * n + i] = -2.0 * d + a + b;
+        }
+    }
+
+    /// The Dormand–Prince continuous extension (Hairer, Nørsett & Wanner, *Solving ODEs
+    /// I*, §II.6, and the `CONTD5` routine of `dopri5.f`):
+    /// `y0 + θ (r₂ + (1 − θ)(r₃ + θ (r₄ + (1 − θ) r₅)))` with `r₂ = y1 − y0`,
+    /// `r₃ = h f0 − r₂`, `r₄ = r₂ − h f1 − r₃` and `r₅ = h Σ d_i k_i`
+    /// ([`DOPRI5_DENSE`](super::tableau::DOPRI5_DENSE)), expanded into powers of θ.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn set_dopri5(
+        &mut self,
+        t0: f64,
+        h: f64,
+        y0: &[f64],
+        y1: &[f64],
+        f0: &[f64],
+        f1: &[f64],
+        r5: &[f64],
+    ) {
+        let n = self.dim;
+        let c = self.reset(t0, h, 4);
+        for i in 0..n {
+            let r2 = y1[i] - y0[i];
+            let r3 = h * f0[i] - r2;
+            let r4 = r2 - h * f1[i] - r3;
+            let r5 = r5[i];
+            c[i] = y0[i];
+            c[n + i] = r2 + r3;
+            c[2 * n + i] = -r3 + r4 + r5;
+            c[3 * n + i] = -r4 - 2.0 * r5;
+            c[4 * n + i] = r5;
+        }
+    }
+
+    /// The state at `t` (normally inside `[t0, t1]`; outside it the polynomial is
+    /// extrapolated) into `out[..dim]`.
+    pub fn eval(&self, t: f64, out: &mut [f64]) {
+        let theta = if self.h == 0.0 {
+            0.0
+        } else {
+            (t - self.t0) / self.h
+        };
+        eval_poly(&self.coeffs, self.dim, self.degree, theta, out);
+    }
+
+    /// The time derivative at `t` into `out[..dim]`.
+    pub fn eval_derivative(&self, t: f64, out: &mut [f64]) {
+        let n = self.dim;
+        if self.h == 0.0 || self.degree == 0 {
+            out[..n].fill(0.0);
+            return;
+        }
+        let theta = (t - self.t0) / self.h;
+        for (i, o) in out.iter_mut().enumerate().take(n) {
+            let mut acc = 0.0;
+            for k in (1..=self.degree).rev() {
+                acc = acc * theta + k as f64 * self.coeffs[k * n + i];
+            }
+            *o = acc / self.h;
+        }
+    }
+
+    /// Restricts the polynomial to `[t0, t_end]` (`t_end` inside the step): the same
+    /// curve, re-parametrised so that `θ = 1` is `t_end` (`c_k ← c_k rᵏ`,
+    /// `r = (t_end − t0)/h`).
+    pub fn truncate(&mut self, t_end: f64) {
+        if self.h == 0.0 {
+            return;
+        }
+        let r = (t_end - self.t0) / self.h;
+        let n = self.dim;
+        let mut rk = 1.0;
+        for k in 1..=self.degree {
+            rk *= r;
+            for c in &mut self.coeffs[k * n..(k + 1) * n] {
+                *c *= rk;
+            }
+        }
+        self.h = t_end - self.t0;
+    }
+}
+
+/// Horner evaluation of `Σ_k c_k θᵏ` for every component of a coefficient block laid
+/// out as in [`DenseStep::coefficients`].
+pub(crate) fn eval_poly(coeffs: &[f64], dim: usize, degree: usize, theta: f64, out: &mut [f64]) {
+    for (i, o) in out.iter_mut().enumerate().take(dim) {
+        let mut acc = coeffs[degree * dim + i];
+        for k in (0..degree).rev() {
+            acc = acc * theta + coeffs[k * dim + i];
+        }
+        *o = acc;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::numerics::tableau::dopri5_dense;
+
+    #[test]
+    fn hermite_reproduces_cubics_and_their_derivatives() {
+        let y = |t: f64| t * t * t - 2.0 * t + 1.0;
+        let dy = |t: f64| 3.0 * t * t - 2.0;
+        let mut d = DenseStep::new(1);
+        d.set_hermite(0.5, 1.5, &[y(0.5)], &[dy(0.5)], &[y(2.0)], &[dy(2.0)]);
+        let mut out = [0.0];
+        for t in [0.5, 0.7, 1.3, 2.0] {
+            d.eval(t, &mut out);
+            assert!((out[0] - y(t)).abs() < 1e-13, "{t}");
+            d.eval_derivative(t, &mut out);
+            assert!((out[0] - dy(t)).abs() < 1e-12, "{t}");
+        }
+    }
+
+    #[test]
+    fn dopri5_expansion_equals_hairers_nested_form() {
+        let (y0, y1, f0, f1, r5) = (0.3, -1.1, 2.0, -0.7, 0.25);
+        let h = 0.37;
+        let mut d = DenseStep::new(1);
+        d.set_dopri5(1.0, h, &[y0], &[y1], &[f0], &[f1], &[r5]);
+        let mut out = [0.0];
+        for theta in [0.0, 0.1, 0.5, 0.77, 1.0] {
+            d.eval(1.0 + theta * h, &mut out);
+            let reference = dopri5_dense(theta, h, y0, y1, f0, f1, r5);
+            assert!((out[0] - reference).abs() < 1e-15, "θ = {theta}");
+        }
+    }
+
+    #[test]
+    fn truncation_keeps_the_curve() {
+        let mut d = DenseStep::new(2);
+        d.set_hermite(
+            0.0,
+            2.0,
+            &[1.0, 0.0],
+            &[0.5, -1.0],
+            &[0.0, 3.0],
+            &[2.0, 1.0],
+        );
+        let before: Vec<[f64; 2]> = [0.0, 0.3, 0.9, 1.2]
+            .iter()
+            .map(|&t| {
+                let mut o = [0.0; 2];
+                d.eval(t, &mut o);
+                o
+            })
+            .collect();
+        d.truncate(1.2);
+        assert_eq!(d.t1(), 1.2);
+        for (t, b) in [0.0, 0.3, 0.9, 1.2].iter().zip(&before) {
+            let mut o = [0.0; 2];
+            d.eval(*t, &mut o);
+            assert!((o[0] - b[0]).abs() < 1e-14 && (o[1] - b[1]).abs() < 1e-14);
+        }
+    }
+}

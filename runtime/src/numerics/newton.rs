@@ -1,0 +1,126 @@
+//! The simplified-Newton matrix `I − s J` shared by the implicit methods (SDIRK4 with
+//! `s = hγ`, BDF with `s = h/γ_k`), and Jacobians by forward differences where the system
+//! has none.
+//!
+//! Policy (Hairer & Wanner, *Solving ODEs II*, §IV.8): `J` is evaluated at an accepted
+//! point and kept while Newton converges fast; it is marked stale after every accepted
+//! step and refreshed only when an iteration fails with a stale one (or converged
+//! slowly). The LU of `I − s J` is kept while `s` and `J` are unchanged.
+
+use nalgebra::{DMatrix, Dyn, LU};
+
+use super::eval::Eval;
+use crate::{ErrorKind, OdeSystem};
+
+/// `J`, what it was built from, and the factorised `I − s J`.
+#[derive(Debug)]
+pub(crate) struct NewtonMatrix {
+    pub jac: DMatrix<f64>,
+    /// `J` was evaluated at the current accepted point.
+    pub jac_current: bool,
+    /// `J` must be (re)evaluated before the next attempt.
+    pub jac_needed: bool,
+    lu: Option<LU<f64, Dyn, Dyn>>,
+    /// The `s` of the factorised matrix.
+    scale: f64,
+}
+
+impl NewtonMatrix {
+    pub fn new(n: usize) -> Self {
+        NewtonMatrix {
+            jac: DMatrix::zeros(n, n),
+            jac_current: false,
+            jac_needed: true,
+            lu: None,
+            scale: f64::NAN,
+        }
+    }
+
+    /// Evaluates `J` at `(t, y)` if it is needed (see [`jacobian`] for `f` and `fresh`).
+    pub fn update_jacobian<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+        f: &mut [f64],
+        fresh: bool,
+    ) -> Result<(), ErrorKind> {
+        if self.jac_needed {
+            jacobian(ev, t, y, f, fresh, &mut self.jac)?;
+            self.jac_current = true;
+            self.jac_needed = false;
+            self.lu = None;
+        }
+        Ok(())
+    }
+
+    /// Factorises `I − s J` unless it is already factorised for this `s` and `J`
+    /// (counted in `lu`).
+    pub fn factor(&mut self, s: f64, lu_count: &mut usize) {
+        if self.lu.is_none() || self.scale != s {
+            let n = self.jac.nrows();
+            let m = DMatrix::identity(n, n) - &self.jac * s;
+            self.lu = Some(m.lu());
+            self.scale = s;
+            *lu_count += 1;
+        }
+    }
+
+    /// The factorised matrix (after [`factor`](Self::factor)).
+    pub fn lu(&self) -> &LU<f64, Dyn, Dyn> {
+        self.lu.as_ref().expect("factorised before use")
+    }
+
+    /// After a failure with a stale `J`: refresh it before the next attempt.
+    pub fn refresh_if_stale(&mut self) {
+        if !self.jac_current {
+            self.jac_needed = true;
+        }
+    }
+
+    /// At a discontinuity (new equations from here on): `J` may still serve the
+    /// simplified Newton iteration, but is refreshed at the first failure.
+    pub fn mark_stale(&mut self) {
+        self.jac_current = false;
+    }
+}
+
+/// `∂f/∂y(t, y)` into `jac`: from the system, or by forward differences with increments
+/// `√(ε max(10⁻⁵, |y_j|))` (Hairer & Wanner II, §IV.8) around `f`. With `fresh`, `f` is
+/// first overwritten by `f(t, y)` (only when differences are needed): for methods whose
+/// stored derivative is not `f(t, y)` itself (BDF's is the formula's), differencing
+/// against it would mix the Newton error into `J`.
+pub(crate) fn jacobian<S: OdeSystem + ?Sized>(
+    ev: &mut Eval<'_, S>,
+    t: f64,
+    y: &[f64],
+    f: &mut [f64],
+    fresh: bool,
+    jac: &mut DMatrix<f64>,
+) -> Result<(), ErrorKind> {
+    ev.stats.jacobian_evaluations += 1;
+    if !ev.system.jacobian(t, y, jac) {
+        ev.stats.finite_difference_jacobians += 1;
+        if fresh {
+            ev.rhs(t, y, f)?;
+        }
+        let mut yp = y.to_vec();
+        let mut fp = vec![0.0; y.len()];
+        for j in 0..y.len() {
+            let delta = (f64::EPSILON * y[j].abs().max(1e-5)).sqrt();
+            yp[j] = y[j] + delta;
+            ev.rhs(t, &yp, &mut fp)?;
+            for i in 0..y.len() {
+                jac[(i, j)] = (fp[i] - f[i]) / delta;
+            }
+            yp[j] = y[j];
+        }
+    }
+    match jac.iter().position(|x| !x.is_finite()) {
+        Some(p) => Err(ErrorKind::NonFinite {
+            t,
+            component: p % y.len(),
+        }),
+        None => Ok(()),
+    }
+}

@@ -1,0 +1,573 @@
+//! The one result type of every integration — smooth, event-driven, time-stepping:
+//! rows at the accepted steps (or at the times asked for), the method's own dense output
+//! between them, named columns, the statistics and, for non-smooth runs, the log of
+//! every switch.
+
+use std::io::{self, Write};
+
+use crate::Stats;
+use crate::nonsmooth::Mode;
+use crate::numerics::dense::{DenseStep, eval_poly};
+
+/// Which rows a [`Solution`] keeps.
+#[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub enum Output {
+    /// Every accepted step, each with the method's dense output over it (default): `at`
+    /// is as accurate as the method between the steps.
+    #[default]
+    Steps,
+    /// Every `k`-th accepted step (and the last one, and both rows of every event);
+    /// between the kept rows cubic Hermite on their states and derivatives. For long runs
+    /// where every step would not fit in memory.
+    Every(usize),
+    /// Only the given times (increasing, inside the integration interval), evaluated
+    /// on the method's dense output as the integration passes them; non-smooth runs also
+    /// keep both rows of every event, so jumps still show. Between the kept rows cubic
+    /// Hermite.
+    Times(Vec<f64>),
+}
+
+impl Output {
+    /// Checks the option against the integration interval.
+    pub(crate) fn validate(&self, t0: f64, tf: f64) -> Result<(), String> {
+        match self {
+            Output::Steps => Ok(()),
+            Output::Every(0) => Err("Output::Every(k) needs k ≥ 1".into()),
+            Output::Every(_) => Ok(()),
+            Output::Times(ts) => {
+                if let Some(t) = ts.iter().find(|t| !(t0..=tf).contains(*t)) {
+                    return Err(format!(
+                        "output time {t} is outside the integration interval [{t0}, {tf}]"
+                    ));
+                }
+                if ts.windows(2).any(|w| w[1] < w[0]) {
+                    return Err("output times must be increasing".into());
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// What happened at a switch of a non-smooth run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum SwitchKind {
+    /// The element's mode changed from `from` to `to`; `jump` is the change of its force
+    /// across the switch (`f⁺ − f⁻`).
+    Mode,
+    /// A rigid stop's impact: `jump` is the generalised impulse `P` along its coordinate
+    /// (`v⁺ = v⁻ − M⁻¹ e_c P`).
+    Impact,
+    /// Accumulating events (Zeno, chattering): the integration is handed to
+    /// time-stepping from `t` on.
+    HandOverToTimeStepping,
+    /// Back from time-stepping to event-driven integration at `t`.
+    HandBack,
+}
+
+/// One entry of a non-smooth solution's switch log.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Switch {
+    pub t: f64,
+    pub kind: SwitchKind,
+    /// The element (`None` for hand-overs).
+    pub element: Option<String>,
+    /// The element's mode before and after (equal for an impact that keeps it).
+    pub from: Option<Mode>,
+    pub to: Option<Mode>,
+    /// Force jump or impulse (see [`SwitchKind`]); `0` for hand-overs.
+    pub jump: f64,
+}
+
+/// How the interval ending at a row is interpolated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Segment {
+    /// Start of its coefficients in `Solution::coeffs`.
+    offset: usize,
+    /// Degree of its polynomial; `0`: cubic Hermite on the two rows.
+    degree: usize,
+}
+
+const HERMITE: Segment = Segment {
+    offset: 0,
+    degree: 0,
+};
+
+/// The result of an integration (see the module documentation).
+///
+/// Columns: `[q; v]` named `q_<joint>`, `v_<joint>` for mechanisms (`y<i>` for a plain
+/// [`OdeSystem`](crate::OdeSystem)); non-smooth runs add one force column `f_<element>`
+/// per element. At an event two rows share its time, before and after the switch.
+///
+/// ```
+/// use filippov_runtime::{FnSystem, Method, Options, Problem, solve};
+/// let osc = FnSystem::new(2, |_t, y: &[f64], dy: &mut [f64]| {
+///     dy[0] = y[1];
+///     dy[1] = -y[0];
+/// });
+/// let sol = solve(&osc, &Problem::new(0.0, 3.0, [1.0, 0.0]), &Method::Dopri5(Options::tolerances(1e-10, 1e-12))).unwrap();
+/// let mut y = [0.0; 2];
+/// assert!(sol.at_into(1.234, &mut y)); // no allocation
+/// assert!((y[0] - 1.234f64.cos()).abs() < 1e-8);
+/// let grid = sol.sample(&[0.5, 1.0, 2.5]).unwrap();
+/// assert!((grid[2][1] + 2.5f64.sin()).abs() < 1e-8);
+/// assert_eq!(sol.column("y0").unwrap().len(), sol.len());
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solution {
+    dim: usize,
+    /// The leading components the dense output covers; later ones (element forces) are
+    /// interpolated linearly between the rows of a polynomial segment.
+    dense_dim: usize,
+    names: Vec<String>,
+    t: Vec<f64>,
+    y: Vec<f64>,
+    dy: Vec<f64>,
+    /// `seg[i]`: the interval from row `i − 1` to row `i` (`seg[0]` unused).
+    seg: Vec<Segment>,
+    coeffs: Vec<f64>,
+    /// Cost of the integration.
+    pub stats: Stats,
+    /// Non-smooth runs: every switch, in time order.
+    pub switches: Vec<Switch>,
+    output: Output,
+    recorder: Recorder,
+}
+
+/// What the row filter of [`Output`] remembers between steps.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Recorder {
+    /// Accepted steps since the last kept row (`Every`).
+    skipped: usize,
+    /// Next requested time (`Times`).
+    next: usize,
+    /// The last accepted point, kept or not.
+    t: f64,
+    row: Vec<f64>,
+    drow: Vec<f64>,
+    started: bool,
+}
+
+impl Solution {
+    /// An empty solution with these column names, of which the first `dense_dim` are
+    /// covered by dense output.
+    pub(crate) fn new(names: Vec<String>, dense_dim: usize, output: Output) -> Self {
+        Solution {
+            dim: names.len(),
+            dense_dim: dense_dim.min(names.len()),
+            names,
+            t: Vec::new(),
+            y: Vec::new(),
+            dy: Vec::new(),
+            seg: Vec::new(),
+            coeffs: Vec::new(),
+            stats: Stats::default(),
+            switches: Vec::new(),
+            output,
+            recorder: Recorder::default(),
+        }
+    }
+
+    /// Stores a row as it is, interpolated from the previous row by `segment`.
+    fn store(&mut self, t: f64, y: &[f64], dy: &[f64], segment: Segment) {
+        self.t.push(t);
+        self.y.extend_from_slice(y);
+        self.dy.extend_from_slice(dy);
+        self.seg.push(segment);
+    }
+
+    /// The first point of an integration (or of a piece of one).
+    pub(crate) fn push_start(&mut self, t: f64, y: &[f64], dy: &[f64]) {
+        let keep = match &self.output {
+            Output::Times(ts) => {
+                let r = &mut self.recorder;
+                // Requested times before the start are not reachable (validated away).
+                while r.next < ts.len() && ts[r.next] < t {
+                    r.next += 1;
+                }
+                if r.next < ts.len() && ts[r.next] == t {
+                    r.next += 1;
+                    true
+                } else {
+                    false
+                }
+            }
+            _ => true,
+        };
+        if keep {
+            self.store(t, y, dy, HERMITE);
+        }
+        self.remember(t, y, dy);
+    }
+
+    fn remember(&mut self, t: f64, y: &[f64], dy: &[f64]) {
+        let r = &mut self.recorder;
+        r.t = t;
+        r.row.clear();
+        r.row.extend_from_slice(y);
+        r.drow.clear();
+        r.drow.extend_from_slice(dy);
+        r.started = true;
+    }
+
+    /// An accepted step ending at `(t, y)` with derivative `dy`, and the method's dense
+    /// output over it (covering the first `dense_dim` columns), if it has one. `keep`
+    /// stores the row whatever the [`Output`] (event rows, the last row).
+    pub(crate) fn push_step(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        dy: &[f64],
+        dense: Option<&DenseStep>,
+        keep: bool,
+    ) {
+        match self.output {
+            Output::Steps => {
+                let segment = match dense {
+                    Some(d) => {
+                        let offset = self.coeffs.len();
+                        self.coeffs.extend_from_slice(d.coefficients());
+                        Segment {
+                            offset,
+                            degree: d.degree(),
+                        }
+                    }
+                    None => HERMITE,
+                };
+                self.store(t, y, dy, segment);
+            }
+            Output::Every(k) => {
+                self.recorder.skipped += 1;
+                if keep || self.recorder.skipped >= k {
+                    self.recorder.skipped = 0;
+                    self.store(t, y, dy, HERMITE);
+                }
+            }
+            Output::Times(_) => self.push_requested(t, y, dy, dense, keep),
+        }
+        self.remember(t, y, dy);
+    }
+
+    /// [`Output::Times`]: the requested times inside the step, then the row itself if
+    /// it is to be kept.
+    fn push_requested(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        dy: &[f64],
+        dense: Option<&DenseStep>,
+        keep: bool,
+    ) {
+        let Output::Times(ts) = std::mem::take(&mut self.output) else {
+            unreachable!("called for Output::Times only")
+        };
+        let (n, nd) = (self.dim, self.dense_dim);
+        let t0 = self.recorder.t;
+        let mut val = vec![0.0; n];
+        let mut der = vec![0.0; n];
+        let mut last_stored = f64::NAN;
+        while self.recorder.next < ts.len() && ts[self.recorder.next] <= t {
+            let tau = ts[self.recorder.next];
+            self.recorder.next += 1;
+            let r = &self.recorder;
+            let h = t - t0;
+            let theta = if h > 0.0 { (tau - t0) / h } else { 1.0 };
+            match dense {
+                Some(d) => {
+                    d.eval(tau, &mut val[..nd]);
+                    d.eval_derivative(tau, &mut der[..nd]);
+                }
+                None => {
+                    hermite(
+                        theta,
+                        h,
+                        &r.row[..nd],
+                        &r.drow[..nd],
+                        &y[..nd],
+                        &dy[..nd],
+                        &mut val[..nd],
+                    );
+                    hermite_slope(
+                        theta,
+                        h,
+                        &r.row[..nd],
+                        &r.drow[..nd],
+                        &y[..nd],
+                        &dy[..nd],
+                        &mut der[..nd],
+                    );
+                }
+            }
+            for i in nd..n {
+                val[i] = r.row[i] + theta * (y[i] - r.row[i]);
+                der[i] = if h > 0.0 { (y[i] - r.row[i]) / h } else { 0.0 };
+            }
+            self.store(tau, &val, &der, HERMITE);
+            last_stored = tau;
+        }
+        if keep && last_stored != t {
+            self.store(t, y, dy, HERMITE);
+        }
+        self.output = Output::Times(ts);
+    }
+
+    /// A row at the same time as the previous one, after a jump (the second row of an
+    /// event). Always kept.
+    pub(crate) fn push_jump(&mut self, t: f64, y: &[f64], dy: &[f64]) {
+        self.store(t, y, dy, HERMITE);
+        self.remember(t, y, dy);
+    }
+
+    /// Number of stored rows.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+
+    /// Number of columns.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// Column names.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// Index of the column called `name`.
+    pub fn column_index(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|n| n == name)
+    }
+
+    /// The rows kept ([`Output`]).
+    pub fn output(&self) -> &Output {
+        &self.output
+    }
+
+    /// Times of the stored rows, non-decreasing (an event's two rows share a time).
+    pub fn times(&self) -> &[f64] {
+        &self.t
+    }
+
+    /// Row `i`.
+    pub fn state(&self, i: usize) -> &[f64] {
+        &self.y[i * self.dim..(i + 1) * self.dim]
+    }
+
+    /// The time derivative stored with row `i` (`f(t_i, y_i)` for the state columns).
+    pub fn derivative(&self, i: usize) -> &[f64] {
+        &self.dy[i * self.dim..(i + 1) * self.dim]
+    }
+
+    /// The last stored time and row.
+    pub fn last(&self) -> Option<(f64, &[f64])> {
+        let n = self.len();
+        (n > 0).then(|| (self.t[n - 1], self.state(n - 1)))
+    }
+
+    /// All rows as `(t, row)`.
+    pub fn rows(&self) -> impl ExactSizeIterator<Item = (f64, &[f64])> + '_ {
+        self.t
+            .iter()
+            .copied()
+            .zip(self.y.chunks_exact(self.dim.max(1)))
+    }
+
+    /// All values of column `j`, one per row.
+    pub fn component(&self, j: usize) -> Vec<f64> {
+        self.y.iter().skip(j).step_by(self.dim).copied().collect()
+    }
+
+    /// All values of the column called `name`, one per row.
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        self.column_index(name).map(|j| self.component(j))
+    }
+
+    /// The state at `t` into `out` (length [`dim`](Self::dim)), without allocating:
+    /// the method's dense output over the step containing `t` (after an event, the
+    /// state just after it); `false` if `t` is outside `[t_first, t_last]` (no
+    /// extrapolation).
+    pub fn at_into(&self, t: f64, out: &mut [f64]) -> bool {
+        let (Some(&first), Some(&last)) = (self.t.first(), self.t.last()) else {
+            return false;
+        };
+        if !(first..=last).contains(&t) {
+            return false;
+        }
+        // Interval [t_i, t_{i+1}] containing t.
+        let i = self.t.partition_point(|&ti| ti <= t).saturating_sub(1);
+        if i + 1 >= self.len() {
+            out.copy_from_slice(self.state(i));
+            return true;
+        }
+        let (t0, t1) = (self.t[i], self.t[i + 1]);
+        let h = t1 - t0;
+        let theta = (t - t0) / h;
+        let (y0, y1) = (self.state(i), self.state(i + 1));
+        let seg = self.seg[i + 1];
+        if seg.degree > 0 {
+            let nd = self.dense_dim;
+            let len = (seg.degree + 1) * nd;
+            eval_poly(
+                &self.coeffs[seg.offset..seg.offset + len],
+                nd,
+                seg.degree,
+                theta,
+                &mut out[..nd],
+            );
+            for k in nd..self.dim {
+                out[k] = y0[k] + theta * (y1[k] - y0[k]);
+            }
+        } else {
+            let (f0, f1) = (self.derivative(i), self.derivative(i + 1));
+            hermite(theta, h, y0, f0, y1, f1, out);
+        }
+        true
+    }
+
+    /// The state at `t` (see [`at_into`](Self::at_into)), or `None` outside the
+    /// solution's interval.
+    pub fn at(&self, t: f64) -> Option<Vec<f64>> {
+        let mut out = vec![0.0; self.dim];
+        self.at_into(t, &mut out).then_some(out)
+    }
+
+    /// The states at `times`, one row each; `None` if any is outside the interval.
+    pub fn sample(&self, times: &[f64]) -> Option<Vec<Vec<f64>>> {
+        times.iter().map(|&t| self.at(t)).collect()
+    }
+
+    /// Writes the stored rows as CSV: a header `t,<names>` then one row per point.
+    pub fn write_csv<W: Write>(&self, mut out: W) -> io::Result<()> {
+        write!(out, "t")?;
+        for name in &self.names {
+            write!(out, ",{name}")?;
+        }
+        writeln!(out)?;
+        for (t, row) in self.rows() {
+            write!(out, "{t}")?;
+            for x in row {
+                write!(out, ",{x}")?;
+            }
+            writeln!(out)?;
+        }
+        Ok(())
+    }
+
+    /// Writes the switch log as CSV: `t,kind,element,from,to,jump`.
+    pub fn write_switches_csv<W: Write>(&self, mut out: W) -> io::Result<()> {
+        writeln!(out, "t,kind,element,from,to,jump")?;
+        for s in &self.switches {
+            let opt = |m: Option<Mode>| m.map(|m| format!("{m:?}")).unwrap_or_default();
+            writeln!(
+                out,
+                "{},{:?},{},{},{},{}",
+                s.t,
+                s.kind,
+                s.element.as_deref().unwrap_or(""),
+                opt(s.from),
+                opt(s.to),
+                s.jump
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Cubic Hermite between `(y0, f0)` and `(y1, f1)` at fraction `theta` of a step `h`.
+fn hermite(theta: f64, h: f64, y0: &[f64], f0: &[f64], y1: &[f64], f1: &[f64], out: &mut [f64]) {
+    let (t2, t3) = (theta * theta, theta * theta * theta);
+    let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
+    let h10 = t3 - 2.0 * t2 + theta;
+    let h01 = -2.0 * t3 + 3.0 * t2;
+    let h11 = t3 - t2;
+    for k in 0..out.len() {
+        out[k] = h00 * y0[k] + h10 * h * f0[k] + h01 * y1[k] + h11 * h * f1[k];
+    }
+}
+
+/// Time derivative of [`hermite`].
+fn hermite_slope(
+    theta: f64,
+    h: f64,
+    y0: &[f64],
+    f0: &[f64],
+    y1: &[f64],
+    f1: &[f64],
+    out: &mut [f64],
+) {
+    if h == 0.0 {
+        out.copy_from_slice(f1);
+        return;
+    }
+    let t2 = theta * theta;
+    let d00 = (6.0 * t2 - 6.0 * theta) / h;
+    let d10 = 3.0 * t2 - 4.0 * theta + 1.0;
+    let d01 = -d00;
+    let d11 = 3.0 * t2 - 2.0 * theta;
+    for k in 0..out.len() {
+        out[k] = d00 * y0[k] + d10 * f0[k] + d01 * y1[k] + d11 * f1[k];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cubic_solution(output: Output) -> Solution {
+        let y = |t: f64| t * t * t - 2.0 * t + 1.0;
+        let dy = |t: f64| 3.0 * t * t - 2.0;
+        let mut sol = Solution::new(vec!["x".into()], 1, output);
+        sol.push_start(0.0, &[y(0.0)], &[dy(0.0)]);
+        for (a, b) in [(0.0, 0.5), (0.5, 1.5)] {
+            let mut d = DenseStep::new(1);
+            d.set_hermite(a, b - a, &[y(a)], &[dy(a)], &[y(b)], &[dy(b)]);
+            sol.push_step(b, &[y(b)], &[dy(b)], Some(&d), b == 1.5);
+        }
+        sol
+    }
+
+    #[test]
+    fn dense_segments_reproduce_cubics_and_csv_has_header() {
+        let y = |t: f64| t * t * t - 2.0 * t + 1.0;
+        let sol = cubic_solution(Output::Steps);
+        for t in [0.0, 0.1, 0.5, 0.9, 1.2, 1.5] {
+            assert!((sol.at(t).unwrap()[0] - y(t)).abs() < 1e-14);
+        }
+        assert_eq!(sol.at(1.6), None);
+        assert_eq!(sol.last().unwrap().0, 1.5);
+        assert_eq!(sol.component(0).len(), 3);
+        let mut csv = Vec::new();
+        sol.write_csv(&mut csv).unwrap();
+        let csv = String::from_utf8(csv).unwrap();
+        assert_eq!(csv.lines().next(), Some("t,x"));
+        assert_eq!(csv.lines().nth(1), Some("0,1"));
+        assert_eq!(csv.lines().count(), 4);
+    }
+
+    #[test]
+    fn requested_times_are_evaluated_on_the_dense_output() {
+        let y = |t: f64| t * t * t - 2.0 * t + 1.0;
+        let sol = cubic_solution(Output::Times(vec![0.25, 0.5, 1.0, 1.4]));
+        assert_eq!(sol.times(), [0.25, 0.5, 1.0, 1.4, 1.5]);
+        for (t, row) in sol.rows() {
+            assert!((row[0] - y(t)).abs() < 1e-14, "{t}");
+        }
+        // Between the kept rows: Hermite on exact values and slopes of a cubic.
+        assert!((sol.at(0.7).unwrap()[0] - y(0.7)).abs() < 1e-14);
+    }
+
+    #[test]
+    fn every_kth_step_keeps_the_last() {
+        let sol = cubic_solution(Output::Every(5));
+        assert_eq!(sol.times(), [0.0, 1.5]);
+        assert!(Output::Every(0).validate(0.0, 1.0).is_err());
+        assert!(Output::Times(vec![0.5, 0.2]).validate(0.0, 1.0).is_err());
+        assert!(Output::Times(vec![1.5]).validate(0.0, 1.0).is_err());
+    }
+}

@@ -1,0 +1,133 @@
+//! The smooth driver: [`solve`] integrates an [`OdeSystem`] from `t0` to `tf` with any
+//! [`Stepper`], written once for every method. An [`Observer`] sees every accepted step
+//! (progress bars, cancellation).
+
+use std::ops::ControlFlow;
+
+use crate::method::{Eval, Stepper, with_stepper};
+use crate::{ErrorKind, Method, OdeSystem, Problem, Solution, SolveError};
+
+/// Sees every accepted step of an integration: `(t, y)` after the step. Returning
+/// `ControlFlow::Break(())` stops the integration with [`ErrorKind::Cancelled`] (the
+/// solution so far is kept in the error). Closures `FnMut(f64, &[f64]) ->
+/// ControlFlow<()>` are observers.
+pub trait Observer {
+    fn observe(&mut self, t: f64, y: &[f64]) -> ControlFlow<()>;
+}
+
+impl<F: FnMut(f64, &[f64]) -> ControlFlow<()>> Observer for F {
+    fn observe(&mut self, t: f64, y: &[f64]) -> ControlFlow<()> {
+        self(t, y)
+    }
+}
+
+/// The observer that never stops anything.
+pub(crate) fn unobserved(_: f64, _: &[f64]) -> ControlFlow<()> {
+    ControlFlow::Continue(())
+}
+
+/// Integrates `problem` for `system` with `method`.
+///
+/// ```
+/// use filippov_runtime::{FnSystem, Method, Options, Problem, solve};
+/// let decay = FnSystem::new(1, |_t, y: &[f64], dy: &mut [f64]| dy[0] = -y[0]);
+/// let sol = solve(&decay, &Problem::new(0.0, 1.0, [1.0]), &Method::Dopri5(Options::tolerances(1e-8, 1e-10))).unwrap();
+/// assert!((sol.last().unwrap().1[0] - (-1.0f64).exp()).abs() < 1e-7);
+/// ```
+pub fn solve<S: OdeSystem + ?Sized>(
+    system: &S,
+    problem: &Problem,
+    method: &Method,
+) -> Result<Solution, SolveError> {
+    solve_with(system, problem, method, &mut unobserved)
+}
+
+/// [`solve`] with an [`Observer`] called after every accepted step.
+///
+/// ```
+/// use std::ops::ControlFlow;
+/// use filippov_runtime::{ErrorKind, FnSystem, Method, Options, Problem, solve_with};
+/// let decay = FnSystem::new(1, |_t, y: &[f64], dy: &mut [f64]| dy[0] = -y[0]);
+/// // Stop as soon as y < 0.5.
+/// let mut stop = |_t: f64, y: &[f64]| if y[0] < 0.5 { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
+/// let err = solve_with(&decay, &Problem::new(0.0, 10.0, [1.0]), &Method::Dopri5(Options::default()), &mut stop).unwrap_err();
+/// assert!(matches!(err.kind, ErrorKind::Cancelled { .. }));
+/// assert!(err.solution.last().unwrap().1[0] < 0.5);
+/// ```
+pub fn solve_with<S: OdeSystem + ?Sized, O: Observer + ?Sized>(
+    system: &S,
+    problem: &Problem,
+    method: &Method,
+    observer: &mut O,
+) -> Result<Solution, SolveError> {
+    with_stepper!(method, system.dim(), |stepper| integrate(
+        &mut stepper,
+        system,
+        problem,
+        observer
+    ))
+}
+
+/// The driver itself, for any [`Stepper`] (see the module documentation).
+pub fn integrate<St, S, O>(
+    stepper: &mut St,
+    system: &S,
+    problem: &Problem,
+    observer: &mut O,
+) -> Result<Solution, SolveError>
+where
+    St: Stepper,
+    S: OdeSystem + ?Sized,
+    O: Observer + ?Sized,
+{
+    let mut sol = Solution::new(system.names(), system.dim(), problem.output.clone());
+    let checked = if sol.dim() != system.dim() {
+        Err(format!(
+            "the system names {} components but has dimension {}",
+            sol.dim(),
+            system.dim()
+        ))
+    } else {
+        system
+            .validate()
+            .and_then(|()| problem.validate(system.dim()))
+    };
+    if let Err(msg) = checked {
+        return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
+    }
+    match run(stepper, system, problem, observer, &mut sol) {
+        Ok(()) => Ok(sol),
+        Err(kind) => Err(SolveError::new(kind, sol)),
+    }
+}
+
+fn run<St, S, O>(
+    stepper: &mut St,
+    system: &S,
+    problem: &Problem,
+    observer: &mut O,
+    sol: &mut Solution,
+) -> Result<(), ErrorKind>
+where
+    St: Stepper,
+    S: OdeSystem + ?Sized,
+    O: Observer + ?Sized,
+{
+    let (t0, tf) = (problem.t0, problem.tf);
+    stepper.start(
+        &mut Eval::new(system, &mut sol.stats),
+        t0,
+        &problem.y0,
+        tf - t0,
+    )?;
+    sol.push_start(t0, stepper.y(), stepper.f());
+    while stepper.t() < tf {
+        stepper.step(&mut Eval::new(system, &mut sol.stats), tf)?;
+        let t = stepper.t();
+        sol.push_step(t, stepper.y(), stepper.f(), Some(stepper.dense()), t >= tf);
+        if observer.observe(t, stepper.y()).is_break() {
+            return Err(ErrorKind::Cancelled { t });
+        }
+    }
+    Ok(())
+}

@@ -1018,14 +1018,16 @@ fn switch_logs_of_s1_and_s6_match_the_closed_forms() {
     };
     let s6_turns: Vec<f64> = (1..=5).map(|n| n as f64 * std::f64::consts::PI).collect();
     let s1_turns: Vec<f64> = s1_exact().0.iter().map(|(t, _)| *t).collect();
-    for (name, sol, turns) in [
+    for (name, element, sol, turns) in [
         (
             "S6",
+            "friction_x",
             solve_nonsmooth(&s6, &unforced::<1>, &p, &method).unwrap(),
             s6_turns,
         ),
         (
             "S1",
+            "bingham_x",
             solve_nonsmooth(&s1, &unforced::<1>, &p, &method).unwrap(),
             s1_turns,
         ),
@@ -1034,7 +1036,7 @@ fn switch_logs_of_s1_and_s6_match_the_closed_forms() {
         assert_eq!(log.len(), turns.len(), "{name}: {log:?}");
         for (s, te) in log.iter().zip(&turns) {
             assert_eq!(s.kind, SwitchKind::Mode);
-            assert_eq!(s.element.as_deref(), Some("friction_x"));
+            assert_eq!(s.element.as_deref(), Some(element));
             assert!(
                 (s.t - te).abs() <= 1e-9,
                 "{name}: switch at {} vs {te}",
@@ -1053,8 +1055,11 @@ fn switch_logs_of_s1_and_s6_match_the_closed_forms() {
 }
 
 /// The event-driven solution read back on a 0.01 grid is as accurate as at its own
-/// steps (within 2×), at every tolerance: the method's dense output, cut at the events,
-/// not an interpolant over the stored rows.
+/// steps, at every tolerance: the method's dense output, cut at the events, not an
+/// interpolant over the stored rows. Within 2× for DOPRI5 and BDF, whose extensions
+/// have the order of their steps; within 3× for SDIRK4, whose cubic Hermite is one
+/// order below its steps (as the order-3 continuous extension of Hairer's SDIRK4 code),
+/// measured 2.08× on S1 at rtol 1e-10.
 #[test]
 fn event_driven_grid_error_is_within_twice_the_step_error() {
     let p = NonSmoothProblem::new(0.0, 30.0, V1::new(1.0), V1::new(0.0));
@@ -1104,8 +1109,13 @@ fn event_driven_grid_error_is_within_twice_the_step_error() {
                         err(t, &sol.at(t).unwrap())
                     })
                     .fold(0.0, f64::max);
+                let factor = if method == SmoothMethod::Sdirk4 {
+                    3.0
+                } else {
+                    2.0
+                };
                 assert!(
-                    on_grid <= 2.0 * at_steps,
+                    on_grid <= factor * at_steps,
                     "{name} {method:?} rtol {rtol}: grid {on_grid:.2e} vs steps {at_steps:.2e}"
                 );
             }

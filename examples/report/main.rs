@@ -14,6 +14,8 @@ mod support;
 mod chains;
 #[path = "config.rs"]
 mod config;
+#[path = "dense.rs"]
+mod dense;
 #[path = "kernels.rs"]
 mod kernels;
 #[path = "lie.rs"]
@@ -42,7 +44,7 @@ pub use config::Config;
 /// Runs every section and writes the report; returns the path of the Markdown page.
 pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     std::fs::create_dir_all(&config.out_dir)?;
-    let progress = config.progress(8);
+    let progress = config.progress(9);
     let mut page = markdown::Page::new("filippov report");
     page.para(&format!(
         "Measured on this machine in one run ({} configuration; {}). Times are medians of {} runs after a warm-up. \
@@ -56,6 +58,9 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     progress.inc(1);
     progress.set_message("non-smooth scenes and the stiff/extreme suite");
     let ns = nonsmooth::nonsmooth(config);
+    progress.inc(1);
+    progress.set_message("non-smooth scenes read back on an output grid");
+    let dense = dense::dense_output(config);
     progress.inc(1);
     progress.set_message("S9: arm with joint friction and stops");
     let arm = s9::s9(config);
@@ -83,6 +88,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     summary.extend(k.summary.iter().cloned());
     summary.extend(wp.summary.iter().cloned());
     summary.extend(ns.summary.iter().cloned());
+    summary.extend(dense.summary.iter().cloned());
     summary.extend(arm.summary.iter().cloned());
     summary.extend(lg.summary.iter().cloned());
     summary.extend(e.summary.iter().cloned());
@@ -92,6 +98,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     page.bullets(&summary);
     page.append(wp.page);
     page.append(ns.page);
+    page.append(dense.page);
     page.append(arm.page);
     page.append(lg.page);
     page.append(k.page);

@@ -4,28 +4,68 @@
 //! * [`system`]: the [`Mechanism`] trait the derive implements.
 //! * [`numeric`]: plain numeric RNEA / CRBA / exact `∂M/∂q` over a runtime
 //!   [`numeric::Model`] — the cross-check and the baseline.
-//! * Integration, separated diffsol-style into the problem ([`OdeSystem`], [`Problem`],
-//!   the adapters [`MechanicalSystem`] and [`NumericSystem`]), the methods ([`Rk4`],
-//!   [`Dopri5`], [`Sdirk4`], [`Bdf`], tableaus in [`tableau`]), their configuration
-//!   ([`Options`], [`PiController`]) and the result ([`Solution`], [`Stats`],
-//!   [`SolveError`]).
+//! * Integration, in layers whose arrows point down:
+//!   - drivers: [`solve`] (smooth), [`solve_nonsmooth`] (event-driven or
+//!     time-stepping, [`nonsmooth`]), the Lie-group methods' own `solve` ([`liegroup`]);
+//!   - methods ([`method`]): [`Rk4`], [`Dopri5`], [`Sdirk4`], [`Bdf`], each a
+//!     configuration that makes a [`Stepper`] — the step-level trait every driver runs
+//!     on (start, one accepted step, restart at a discontinuity, dense output);
+//!   - shared numerics ([`numerics`]): error norms, [`PiController`], tableaus
+//!     ([`tableau`]), dense output, the Newton matrix, root finding.
+//! * The problem ([`OdeSystem`], [`Problem`], the adapters [`MechanicalSystem`] and
+//!   [`NumericSystem`]; [`NonSmoothProblem`]) and the result: one [`Solution`] for every
+//!   driver — rows at the accepted steps (or at requested times, [`Output`]), the
+//!   method's own dense output between them, named columns, [`Stats`], and for
+//!   non-smooth runs the log of every [`Switch`]; a [`SolveError`] keeps the solution
+//!   up to the failure.
 //! * [`liegroup`]: Lie-group integration on SO(3)ᵐ × ℝⁿ ([`LieSystem`]; explicit
 //!   [`Rkmk5`], stiff [`LieSdirk`]; event location with [`LieEvent`]), and the trait of
 //!   scenes with spherical and free joints ([`LieMechanism`]) with its adapter
-//!   [`LieMechanical`].
+//!   [`LieMechanical`]. These keep their own trait and result ([`LieTrajectory`], which
+//!   holds a flat [`Solution`]): their states are not vectors — configurations move by
+//!   `g · exp(h v̂)` and the dense output lives in the local coordinates of each step —
+//!   so a [`Stepper`] over slices cannot carry them without losing the group.
+//!
+//! # Running a simulation and reading it back
 //!
 //! ```
-//! use filippov_runtime::{FnSystem, Method, Options, Problem, solve};
+//! use std::ops::ControlFlow;
+//! use filippov_runtime::{FnSystem, Method, Options, Output, Problem, solve, solve_with};
 //! // Harmonic oscillator x'' = −x.
 //! let osc = FnSystem::new(2, |_t, y: &[f64], dy: &mut [f64]| {
 //!     dy[0] = y[1];
 //!     dy[1] = -y[0];
 //! });
-//! let problem = Problem::new(0.0, 1.0, [1.0, 0.0]);
-//! let traj = solve(&osc, &problem, &Method::Dopri5(Options::tolerances(1e-9, 1e-12))).unwrap();
-//! let x = traj.at(0.5).unwrap()[0];
-//! assert!((x - 0.5f64.cos()).abs() < 1e-6);
+//! let problem = Problem::new(0.0, 10.0, [1.0, 0.0]);
+//! let sol = solve(&osc, &problem, &Method::Dopri5(Options::tolerances(1e-9, 1e-12))).unwrap();
+//! // Anywhere in [0, 10], at the method's own order (no allocation with `at_into`).
+//! let mut y = [0.0; 2];
+//! sol.at_into(0.5, &mut y);
+//! assert!((y[0] - 0.5f64.cos()).abs() < 1e-8);
+//! // Rows, named columns, statistics, CSV.
+//! assert_eq!(sol.names(), ["y0", "y1"]);
+//! assert!(sol.rows().all(|(t, y)| (y[0] - t.cos()).abs() < 1e-7));
+//! println!("{}", sol.stats);
+//! // Only some times kept, and an observer that could stop the run (progress bars).
+//! let grid = Problem::new(0.0, 10.0, [1.0, 0.0]).with_output(Output::Times(vec![1.0, 2.0, 3.0]));
+//! let mut steps = 0;
+//! let sol = solve_with(&osc, &grid, &Method::Bdf(Options::tolerances(1e-8, 1e-10)), &mut |_t: f64, _y: &[f64]| {
+//!     steps += 1;
+//!     ControlFlow::Continue(())
+//! }).unwrap();
+//! assert_eq!(sol.times(), [1.0, 2.0, 3.0]);
+//! assert_eq!(steps, sol.stats.steps);
 //! ```
+//!
+//! A mechanism from the derive runs the same way through [`MechanicalSystem`]; a scene
+//! with friction, dash-pots or stops through [`solve_nonsmooth`], which returns the same
+//! [`Solution`] with force columns and its [`switches`](Solution::switches).
+//!
+//! # Thread safety
+//!
+//! Generated scenes are plain `f64` structs: `Send + Sync + Copy`. [`Solution`],
+//! [`Stats`], [`Options`], [`Problem`], [`NonSmoothProblem`] and the steppers are `Send +
+//! Sync`; a parameter sweep may run one integration per thread.
 mod error;
 pub mod liegroup;
 mod mechanical;
@@ -55,6 +95,7 @@ pub use numerics::control::PiController;
 pub use numerics::tableau;
 pub use options::Options;
 pub use problem::{FnSystem, OdeSystem, Problem};
+pub(crate) use solution::Keep;
 pub use solution::{Output, Solution, Switch, SwitchKind};
 pub use solve::{Observer, integrate, solve, solve_with};
 pub use stats::Stats;

@@ -81,6 +81,17 @@ pub struct Switch {
     pub jump: f64,
 }
 
+/// Whether an accepted step's row is kept whatever the [`Output`] says.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Keep {
+    /// As the output says.
+    AsAsked,
+    /// The last step of the run: kept by [`Output::Every`], not by [`Output::Times`].
+    Last,
+    /// The row just before an event: always kept.
+    Event,
+}
+
 /// How the interval ending at a row is interpolated.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Segment {
@@ -213,15 +224,14 @@ impl Solution {
     }
 
     /// An accepted step ending at `(t, y)` with derivative `dy`, and the method's dense
-    /// output over it (covering the first `dense_dim` columns), if it has one. `keep`
-    /// stores the row whatever the [`Output`] (event rows, the last row).
+    /// output over it (covering the first `dense_dim` columns), if it has one.
     pub(crate) fn push_step(
         &mut self,
         t: f64,
         y: &[f64],
         dy: &[f64],
         dense: Option<&DenseStep>,
-        keep: bool,
+        keep: Keep,
     ) {
         match self.output {
             Output::Steps => {
@@ -240,12 +250,12 @@ impl Solution {
             }
             Output::Every(k) => {
                 self.recorder.skipped += 1;
-                if keep || self.recorder.skipped >= k {
+                if keep != Keep::AsAsked || self.recorder.skipped >= k {
                     self.recorder.skipped = 0;
                     self.store(t, y, dy, HERMITE);
                 }
             }
-            Output::Times(_) => self.push_requested(t, y, dy, dense, keep),
+            Output::Times(_) => self.push_requested(t, y, dy, dense, keep == Keep::Event),
         }
         self.remember(t, y, dy);
     }
@@ -527,7 +537,8 @@ mod tests {
         for (a, b) in [(0.0, 0.5), (0.5, 1.5)] {
             let mut d = DenseStep::new(1);
             d.set_hermite(a, b - a, &[y(a)], &[dy(a)], &[y(b)], &[dy(b)]);
-            sol.push_step(b, &[y(b)], &[dy(b)], Some(&d), b == 1.5);
+            let keep = if b == 1.5 { Keep::Last } else { Keep::AsAsked };
+            sol.push_step(b, &[y(b)], &[dy(b)], Some(&d), keep);
         }
         sol
     }
@@ -554,7 +565,7 @@ mod tests {
     fn requested_times_are_evaluated_on_the_dense_output() {
         let y = |t: f64| t * t * t - 2.0 * t + 1.0;
         let sol = cubic_solution(Output::Times(vec![0.25, 0.5, 1.0, 1.4]));
-        assert_eq!(sol.times(), [0.25, 0.5, 1.0, 1.4, 1.5]);
+        assert_eq!(sol.times(), [0.25, 0.5, 1.0, 1.4]);
         for (t, row) in sol.rows() {
             assert!((row[0] - y(t)).abs() < 1e-14, "{t}");
         }

@@ -5,7 +5,7 @@
 use std::ops::ControlFlow;
 
 use crate::method::{Eval, Stepper, with_stepper};
-use crate::{ErrorKind, Method, OdeSystem, Problem, Solution, SolveError};
+use crate::{ErrorKind, Keep, Method, OdeSystem, Problem, Solution, SolveError};
 
 /// Sees every accepted step of an integration: `(t, y)` after the step. Returning
 /// `ControlFlow::Break(())` stops the integration with [`ErrorKind::Cancelled`] (the
@@ -124,7 +124,8 @@ where
     while stepper.t() < tf {
         stepper.step(&mut Eval::new(system, &mut sol.stats), tf)?;
         let t = stepper.t();
-        sol.push_step(t, stepper.y(), stepper.f(), Some(stepper.dense()), t >= tf);
+        let keep = if t >= tf { Keep::Last } else { Keep::AsAsked };
+        sol.push_step(t, stepper.y(), stepper.f(), Some(stepper.dense()), keep);
         if observer.observe(t, stepper.y()).is_break() {
             return Err(ErrorKind::Cancelled { t });
         }

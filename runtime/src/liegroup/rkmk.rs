@@ -46,7 +46,7 @@ use super::so3::{self, UnitQuat};
 use super::{LieState, LieSystem};
 use crate::numerics::tableau::{DOPRI5, DOPRI5_DENSE, dopri5_dense};
 use crate::numerics::{error_norm, underflow};
-use crate::{ErrorKind, Options, Output, PiController, Solution, SolveError, Stats};
+use crate::{ErrorKind, Keep, Options, Output, PiController, Solution, SolveError, Stats};
 use nalgebra::Vector3;
 
 /// An initial-value problem for a [`LieSystem`]: integrate from `(t0, y0)` to `tf ≥ t0`.
@@ -552,7 +552,7 @@ impl LieTrajectory {
         flat.extend_from_slice(&y.velocity);
         dflat.extend_from_slice(y.euclid_velocity());
         dflat.extend_from_slice(f);
-        self.flat.push_step(t, &flat, &dflat, None, false);
+        self.flat.push_step(t, &flat, &dflat, None, Keep::AsAsked);
     }
 
     /// The continuous extension of the interval ending at the last pushed point: a step
@@ -582,7 +582,7 @@ impl LieTrajectory {
                 self.flat.state(i),
                 self.flat.derivative(i),
                 None,
-                false,
+                Keep::AsAsked,
             );
         }
         flat.stats = self.flat.stats;

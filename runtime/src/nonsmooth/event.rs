@@ -94,7 +94,7 @@ use crate::nonsmooth::Element;
 use crate::numerics::rootfind::find_root;
 use crate::solve::{Observer, unobserved};
 use crate::{
-    Bdf, Dopri5, ErrorKind, OdeSystem, Options, Sdirk4, Solution, SolveError, Stats, Switch,
+    Bdf, Dopri5, ErrorKind, Keep, OdeSystem, Options, Sdirk4, Solution, SolveError, Stats, Switch,
     SwitchKind,
 };
 /// Samples of the switching functions per accepted step (the last at the step's end).
@@ -260,11 +260,11 @@ macro_rules! mode_system {
 enum Row<'d> {
     /// The first row of the integration.
     Start,
-    /// The end of an accepted step (or of a step cut at an event, `keep`), with the
-    /// method's dense output over it.
+    /// The end of an accepted step (or of a step cut at an event), with the method's
+    /// dense output over it.
     Step {
         dense: Option<&'d DenseStep>,
-        keep: bool,
+        keep: Keep,
     },
     /// A second row at the same time (after a switch).
     Jump,
@@ -429,14 +429,14 @@ where
                 None => {
                     let q = SVector::from_column_slice(&y1[..N]);
                     let v = SVector::from_column_slice(&y1[N..]);
-                    let last = t1 >= tf;
+                    let keep = if t1 >= tf { Keep::Last } else { Keep::AsAsked };
                     self.push_row(
                         t1,
                         &q,
                         &v,
                         Row::Step {
                             dense: Some(stepper.dense()),
-                            keep: last,
+                            keep,
                         },
                     )?;
                     self.t = t1;
@@ -667,7 +667,7 @@ where
             &v,
             Row::Step {
                 dense: Some(dense),
-                keep: true,
+                keep: Keep::Event,
             },
         )?;
         let old = self.modes.clone();
@@ -1031,7 +1031,7 @@ where
                 traj.state(i),
                 traj.derivative(i),
                 None,
-                false,
+                Keep::AsAsked,
             );
         }
         let (t, y) = traj.last().expect("time-stepping keeps the first row");

@@ -50,7 +50,7 @@ use nalgebra::{DMatrix, SMatrix, SVector};
 use super::law::{Graph, LawError, Line, Mode, StepState};
 use super::{ElementKind, NonSmooth, NonSmoothProblem};
 use crate::solve::{Observer, unobserved};
-use crate::{ErrorKind, Solution, SolveError};
+use crate::{ErrorKind, Keep, Solution, SolveError};
 
 /// Gauss–Seidel sweeps allowed per step for coupled elements.
 pub const MAX_SWEEPS: usize = 10_000;
@@ -262,7 +262,12 @@ where
             .chain((v_next - v).iter().map(|dv| dv / hn))
             .chain(f.iter().zip(&f_prev).map(|(a, b)| (a - b) / hn))
             .collect();
-        traj.push_step(t_next, &y, &dy, None, n + 1 == steps);
+        let keep = if n + 1 == steps {
+            Keep::Last
+        } else {
+            Keep::AsAsked
+        };
+        traj.push_step(t_next, &y, &dy, None, keep);
         traj.stats.steps += 1;
         (q, v, t) = (q_next, v_next, t_next);
         if observer.observe(t, &y[..2 * N]).is_break() {

@@ -7,6 +7,7 @@
 /// `sqrt(mean((e_i / (atol + rtol · max(|y0_i|, |y1_i|)))²)) ≤ 1` (Hairer, Nørsett &
 /// Wanner, *Solving ODEs I*, §II.4, eq. 4.11).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Options {
     /// Relative tolerance (default `1e-6`).
     pub rtol: f64,
@@ -18,7 +19,8 @@ pub struct Options {
     /// [`StepSizeUnderflow`](crate::ErrorKind::StepSizeUnderflow) (default `0`: only
     /// the round-off limit `h < 16 ε |t|` applies).
     pub h_min: f64,
-    /// Largest step (default `∞`).
+    /// Largest step (default `∞`; `null` in formats without infinity, such as JSON).
+    #[cfg_attr(feature = "serde", serde(with = "unbounded"))]
     pub h_max: f64,
     /// Largest number of step attempts, accepted or rejected (default `100 000`).
     pub max_steps: usize,
@@ -70,5 +72,19 @@ impl Options {
             return Err("max_steps must be positive".into());
         }
         Ok(())
+    }
+}
+
+/// `h_max = ∞` as `None`: JSON has no infinity.
+#[cfg(feature = "serde")]
+mod unbounded {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+        x.is_finite().then_some(*x).serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
     }
 }

@@ -11,6 +11,7 @@ use crate::numerics::dense::{DenseStep, eval_poly};
 
 /// Which rows a [`Solution`] keeps.
 #[derive(Clone, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum Output {
     /// Every accepted step, each with the method's dense output over it (default): `at`
@@ -52,6 +53,7 @@ impl Output {
 
 /// What happened at a switch of a non-smooth run.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum SwitchKind {
     /// The element's mode changed from `from` to `to`; `jump` is the change of its force
@@ -69,6 +71,7 @@ pub enum SwitchKind {
 
 /// One entry of a non-smooth solution's switch log.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Switch {
     pub t: f64,
     pub kind: SwitchKind,
@@ -94,6 +97,7 @@ pub(crate) enum Keep {
 
 /// How the interval ending at a row is interpolated.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct Segment {
     /// Start of its coefficients in `Solution::coeffs`.
     offset: usize,
@@ -127,6 +131,7 @@ const HERMITE: Segment = Segment {
 /// assert_eq!(sol.column("y0").unwrap().len(), sol.len());
 /// ```
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Solution {
     dim: usize,
     /// The leading components the dense output covers; later ones (element forces) are
@@ -149,6 +154,7 @@ pub struct Solution {
 
 /// What the row filter of [`Output`] remembers between steps.
 #[derive(Clone, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct Recorder {
     /// Accepted steps since the last kept row (`Every`).
     skipped: usize,
@@ -580,5 +586,45 @@ mod tests {
         assert!(Output::Every(0).validate(0.0, 1.0).is_err());
         assert!(Output::Times(vec![0.5, 0.2]).validate(0.0, 1.0).is_err());
         assert!(Output::Times(vec![1.5]).validate(0.0, 1.0).is_err());
+    }
+}
+
+#[cfg(all(test, feature = "serde"))]
+mod serde_tests {
+    use nalgebra::SVector;
+
+    use crate::nonsmooth::{NonSmoothMethod, NonSmoothProblem, law::test_systems::*};
+    use crate::{Options, Solution, Stats, solve_nonsmooth};
+
+    type V1 = SVector<f64, 1>;
+
+    fn free(_t: f64, _q: &V1, _v: &V1) -> V1 {
+        V1::zeros()
+    }
+
+    /// A non-smooth solution (rows, dense segments, switch log, statistics) and the
+    /// options survive a JSON round trip unchanged, and the restored solution
+    /// interpolates as the original.
+    #[test]
+    fn solution_round_trips_through_json() {
+        let sys = oscillator(
+            1.0,
+            1.0,
+            [dashpot("friction", 0, crate::nonsmooth::Law::Coulomb, 0.1)],
+            cubic,
+        );
+        let p = NonSmoothProblem::new(0.0, 20.0, V1::new(1.0), V1::new(0.0));
+        let sol = solve_nonsmooth(&sys, &free, &p, &NonSmoothMethod::default()).unwrap();
+        assert!(!sol.switches.is_empty());
+        let json = serde_json::to_string(&sol).unwrap();
+        let back: Solution = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, sol);
+        assert_eq!(back.at(3.3), sol.at(3.3));
+        let stats: Stats =
+            serde_json::from_str(&serde_json::to_string(&sol.stats).unwrap()).unwrap();
+        assert_eq!(stats, sol.stats);
+        let o = Options::tolerances(1e-7, 1e-9);
+        let back: Options = serde_json::from_str(&serde_json::to_string(&o).unwrap()).unwrap();
+        assert_eq!(back, o);
     }
 }

@@ -4,6 +4,7 @@ use std::fmt;
 
 /// What an integration cost. Compared across methods and versions instead of timings.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Stats {
     /// Accepted steps.
     pub steps: usize,

@@ -48,7 +48,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::stepper::{DenseStep, Eval, Stepper, check_budget};
+use super::stepper::{DenseStep, Eval, Stepper, check_budget, restart_step};
 use crate::numerics::newton::NewtonMatrix;
 use crate::numerics::{check_finite, error_norm, initial_step, underflow};
 use crate::{ErrorKind, OdeSystem, Options};
@@ -238,12 +238,13 @@ impl Stepper for BdfStepper {
         ev: &mut Eval<'_, S>,
         t: f64,
         y: &[f64],
+        span: f64,
     ) -> Result<(), ErrorKind> {
         self.t = t;
         self.y.copy_from_slice(y);
         ev.rhs(t, y, &mut self.f)?;
         self.newton.mark_stale();
-        self.h = self.h_next;
+        self.h = restart_step(ev, t, y, &self.f, span, 1, &self.options, self.h_next)?;
         self.reset_history();
         Ok(())
     }

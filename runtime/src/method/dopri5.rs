@@ -2,7 +2,7 @@
 //! ([`tableau::DOPRI5`](crate::tableau::DOPRI5)), following Hairer's `dopri5.f`
 //! (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.5–II.6).
 
-use super::stepper::{DenseStep, Eval, Stepper, check_budget};
+use super::stepper::{DenseStep, Eval, Stepper, check_budget, restart_step};
 use crate::numerics::control::PiController;
 use crate::numerics::tableau::{DOPRI5, DOPRI5_DENSE};
 use crate::numerics::{check_finite, error_norm, initial_step, underflow};
@@ -125,11 +125,14 @@ impl Stepper for Dopri5Stepper {
         ev: &mut Eval<'_, S>,
         t: f64,
         y: &[f64],
+        span: f64,
     ) -> Result<(), ErrorKind> {
         self.t = t;
         self.y.copy_from_slice(y);
         self.controller = PiController::new(4);
-        ev.rhs(t, y, &mut self.k[0])
+        ev.rhs(t, y, &mut self.k[0])?;
+        self.h = restart_step(ev, t, y, &self.k[0], span, 5, &self.options, self.h)?;
+        Ok(())
     }
 
     fn step<S: OdeSystem + ?Sized>(

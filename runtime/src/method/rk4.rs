@@ -88,7 +88,7 @@ impl Stepper for Rk4Stepper {
                 self.h
             )));
         }
-        self.restart(ev, t, y)
+        self.restart(ev, t, y, 0.0)
     }
 
     fn restart<S: OdeSystem + ?Sized>(
@@ -96,6 +96,7 @@ impl Stepper for Rk4Stepper {
         ev: &mut Eval<'_, S>,
         t: f64,
         y: &[f64],
+        _span: f64,
     ) -> Result<(), ErrorKind> {
         self.t = t;
         self.y.copy_from_slice(y);

@@ -15,7 +15,7 @@
 
 use nalgebra::DVector;
 
-use super::stepper::{DenseStep, Eval, Stepper, check_budget};
+use super::stepper::{DenseStep, Eval, Stepper, check_budget, restart_step};
 use crate::numerics::control::PiController;
 use crate::numerics::newton::NewtonMatrix;
 use crate::numerics::tableau::SDIRK4;
@@ -152,12 +152,15 @@ impl Stepper for Sdirk4Stepper {
         ev: &mut Eval<'_, S>,
         t: f64,
         y: &[f64],
+        span: f64,
     ) -> Result<(), ErrorKind> {
         self.t = t;
         self.y.copy_from_slice(y);
         self.controller = PiController::new(3);
         self.newton.mark_stale();
-        ev.rhs(t, y, &mut self.f)
+        ev.rhs(t, y, &mut self.f)?;
+        self.h = restart_step(ev, t, y, &self.f, span, 4, &self.options, self.h)?;
+        Ok(())
     }
 
     fn step<S: OdeSystem + ?Sized>(

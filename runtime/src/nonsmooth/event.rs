@@ -453,7 +453,12 @@ where
                     }
                     y = self.state();
                     let sys = mode_system!(self);
-                    stepper.restart(&mut Eval::new(&sys, &mut self.out.stats), self.t, &y)?;
+                    stepper.restart(
+                        &mut Eval::new(&sys, &mut self.out.stats),
+                        self.t,
+                        &y,
+                        tf - self.t,
+                    )?;
                     arming = self.arm(self.t, &y);
                 }
             }
@@ -493,6 +498,21 @@ where
         })?;
         let mut y: Vec<f64> = q.iter().chain(v.iter()).copied().collect();
         y.extend_from_slice(&ev.f);
+        if let Row::Step {
+            keep: Keep::Event, ..
+        } = row
+        {
+            // The row just before a break-away: the located state has the stuck force at
+            // ±f_crit up to the root finder's bracket (|f| may pass the bound by that
+            // round-off); the row shows the bound, as a slipping element's row shows
+            // v_c = 0 exactly.
+            for (e, el) in self.elements.iter().enumerate() {
+                if let (ElementKind::DashPot { f_crit, .. }, Mode::Stick) = (el.kind, self.modes[e])
+                {
+                    y[2 * N + e] = ev.f[e].clamp(-f_crit, f_crit);
+                }
+            }
+        }
         let mut dy: Vec<f64> = v.iter().chain(ev.a.iter()).copied().collect();
         dy.extend(std::iter::repeat_n(0.0, ev.f.len()));
         match row {

@@ -48,9 +48,9 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::stepper::{DenseStep, Eval, Stepper, check_budget, restart_step};
+use super::stepper::{Eval, StepState, Stepper, check_budget};
 use crate::numerics::newton::NewtonMatrix;
-use crate::numerics::{check_finite, error_norm, initial_step, underflow};
+use crate::numerics::{check_finite, error_norm, underflow};
 use crate::{ErrorKind, OdeSystem, Options};
 
 /// Highest order.
@@ -111,16 +111,12 @@ impl Bdf {
     /// The stepping state for states of `dim` components.
     pub fn stepper(&self, dim: usize) -> BdfStepper {
         BdfStepper {
-            options: self.options,
+            s: StepState::new(dim, self.options),
             gamma: gamma(),
             newton: NewtonMatrix::new(dim),
-            t: 0.0,
-            h: 0.0,
             h_next: 0.0,
             order: 1,
             equal_steps: 0,
-            y: vec![0.0; dim],
-            f: vec![0.0; dim],
             diff: vec![vec![0.0; dim]; MAX_ORDER + 3],
             y1: vec![0.0; dim],
             y_prev: vec![0.0; dim],
@@ -130,7 +126,6 @@ impl Bdf {
             delta: DVector::zeros(dim),
             correction: vec![0.0; dim],
             scratch: vec![0.0; dim],
-            dense: DenseStep::new(dim),
         }
     }
 }
@@ -138,18 +133,14 @@ impl Bdf {
 /// The state of a [`Bdf`] integration (see [`Stepper`]).
 #[derive(Debug)]
 pub struct BdfStepper {
-    options: Options,
+    /// `s.h` is the spacing of the differences in `diff`.
+    s: StepState,
     gamma: [f64; MAX_ORDER + 2],
     newton: NewtonMatrix,
-    t: f64,
-    /// The spacing of the differences in `diff`.
-    h: f64,
     /// The spacing wanted for the next step.
     h_next: f64,
     order: usize,
     equal_steps: usize,
-    y: Vec<f64>,
-    f: Vec<f64>,
     /// `D_j = ∇ʲ y_n` at spacing `h`, `j = 0 … MAX_ORDER + 2`.
     diff: Vec<Vec<f64>>,
     y1: Vec<f64>,
@@ -160,26 +151,25 @@ pub struct BdfStepper {
     delta: DVector<f64>,
     correction: Vec<f64>,
     scratch: Vec<f64>,
-    dense: DenseStep,
 }
 
 impl BdfStepper {
     /// Order 1 from the current point, differences at spacing `h`.
     fn reset_history(&mut self) {
-        self.diff[0].copy_from_slice(&self.y);
-        for (d, fi) in self.diff[1].iter_mut().zip(&self.f) {
-            *d = self.h * fi;
+        self.diff[0].copy_from_slice(&self.s.y);
+        for (d, fi) in self.diff[1].iter_mut().zip(&self.s.f) {
+            *d = self.s.h * fi;
         }
         self.order = 1;
         self.equal_steps = 0;
-        self.h_next = self.h;
+        self.h_next = self.s.h;
     }
 
     /// The interpolating polynomial of the accepted step from `t0` (see the module
     /// documentation) into `dense`, in powers of `θ = s + 1`.
     fn set_dense(&mut self, t0: f64) {
-        let (n, k) = (self.y.len(), self.order);
-        let c = self.dense.reset(t0, self.h, k);
+        let (n, k) = (self.s.y.len(), self.order);
+        let c = self.s.dense.reset(t0, self.s.h, k);
         // basis_j(θ) = Π_{m<j} (θ − 1 + m)/(m + 1), built up one factor at a time.
         let mut basis = [0.0; MAX_ORDER + 1];
         basis[0] = 1.0;
@@ -208,8 +198,8 @@ impl Stepper for BdfStepper {
         "BDF"
     }
 
-    fn options(&self) -> Options {
-        self.options
+    fn state(&self) -> &StepState {
+        &self.s
     }
 
     fn start<S: OdeSystem + ?Sized>(
@@ -219,16 +209,8 @@ impl Stepper for BdfStepper {
         y: &[f64],
         span: f64,
     ) -> Result<(), ErrorKind> {
-        self.options.validate().map_err(ErrorKind::InvalidInput)?;
-        self.t = t;
-        self.y.copy_from_slice(y);
-        ev.rhs(t, y, &mut self.f)?;
+        self.s.begin(ev, t, y, span, 1)?;
         self.newton = NewtonMatrix::new(y.len());
-        if span > 0.0 {
-            self.h = initial_step(t, y, &self.f, span, 1, &self.options, |t, y, dy| {
-                ev.rhs(t, y, dy)
-            })?;
-        }
         self.reset_history();
         Ok(())
     }
@@ -240,11 +222,8 @@ impl Stepper for BdfStepper {
         y: &[f64],
         span: f64,
     ) -> Result<(), ErrorKind> {
-        self.t = t;
-        self.y.copy_from_slice(y);
-        ev.rhs(t, y, &mut self.f)?;
+        self.s.resume(ev, t, y, span, 1, self.h_next)?;
         self.newton.mark_stale();
-        self.h = restart_step(ev, t, y, &self.f, span, 1, &self.options, self.h_next)?;
         self.reset_history();
         Ok(())
     }
@@ -254,33 +233,33 @@ impl Stepper for BdfStepper {
         ev: &mut Eval<'_, S>,
         t_end: f64,
     ) -> Result<(), ErrorKind> {
-        let n = self.y.len();
+        let n = self.s.y.len();
         let mut failures = 0;
         // A non-finite rhs value met ahead of the current time (see `Sdirk4`): a
         // Newton failure, but what is reported if the step then underflows.
         let mut non_finite_ahead: Option<ErrorKind> = None;
         loop {
-            let t = self.t;
-            check_budget(ev.stats, &self.options, t)?;
-            let mut h_new = self.h_next.min(self.options.h_max);
+            let t = self.s.t;
+            check_budget(ev.stats, &self.s.options, t)?;
+            let mut h_new = self.h_next.min(self.s.options.h_max);
             let last = t + 1.01 * h_new >= t_end;
             if last {
                 h_new = t_end - t;
             }
-            if underflow(t, h_new, &self.options) {
+            if underflow(t, h_new, &self.s.options) {
                 return Err(
                     non_finite_ahead.unwrap_or(ErrorKind::StepSizeUnderflow { t, h: h_new })
                 );
             }
-            if h_new != self.h {
-                rescale(&mut self.diff, self.order, h_new / self.h);
-                self.h = h_new;
+            if h_new != self.s.h {
+                rescale(&mut self.diff, self.order, h_new / self.s.h);
+                self.s.h = h_new;
                 self.equal_steps = 0;
             }
-            let (h, order) = (self.h, self.order);
+            let (h, order) = (self.s.h, self.order);
             self.h_next = h;
             self.newton
-                .update_jacobian(ev, t, &self.y, &mut self.scratch, true)?;
+                .update_jacobian(ev, t, &self.s.y, &mut self.scratch, true)?;
             let c = h / self.gamma[order];
             self.newton.factor(c, &mut ev.stats.lu_factorisations);
             // Predictor and the constant part ψ of the corrector.
@@ -318,7 +297,7 @@ impl Stepper for BdfStepper {
             for (e, d) in self.scratch.iter_mut().zip(&self.correction) {
                 *e = error_constant(order) * d;
             }
-            let err = error_norm(&self.scratch, &self.y, &self.y1, &self.options);
+            let err = error_norm(&self.scratch, &self.s.y, &self.y1, &self.s.options);
             if err > 1.0 {
                 ev.stats.rejected_steps += 1;
                 let factor = (safety * err.powf(-1.0 / (order + 1) as f64)).max(MIN_FACTOR);
@@ -337,11 +316,11 @@ impl Stepper for BdfStepper {
                 }
             }
             self.set_dense(t);
-            self.t = t1;
-            self.y_prev.copy_from_slice(&self.y);
-            self.y.copy_from_slice(&self.y1);
+            self.s.t = t1;
+            self.y_prev.copy_from_slice(&self.s.y);
+            self.s.y.copy_from_slice(&self.y1);
             for i in 0..n {
-                self.f[i] = (self.psi[i] + self.correction[i]) / c;
+                self.s.f[i] = (self.psi[i] + self.correction[i]) / c;
             }
             ev.stats.steps += 1;
             self.newton.jac_current = false;
@@ -352,22 +331,6 @@ impl Stepper for BdfStepper {
             return Ok(());
         }
     }
-
-    fn t(&self) -> f64 {
-        self.t
-    }
-
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-
-    fn f(&self) -> &[f64] {
-        &self.f
-    }
-
-    fn dense(&self) -> &DenseStep {
-        &self.dense
-    }
 }
 
 impl BdfStepper {
@@ -375,7 +338,7 @@ impl BdfStepper {
     /// accepted step with error `err`.
     fn select_order(&mut self, err: f64, safety: f64) {
         let order = self.order;
-        let (y_prev, y, opts) = (&self.y_prev, &self.y, &self.options);
+        let (y_prev, y, opts) = (&self.y_prev, &self.s.y, &self.s.options);
         let scratch = &mut self.scratch;
         let mut estimate = |k: usize, d: &[f64]| {
             for (e, x) in scratch.iter_mut().zip(d) {
@@ -402,7 +365,7 @@ impl BdfStepper {
             .max_by(|&a, &b| factors[a].total_cmp(&factors[b]))
             .expect("three candidates");
         self.order = order + best - 1;
-        self.h_next = self.h * (safety * factors[best]).min(MAX_FACTOR);
+        self.h_next = self.s.h * (safety * factors[best]).min(MAX_FACTOR);
     }
 
     /// Simplified Newton for the correction `d`: on entry `y1` is the predictor, on
@@ -421,8 +384,8 @@ impl BdfStepper {
         // Stop when the estimated remaining error is a small fraction of the tolerance
         // (Shampine & Reichelt's choice), never below ten round-offs of `y`.
         let roundoff =
-            10.0 * f64::EPSILON * error_norm(predictor, predictor, predictor, &self.options);
-        let tol = self.options.rtol.sqrt().min(0.03).max(roundoff);
+            10.0 * f64::EPSILON * error_norm(predictor, predictor, predictor, &self.s.options);
+        let tol = self.s.options.rtol.sqrt().min(0.03).max(roundoff);
         correction.fill(0.0);
         let mut norm_prev = f64::NAN;
         for iteration in 0..MAX_NEWTON_ITERATIONS {
@@ -438,7 +401,7 @@ impl BdfStepper {
             if !lu.solve_mut(delta) {
                 return NewtonOutcome::Failed { non_finite: None };
             }
-            let norm = error_norm(delta.as_slice(), predictor, predictor, &self.options);
+            let norm = error_norm(delta.as_slice(), predictor, predictor, &self.s.options);
             let rate = norm / norm_prev;
             if iteration > 0 {
                 // Diverging, or predicted not to converge in the iterations left.

@@ -2,10 +2,10 @@
 //! ([`tableau::DOPRI5`](crate::tableau::DOPRI5)), following Hairer's `dopri5.f`
 //! (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.5–II.6).
 
-use super::stepper::{DenseStep, Eval, Stepper, check_budget, restart_step};
+use super::stepper::{Eval, StepState, Stepper, check_budget};
 use crate::numerics::control::PiController;
 use crate::numerics::tableau::{DOPRI5, DOPRI5_DENSE};
-use crate::numerics::{check_finite, error_norm, initial_step, underflow};
+use crate::numerics::{check_finite, error_norm, underflow};
 use crate::{ErrorKind, OdeSystem, Options};
 
 /// Adaptive Dormand–Prince 5(4) with local extrapolation (the fifth-order solution is
@@ -34,17 +34,13 @@ impl Dopri5 {
     /// The stepping state for states of `dim` components.
     pub fn stepper(&self, dim: usize) -> Dopri5Stepper {
         Dopri5Stepper {
-            options: self.options,
+            s: StepState::new(dim, self.options),
             controller: PiController::new(4),
-            t: 0.0,
-            h: 0.0,
-            y: vec![0.0; dim],
             k: std::array::from_fn(|_| vec![0.0; dim]),
             y1: vec![0.0; dim],
             scratch: vec![0.0; dim],
             err: vec![0.0; dim],
             r5: vec![0.0; dim],
-            dense: DenseStep::new(dim),
         }
     }
 }
@@ -52,19 +48,14 @@ impl Dopri5 {
 /// The state of a [`Dopri5`] integration (see [`Stepper`]).
 #[derive(Clone, Debug)]
 pub struct Dopri5Stepper {
-    options: Options,
+    s: StepState,
     controller: PiController,
-    t: f64,
-    /// Next step to try.
-    h: f64,
-    y: Vec<f64>,
-    /// Stage derivatives `k_1 … k_7`; `k_7 = f(t + h, y_1)` is the next `k_1`.
+    /// Stage derivatives `k_1 … k_7` (`k_1 = f`); `k_7 = f(t + h, y_1)` is the next `k_1`.
     k: [Vec<f64>; 7],
     y1: Vec<f64>,
     scratch: Vec<f64>,
     err: Vec<f64>,
     r5: Vec<f64>,
-    dense: DenseStep,
 }
 
 impl Dopri5Stepper {
@@ -74,7 +65,7 @@ impl Dopri5Stepper {
         ev: &mut Eval<'_, S>,
         h: f64,
     ) -> Result<(), ErrorKind> {
-        let (t, y) = (self.t, &self.y);
+        let (t, y) = (self.s.t, &self.s.y);
         for s in 1..7 {
             for (i, x) in self.scratch.iter_mut().enumerate() {
                 *x = y[i] + h * (0..s).map(|j| DOPRI5.a(s, j) * self.k[j][i]).sum::<f64>();
@@ -96,8 +87,8 @@ impl Stepper for Dopri5Stepper {
         "DOPRI5"
     }
 
-    fn options(&self) -> Options {
-        self.options
+    fn state(&self) -> &StepState {
+        &self.s
     }
 
     fn start<S: OdeSystem + ?Sized>(
@@ -107,16 +98,9 @@ impl Stepper for Dopri5Stepper {
         y: &[f64],
         span: f64,
     ) -> Result<(), ErrorKind> {
-        self.options.validate().map_err(ErrorKind::InvalidInput)?;
-        self.t = t;
-        self.y.copy_from_slice(y);
-        ev.rhs(t, y, &mut self.k[0])?;
+        self.s.begin(ev, t, y, span, 5)?;
+        self.k[0].copy_from_slice(&self.s.f);
         self.controller = PiController::new(4);
-        if span > 0.0 {
-            self.h = initial_step(t, y, &self.k[0], span, 5, &self.options, |t, y, dy| {
-                ev.rhs(t, y, dy)
-            })?;
-        }
         Ok(())
     }
 
@@ -127,11 +111,9 @@ impl Stepper for Dopri5Stepper {
         y: &[f64],
         span: f64,
     ) -> Result<(), ErrorKind> {
-        self.t = t;
-        self.y.copy_from_slice(y);
+        self.s.resume(ev, t, y, span, 5, self.s.h)?;
+        self.k[0].copy_from_slice(&self.s.f);
         self.controller = PiController::new(4);
-        ev.rhs(t, y, &mut self.k[0])?;
-        self.h = restart_step(ev, t, y, &self.k[0], span, 5, &self.options, self.h)?;
         Ok(())
     }
 
@@ -142,54 +124,40 @@ impl Stepper for Dopri5Stepper {
     ) -> Result<(), ErrorKind> {
         let e = DOPRI5.error_weights();
         loop {
-            check_budget(ev.stats, &self.options, self.t)?;
-            let t = self.t;
-            let mut h = self.h.min(self.options.h_max);
+            check_budget(ev.stats, &self.s.options, self.s.t)?;
+            let t = self.s.t;
+            let mut h = self.s.h.min(self.s.options.h_max);
             // Stretch the last step to hit t_end rather than leave a sliver.
             let last = t + 1.01 * h >= t_end;
             if last {
                 h = t_end - t;
             }
-            if underflow(t, h, &self.options) {
+            if underflow(t, h, &self.s.options) {
                 return Err(ErrorKind::StepSizeUnderflow { t, h });
             }
             self.stages(ev, h)?;
             for (i, ei) in self.err.iter_mut().enumerate() {
                 *ei = h * (0..7).map(|j| e[j] * self.k[j][i]).sum::<f64>();
             }
-            let err = error_norm(&self.err, &self.y, &self.y1, &self.options);
+            let err = error_norm(&self.err, &self.s.y, &self.y1, &self.s.options);
             if err <= 1.0 {
                 for (i, r) in self.r5.iter_mut().enumerate() {
                     *r = h * (0..7).map(|j| DOPRI5_DENSE[j] * self.k[j][i]).sum::<f64>();
                 }
-                self.dense
-                    .set_dopri5(t, h, &self.y, &self.y1, &self.k[0], &self.k[6], &self.r5);
-                self.t = if last { t_end } else { t + h };
-                self.y.copy_from_slice(&self.y1);
+                self.s
+                    .dense
+                    .set_dopri5(t, h, &self.s.y, &self.y1, &self.k[0], &self.k[6], &self.r5);
+                self.s.t = if last { t_end } else { t + h };
+                self.s.y.copy_from_slice(&self.y1);
                 let (first, rest) = self.k.split_at_mut(6);
                 first[0].copy_from_slice(&rest[0]);
+                self.s.f.copy_from_slice(&rest[0]);
                 ev.stats.steps += 1;
-                self.h = h * self.controller.accept(err);
+                self.s.h = h * self.controller.accept(err);
                 return Ok(());
             }
             ev.stats.rejected_steps += 1;
-            self.h = h * self.controller.reject(err);
+            self.s.h = h * self.controller.reject(err);
         }
-    }
-
-    fn t(&self) -> f64 {
-        self.t
-    }
-
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-
-    fn f(&self) -> &[f64] {
-        &self.k[0]
-    }
-
-    fn dense(&self) -> &DenseStep {
-        &self.dense
     }
 }

@@ -1,6 +1,6 @@
 //! The classic fourth-order Runge–Kutta method with a fixed step ([`tableau::RK4`](crate::tableau::RK4)).
 
-use super::stepper::{DenseStep, Eval, Stepper};
+use super::stepper::{Eval, StepState, Stepper};
 use crate::numerics::check_finite;
 use crate::numerics::tableau::RK4;
 use crate::{ErrorKind, OdeSystem, Options};
@@ -32,14 +32,18 @@ impl Rk4 {
 
     /// The stepping state for states of `dim` components.
     pub fn stepper(&self, dim: usize) -> Rk4Stepper {
+        let options = Options {
+            h0: Some(self.h),
+            max_steps: usize::MAX,
+            ..Options::default()
+        };
+        let mut s = StepState::new(dim, options);
+        s.h = self.h;
         Rk4Stepper {
-            h: self.h,
-            t: 0.0,
-            y: vec![0.0; dim],
+            s,
             k: vec![vec![0.0; dim]; 4],
             stage: vec![0.0; dim],
             f_next: vec![0.0; dim],
-            dense: DenseStep::new(dim),
             plan: (f64::NAN, 0),
         }
     }
@@ -48,14 +52,12 @@ impl Rk4 {
 /// The state of an [`Rk4`] integration (see [`Stepper`]).
 #[derive(Clone, Debug)]
 pub struct Rk4Stepper {
-    h: f64,
-    t: f64,
-    y: Vec<f64>,
+    /// `s.h` is the fixed step; `s.options` the defaults with it as `h0`.
+    s: StepState,
     /// Stage derivatives; `k[0] = f(t, y)`.
     k: Vec<Vec<f64>>,
     stage: Vec<f64>,
     f_next: Vec<f64>,
-    dense: DenseStep,
     /// The `t_end` the steps were counted for, and how many are left: counted once, so
     /// that round-off in the accumulated time cannot add a sliver step.
     plan: (f64, usize),
@@ -66,13 +68,8 @@ impl Stepper for Rk4Stepper {
         "RK4"
     }
 
-    /// Defaults with `h0` set to the fixed step (no step limit applies).
-    fn options(&self) -> Options {
-        Options {
-            h0: Some(self.h),
-            max_steps: usize::MAX,
-            ..Options::default()
-        }
+    fn state(&self) -> &StepState {
+        &self.s
     }
 
     fn start<S: OdeSystem + ?Sized>(
@@ -82,10 +79,10 @@ impl Stepper for Rk4Stepper {
         y: &[f64],
         _span: f64,
     ) -> Result<(), ErrorKind> {
-        if !(self.h.is_finite() && self.h > 0.0) {
+        if !(self.s.h.is_finite() && self.s.h > 0.0) {
             return Err(ErrorKind::InvalidInput(format!(
                 "step size h = {} must be positive and finite",
-                self.h
+                self.s.h
             )));
         }
         self.restart(ev, t, y, 0.0)
@@ -98,10 +95,12 @@ impl Stepper for Rk4Stepper {
         y: &[f64],
         _span: f64,
     ) -> Result<(), ErrorKind> {
-        self.t = t;
-        self.y.copy_from_slice(y);
+        self.s.t = t;
+        self.s.y.copy_from_slice(y);
         self.plan = (f64::NAN, 0);
-        ev.rhs(t, y, &mut self.k[0])
+        ev.rhs(t, y, &mut self.s.f)?;
+        self.k[0].copy_from_slice(&self.s.f);
+        Ok(())
     }
 
     fn step<S: OdeSystem + ?Sized>(
@@ -109,54 +108,40 @@ impl Stepper for Rk4Stepper {
         ev: &mut Eval<'_, S>,
         t_end: f64,
     ) -> Result<(), ErrorKind> {
-        let n = self.y.len();
-        let t = self.t;
+        let n = self.s.y.len();
+        let t = self.s.t;
         if self.plan.0 != t_end {
             self.plan = (
                 t_end,
-                ((t_end - t) / self.h * (1.0 - 1e-12)).ceil() as usize,
+                ((t_end - t) / self.s.h * (1.0 - 1e-12)).ceil() as usize,
             );
         }
         let last = self.plan.1 <= 1;
         self.plan.1 = self.plan.1.saturating_sub(1);
-        let h = if last { t_end - t } else { self.h };
+        let h = if last { t_end - t } else { self.s.h };
         for s in 1..4 {
             for i in 0..n {
                 self.stage[i] =
-                    self.y[i] + h * (0..s).map(|j| RK4.a(s, j) * self.k[j][i]).sum::<f64>();
+                    self.s.y[i] + h * (0..s).map(|j| RK4.a(s, j) * self.k[j][i]).sum::<f64>();
             }
             let (_, rest) = self.k.split_at_mut(s);
             ev.rhs(t + RK4.c[s] * h, &self.stage, &mut rest[0])?;
         }
         // y1 into `stage`, keeping y for the dense output.
         for i in 0..n {
-            self.stage[i] = self.y[i] + h * (0..4).map(|j| RK4.b[j] * self.k[j][i]).sum::<f64>();
+            self.stage[i] = self.s.y[i] + h * (0..4).map(|j| RK4.b[j] * self.k[j][i]).sum::<f64>();
         }
         let t1 = if last { t_end } else { t + h };
         check_finite(t1, &self.stage)?;
         ev.rhs(t1, &self.stage, &mut self.f_next)?;
-        self.dense
-            .set_hermite(t, h, &self.y, &self.k[0], &self.stage, &self.f_next);
-        self.t = t1;
-        self.y.copy_from_slice(&self.stage);
+        self.s
+            .dense
+            .set_hermite(t, h, &self.s.y, &self.k[0], &self.stage, &self.f_next);
+        self.s.t = t1;
+        self.s.y.copy_from_slice(&self.stage);
         self.k[0].copy_from_slice(&self.f_next);
+        self.s.f.copy_from_slice(&self.f_next);
         ev.stats.steps += 1;
         Ok(())
-    }
-
-    fn t(&self) -> f64 {
-        self.t
-    }
-
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-
-    fn f(&self) -> &[f64] {
-        &self.k[0]
-    }
-
-    fn dense(&self) -> &DenseStep {
-        &self.dense
     }
 }

@@ -15,11 +15,11 @@
 
 use nalgebra::DVector;
 
-use super::stepper::{DenseStep, Eval, Stepper, check_budget, restart_step};
+use super::stepper::{Eval, StepState, Stepper, check_budget};
 use crate::numerics::control::PiController;
 use crate::numerics::newton::NewtonMatrix;
 use crate::numerics::tableau::SDIRK4;
-use crate::numerics::{error_norm, initial_step, underflow};
+use crate::numerics::{error_norm, underflow};
 use crate::{ErrorKind, OdeSystem, Options};
 
 /// Newton iterations per stage before the step counts as failed.
@@ -75,21 +75,16 @@ impl Sdirk4 {
     /// The stepping state for states of `dim` components.
     pub fn stepper(&self, dim: usize) -> Sdirk4Stepper {
         Sdirk4Stepper {
-            options: self.options,
+            s: StepState::new(dim, self.options),
             controller: PiController::new(3),
             newton: NewtonMatrix::new(dim),
             eta: 1.0,
-            t: 0.0,
-            h: 0.0,
-            y: vec![0.0; dim],
-            f: vec![0.0; dim],
             stage_f: vec![vec![0.0; dim]; SDIRK4.stages()],
             y1: vec![0.0; dim],
             base: vec![0.0; dim],
             z: vec![0.0; dim],
             fz: vec![0.0; dim],
             delta: DVector::zeros(dim),
-            dense: DenseStep::new(dim),
         }
     }
 }
@@ -97,23 +92,17 @@ impl Sdirk4 {
 /// The state of an [`Sdirk4`] integration (see [`Stepper`]).
 #[derive(Debug)]
 pub struct Sdirk4Stepper {
-    options: Options,
+    s: StepState,
     controller: PiController,
     newton: NewtonMatrix,
     /// Last convergence-rate estimate `η`, carried across stages (Hairer's `FACCON`).
     eta: f64,
-    t: f64,
-    /// Next step to try.
-    h: f64,
-    y: Vec<f64>,
-    f: Vec<f64>,
     stage_f: Vec<Vec<f64>>,
     y1: Vec<f64>,
     base: Vec<f64>,
     z: Vec<f64>,
     fz: Vec<f64>,
     delta: DVector<f64>,
-    dense: DenseStep,
 }
 
 impl Stepper for Sdirk4Stepper {
@@ -121,8 +110,8 @@ impl Stepper for Sdirk4Stepper {
         "SDIRK4"
     }
 
-    fn options(&self) -> Options {
-        self.options
+    fn state(&self) -> &StepState {
+        &self.s
     }
 
     fn start<S: OdeSystem + ?Sized>(
@@ -132,18 +121,10 @@ impl Stepper for Sdirk4Stepper {
         y: &[f64],
         span: f64,
     ) -> Result<(), ErrorKind> {
-        self.options.validate().map_err(ErrorKind::InvalidInput)?;
-        self.t = t;
-        self.y.copy_from_slice(y);
-        ev.rhs(t, y, &mut self.f)?;
+        self.s.begin(ev, t, y, span, 4)?;
         self.controller = PiController::new(3);
         self.newton = NewtonMatrix::new(y.len());
         self.eta = 1.0;
-        if span > 0.0 {
-            self.h = initial_step(t, y, &self.f, span, 4, &self.options, |t, y, dy| {
-                ev.rhs(t, y, dy)
-            })?;
-        }
         Ok(())
     }
 
@@ -154,12 +135,9 @@ impl Stepper for Sdirk4Stepper {
         y: &[f64],
         span: f64,
     ) -> Result<(), ErrorKind> {
-        self.t = t;
-        self.y.copy_from_slice(y);
+        self.s.resume(ev, t, y, span, 4, self.s.h)?;
         self.controller = PiController::new(3);
         self.newton.mark_stale();
-        ev.rhs(t, y, &mut self.f)?;
-        self.h = restart_step(ev, t, y, &self.f, span, 4, &self.options, self.h)?;
         Ok(())
     }
 
@@ -168,7 +146,7 @@ impl Stepper for Sdirk4Stepper {
         ev: &mut Eval<'_, S>,
         t_end: f64,
     ) -> Result<(), ErrorKind> {
-        let n = self.y.len();
+        let n = self.s.y.len();
         let s = SDIRK4.stages();
         let gamma = SDIRK4.a(0, 0);
         let e = SDIRK4.error_weights();
@@ -178,18 +156,18 @@ impl Stepper for Sdirk4Stepper {
         // size then underflows in front of it, it is what gets reported.
         let mut non_finite_ahead: Option<ErrorKind> = None;
         loop {
-            let t = self.t;
-            check_budget(ev.stats, &self.options, t)?;
-            let mut h = self.h.min(self.options.h_max);
+            let t = self.s.t;
+            check_budget(ev.stats, &self.s.options, t)?;
+            let mut h = self.s.h.min(self.s.options.h_max);
             let last = t + 1.01 * h >= t_end;
             if last {
                 h = t_end - t;
             }
-            if underflow(t, h, &self.options) {
+            if underflow(t, h, &self.s.options) {
                 return Err(non_finite_ahead.unwrap_or(ErrorKind::StepSizeUnderflow { t, h }));
             }
             self.newton
-                .update_jacobian(ev, t, &self.y, &mut self.f, false)?;
+                .update_jacobian(ev, t, &self.s.y, &mut self.s.f, false)?;
             self.newton
                 .factor(h * gamma, &mut ev.stats.lu_factorisations);
             match self.stages(ev, t, h) {
@@ -203,7 +181,7 @@ impl Stepper for Sdirk4Stepper {
                         return Err(non_finite_ahead.unwrap_or(ErrorKind::NewtonDivergence { t }));
                     }
                     self.newton.refresh_if_stale();
-                    self.h = 0.5 * h;
+                    self.s.h = 0.5 * h;
                 }
                 StageOutcome::Converged { theta_max } => {
                     failures = 0;
@@ -217,23 +195,24 @@ impl Stepper for Sdirk4Stepper {
                     if !self.newton.lu().solve_mut(&mut err) {
                         err.fill(f64::INFINITY);
                     }
-                    let err = error_norm(err.as_slice(), &self.y, &self.y1, &self.options);
+                    let err = error_norm(err.as_slice(), &self.s.y, &self.y1, &self.s.options);
                     if err <= 1.0 {
                         let t1 = if last { t_end } else { t + h };
                         // f at the new point into `fz` first: the dense output needs
                         // both ends.
                         ev.rhs(t1, &self.y1, &mut self.fz)?;
-                        self.dense
-                            .set_hermite(t, h, &self.y, &self.f, &self.y1, &self.fz);
-                        self.t = t1;
-                        self.y.copy_from_slice(&self.y1);
-                        self.f.copy_from_slice(&self.fz);
+                        self.s
+                            .dense
+                            .set_hermite(t, h, &self.s.y, &self.s.f, &self.y1, &self.fz);
+                        self.s.t = t1;
+                        self.s.y.copy_from_slice(&self.y1);
+                        self.s.f.copy_from_slice(&self.fz);
                         ev.stats.steps += 1;
                         self.newton.jac_current = false;
                         self.newton.jac_needed = theta_max > THETA_REUSE_JACOBIAN;
                         let fac = self.controller.accept(err);
                         // Keep h (and the LU) when it would grow only a little.
-                        self.h = if (1.0..=1.2).contains(&fac) {
+                        self.s.h = if (1.0..=1.2).contains(&fac) {
                             h
                         } else {
                             h * fac
@@ -241,27 +220,11 @@ impl Stepper for Sdirk4Stepper {
                         return Ok(());
                     }
                     ev.stats.rejected_steps += 1;
-                    self.h = h * self.controller.reject(err);
+                    self.s.h = h * self.controller.reject(err);
                     self.newton.refresh_if_stale();
                 }
             }
         }
-    }
-
-    fn t(&self) -> f64 {
-        self.t
-    }
-
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-
-    fn f(&self) -> &[f64] {
-        &self.f
-    }
-
-    fn dense(&self) -> &DenseStep {
-        &self.dense
     }
 }
 
@@ -274,14 +237,14 @@ impl Sdirk4Stepper {
         t: f64,
         h: f64,
     ) -> StageOutcome {
-        let n = self.y.len();
+        let n = self.s.y.len();
         let gamma = SDIRK4.a(0, 0);
         let hg = h * gamma;
-        let y = &self.y;
+        let y = &self.s.y;
         let mut theta_max: f64 = 0.0;
         // Never ask for less than ten round-offs of `y` (as RADAU5's `10 uround / rtol`,
         // but also valid when `rtol = 0`).
-        let roundoff = 10.0 * f64::EPSILON * error_norm(y, y, y, &self.options);
+        let roundoff = 10.0 * f64::EPSILON * error_norm(y, y, y, &self.s.options);
         let newton_tol = (KAPPA / (10.0 * newton_amplification())).max(roundoff);
         let lu = self.newton.lu();
         for i in 0..SDIRK4.stages() {
@@ -292,7 +255,7 @@ impl Sdirk4Stepper {
                         .sum::<f64>();
                 // Predictor: the previous stage's derivative (f(t, y) for the first).
                 let guess = if i == 0 {
-                    self.f[k]
+                    self.s.f[k]
                 } else {
                     self.stage_f[i - 1][k]
                 };
@@ -314,7 +277,7 @@ impl Sdirk4Stepper {
                 if !lu.solve_mut(&mut self.delta) {
                     return StageOutcome::Failed { non_finite: None };
                 }
-                let norm = error_norm(self.delta.as_slice(), y, y, &self.options);
+                let norm = error_norm(self.delta.as_slice(), y, y, &self.s.options);
                 if iteration > 0 {
                     let theta = norm / norm_prev;
                     theta_max = theta_max.max(theta);

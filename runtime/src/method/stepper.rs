@@ -32,14 +32,87 @@ pub use crate::numerics::dense::DenseStep;
 pub use crate::numerics::eval::Eval;
 use crate::{ErrorKind, OdeSystem, Options};
 
+/// What every stepper keeps: the current point and its derivative, the next step to
+/// try, the last step's dense output, and the options.
+#[derive(Clone, Debug)]
+pub struct StepState {
+    pub t: f64,
+    /// Next step to try.
+    pub h: f64,
+    pub y: Vec<f64>,
+    /// `f(t, y)` (for BDF, the derivative its formula assigns to the point).
+    pub f: Vec<f64>,
+    /// The continuous extension over the last accepted step.
+    pub dense: DenseStep,
+    pub options: Options,
+}
+
+impl StepState {
+    pub(crate) fn new(dim: usize, options: Options) -> Self {
+        StepState {
+            t: 0.0,
+            h: 0.0,
+            y: vec![0.0; dim],
+            f: vec![0.0; dim],
+            dense: DenseStep::new(dim),
+            options,
+        }
+    }
+
+    /// [`Stepper::start`] for a method of `order`: checks the options, evaluates `f` and
+    /// chooses the first step (when `span > 0`).
+    pub(crate) fn begin<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+        span: f64,
+        order: u32,
+    ) -> Result<(), ErrorKind> {
+        self.options.validate().map_err(ErrorKind::InvalidInput)?;
+        self.t = t;
+        self.y.copy_from_slice(y);
+        ev.rhs(t, y, &mut self.f)?;
+        if span > 0.0 {
+            self.h = crate::numerics::initial_step(
+                t,
+                y,
+                &self.f,
+                span,
+                order,
+                &self.options,
+                |t, y, dy| ev.rhs(t, y, dy),
+            )?;
+        }
+        Ok(())
+    }
+
+    /// [`Stepper::restart`] for a method of `order`: evaluates `f` at the new point and
+    /// takes the step `h_kept` unless the starting-step estimate there is smaller.
+    pub(crate) fn resume<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+        span: f64,
+        order: u32,
+        h_kept: f64,
+    ) -> Result<(), ErrorKind> {
+        self.t = t;
+        self.y.copy_from_slice(y);
+        ev.rhs(t, y, &mut self.f)?;
+        self.h = restart_step(ev, t, y, &self.f, span, order, &self.options, h_kept)?;
+        Ok(())
+    }
+}
+
 /// One method's stepping state (see the module documentation).
 pub trait Stepper {
     /// Name of the method, for messages and reports.
     fn name(&self) -> &'static str;
 
-    /// The options the method runs with (for a fixed-step method, the defaults with its
-    /// step as `h0`).
-    fn options(&self) -> Options;
+    /// The state every stepper keeps.
+    fn state(&self) -> &StepState;
 
     /// Begins at `(t, y)`; `span` is the length of the interval to integrate (it bounds
     /// the first step; `0` takes no step). Invalid options are
@@ -69,14 +142,27 @@ pub trait Stepper {
         span: f64,
     ) -> Result<(), ErrorKind>;
 
+    /// The options the method runs with (for a fixed-step method, the defaults with its
+    /// step as `h0`).
+    fn options(&self) -> Options {
+        self.state().options
+    }
     /// Current time.
-    fn t(&self) -> f64;
+    fn t(&self) -> f64 {
+        self.state().t
+    }
     /// Current state.
-    fn y(&self) -> &[f64];
+    fn y(&self) -> &[f64] {
+        &self.state().y
+    }
     /// `f(t, y)` at the current point (for BDF, the derivative its formula assigns).
-    fn f(&self) -> &[f64];
+    fn f(&self) -> &[f64] {
+        &self.state().f
+    }
     /// The continuous extension over the last accepted step.
-    fn dense(&self) -> &DenseStep;
+    fn dense(&self) -> &DenseStep {
+        &self.state().dense
+    }
 }
 
 /// The step after a restart at `(t, y)` with `f = f(t, y)`: the step size kept from

@@ -18,15 +18,22 @@ impl Diagnostics {
 
     /// An error spanned at the tokens of `at`.
     pub fn error_at(&mut self, at: impl ToTokens, msg: impl Display) {
-        self.errors.push(syn::Error::new_spanned(at, msg));
+        self.push(syn::Error::new_spanned(at, msg));
     }
 
     pub fn error_span(&mut self, span: Span, msg: impl Display) {
-        self.errors.push(syn::Error::new(span, msg));
+        self.push(syn::Error::new(span, msg));
     }
 
+    /// Adds `e` unless the same message is already reported at the same place (a
+    /// mistake repeated in many attributes, each reported where it is, stays one
+    /// message per place; one mistake reached by two checks is reported once).
     pub fn push(&mut self, e: syn::Error) {
-        self.errors.push(e);
+        let key = |e: &syn::Error| (format!("{:?}", e.span()), e.to_string());
+        let new = key(&e);
+        if !self.errors.iter().any(|old| key(old) == new) {
+            self.errors.push(e);
+        }
     }
 
     pub fn has_errors(&self) -> bool {

@@ -45,6 +45,10 @@ pub fn expand_with_stats(input: TokenStream) -> Result<Expansion, syn::Error> {
     let model = model.expect("a model when there are no errors");
     let kernels = mech::Kernels::build(&model);
     let (tokens, functions) = emit::mechanism_impl(&model, &kernels);
+    let tokens = match &model.krate {
+        Some(path) => emit::rename_crate(tokens, path),
+        None => tokens,
+    };
     Ok(Expansion {
         tokens,
         dof: kernels.dof,

@@ -228,6 +228,8 @@ pub struct Damper {
 /// A validated scene.
 #[derive(Clone, Debug)]
 pub struct Model {
+    /// The path of the `filippov` crate in the user's crate (`None`: `::filippov`).
+    pub krate: Option<syn::Path>,
     pub ident: Ident,
     /// Parameter fields, in declaration order.
     pub params: Vec<Ident>,

@@ -36,6 +36,8 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
 
     let mut gravity = None;
     let mut inputs_expr = None;
+    let mut krate = None;
+    let mut mechanism_seen = false;
     let mut bodies = Vec::new();
     let mut joints = Vec::new();
     let mut element_attrs = Vec::new();
@@ -43,11 +45,23 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     for mut raw in raws {
         match raw.family {
             Family::Mechanism => {
+                // One `#[mechanism]`: with two, which `gravity` or `inputs` holds would
+                // depend on a merge rule the reader has to know.
+                if std::mem::replace(&mut mechanism_seen, true) {
+                    diag.error_span(
+                        raw.span,
+                        "a second `#[mechanism(…)]` attribute; give `gravity` and `inputs` in one",
+                    );
+                    continue;
+                }
                 if let Some((_, g)) = raw.take("gravity", diag) {
                     gravity = vec3(&g, "gravity", &names, diag);
                 }
                 inputs_expr = raw.take("inputs", diag).map(|(_, e)| e);
-                raw.reject_rest(&["gravity", "inputs"], diag);
+                if let Some((_, e)) = raw.take("crate", diag) {
+                    krate = crate_path(&e, diag);
+                }
+                raw.reject_rest(&["gravity", "inputs", "crate"], diag);
             }
             Family::Body => bodies.extend(read_body(raw, &names, diag)),
             Family::Joint => joints.extend(read_joint(raw, &names, diag)),
@@ -97,6 +111,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         inputs,
         elements,
         potentials,
+        krate,
     })
 }
 
@@ -135,9 +150,40 @@ fn check_struct_shape(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Vec
         if !ok {
             diag.error_at(&f.ty, "parameter fields must be `f64` (the generated kernels compute in f64); change this type to `f64`");
         }
+        // `PI` in an expression is the constant π; a field of that name could never be
+        // read, so it is refused rather than silently shadowed. (Function names are no
+        // conflict: `sin` is the field, `sin(x)` the function.)
+        if let Some(id) = &f.ident
+            && id == "PI"
+        {
+            diag.error_at(
+                id,
+                "a field named `PI` would be shadowed by the constant π in every expression; rename the field",
+            );
+        }
         out.extend(f.ident.clone());
     }
     Some(out)
+}
+
+/// `crate = fil` or `crate = "fil"`: the path the generated code names the `filippov`
+/// crate by, for a dependency renamed in `Cargo.toml` (as serde's `crate` option).
+fn crate_path(e: &syn::Expr, diag: &mut Diagnostics) -> Option<syn::Path> {
+    let path = match parse::strip(e) {
+        syn::Expr::Path(p) if p.qself.is_none() => Some(p.path.clone()),
+        syn::Expr::Lit(syn::ExprLit {
+            lit: syn::Lit::Str(s),
+            ..
+        }) => s.parse::<syn::Path>().ok(),
+        _ => None,
+    };
+    if path.is_none() {
+        diag.error_at(
+            e,
+            "`crate` takes the path the `filippov` crate is known by here, e.g. `crate = fil` for `fil = { package = \"filippov\", … }`",
+        );
+    }
+    path
 }
 
 /// Names must be unique within their family: attributes refer to bodies and joints by

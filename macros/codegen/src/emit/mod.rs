@@ -291,3 +291,37 @@ fn inputs_items(model: &Model, n: usize) -> TokenStream {
         }
     }
 }
+
+/// Replaces every `::filippov` the emitter wrote by `path` (the `crate = …` option), in
+/// one pass over the finished tokens so that no emitter needs to know.
+pub fn rename_crate(tokens: TokenStream, path: &syn::Path) -> TokenStream {
+    use proc_macro2::{Group, Spacing, TokenTree};
+    let replacement = quote!(#path);
+    let trees: Vec<TokenTree> = tokens.into_iter().collect();
+    let mut out = Vec::with_capacity(trees.len());
+    let mut i = 0;
+    while i < trees.len() {
+        if let (Some(TokenTree::Punct(a)), Some(TokenTree::Punct(b)), Some(TokenTree::Ident(id))) =
+            (trees.get(i), trees.get(i + 1), trees.get(i + 2))
+            && a.as_char() == ':'
+            && a.spacing() == Spacing::Joint
+            && b.as_char() == ':'
+            && id == "filippov"
+            && !matches!(i.checked_sub(1).and_then(|j| trees.get(j)), Some(TokenTree::Ident(_)))
+        {
+            out.extend(replacement.clone());
+            i += 3;
+            continue;
+        }
+        match &trees[i] {
+            TokenTree::Group(g) => {
+                let mut inner = Group::new(g.delimiter(), rename_crate(g.stream(), path));
+                inner.set_span(g.span());
+                out.push(TokenTree::Group(inner));
+            }
+            t => out.push(t.clone()),
+        }
+        i += 1;
+    }
+    out.into_iter().collect()
+}

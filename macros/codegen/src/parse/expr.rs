@@ -16,8 +16,31 @@ const FUNCS: &[(&str, Func)] = &[
     ("ln", Func::Ln),
 ];
 
-/// Lowers `e`, reporting every unknown name or unsupported construct.
+/// Lowers `e`, reporting every unknown name or unsupported construct, and every number
+/// or constant subexpression that is not a finite `f64` (`1e400`, `ln(0.0)`,
+/// `sqrt(-1.0)`): the generated code could not represent it.
 pub fn lower(e: &Expr, fields: &[String], diag: &mut Diagnostics) -> Option<PExpr> {
+    let p = lower_unchecked(e, fields, diag)?;
+    match p.as_const() {
+        Some(c) if !c.is_finite() => {
+            let what = if matches!(strip(e), Expr::Lit(_)) {
+                "this number"
+            } else {
+                "this constant expression"
+            };
+            diag.error_at(
+                e,
+                format_args!(
+                    "{what} evaluates to {c}, which is not a finite f64 (the largest is about 1.8e308); give a finite value"
+                ),
+            );
+            None
+        }
+        _ => Some(p),
+    }
+}
+
+fn lower_unchecked(e: &Expr, fields: &[String], diag: &mut Diagnostics) -> Option<PExpr> {
     match strip(e) {
         Expr::Lit(l) => match &l.lit {
             Lit::Float(f) => f

@@ -142,7 +142,8 @@ fn read_body(input: ParseStream, family: Family, span: Span) -> syn::Result<RawA
         })?;
     }
     while !input.is_empty() {
-        let key: Ident = input.parse()?;
+        // Keys may be keywords (`crate = …`, as serde's `#[serde(crate = …)]`).
+        let key: Ident = syn::ext::IdentExt::parse_any(input)?;
         input
             .parse::<Token![=]>()
             .map_err(|e| syn::Error::new(e.span(), format_args!("expected `{key} = <value>`")))?;

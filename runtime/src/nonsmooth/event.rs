@@ -932,13 +932,8 @@ where
                     position,
                     side,
                 } => {
-                    let slack = 1e-12 * (1.0 + position.abs());
-                    if g < -slack {
-                        return Err(ErrorKind::InconsistentInitialData(format!(
-                            "coordinate {c} = {} penetrates the rigid stop `{}` at {position}",
-                            q[c], el.name
-                        )));
-                    }
+                    mode::check_not_penetrating(el, q[c])
+                        .map_err(ErrorKind::InconsistentInitialData)?;
                     if g <= 0.0 {
                         q[c] = position;
                         if mode::side_sign(side) * v[c] > 0.0 {

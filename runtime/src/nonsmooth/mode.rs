@@ -223,6 +223,25 @@ pub(crate) fn side_sign(side: Side) -> f64 {
     }
 }
 
+/// A rigid stop may not start penetrated beyond round-off (`10⁻¹² (1 + |position|)`):
+/// neither integrator can give it a meaning (time-stepping would hold the violation for
+/// the whole run). Other elements always pass.
+pub fn check_not_penetrating(el: &Element, q_c: f64) -> Result<(), String> {
+    if let ElementKind::Stop {
+        kind: StopKind::Rigid { .. },
+        position,
+        ..
+    } = el.kind
+        && gap(el, q_c) < -1e-12 * (1.0 + position.abs())
+    {
+        return Err(format!(
+            "coordinate {} = {q_c} penetrates the rigid stop `{}` at {position}; start on its admissible side",
+            el.coordinate, el.name
+        ));
+    }
+    Ok(())
+}
+
 /// Gap `s (position − q)` of a stop (`≥ 0` when admissible); `+∞` for dash-pots.
 pub(crate) fn gap(element: &Element, qc: f64) -> f64 {
     match element.kind {

@@ -111,6 +111,12 @@ where
         Ok(graphs) => graphs,
         Err(msg) => return Err(invalid(traj, msg)),
     };
+    for g in &graphs {
+        let el = &g.element;
+        if let Err(msg) = super::mode::check_not_penetrating(el, problem.q0[el.coordinate]) {
+            return Err(SolveError::new(ErrorKind::InconsistentInitialData(msg), traj));
+        }
+    }
     let coord: Vec<usize> = graphs.iter().map(|g| g.element.coordinate).collect();
     let (mut q, mut v) = (problem.q0, problem.v0);
     let mut f = match initial_forces(system, problem, &graphs) {

@@ -256,3 +256,41 @@ fn non_unique_stuck_forces_are_an_ill_posed_mode() {
     }
     assert!(err.solution.len() > 2, "the motion before is kept");
 }
+
+/// A user law that is not finite on its domain (`(f − f_c)/f` with `f_c = 0` is `0/0` at
+/// `f = 0 = f_crit`) is an invalid input naming the element, for both integrators —
+/// never an `Ok` trajectory that breaks the law.
+#[test]
+fn law_not_finite_on_its_domain_is_refused() {
+    #[derive(Mechanism)]
+    #[body(block, mass = m)]
+    #[joint(x: prismatic(x), parent = world, child = block)]
+    #[spring(x, k = k)]
+    #[bingham(x, f_crit = fc, law = (f - fc) / f)]
+    struct Degenerate {
+        m: f64,
+        k: f64,
+        fc: f64,
+    }
+    let s = Degenerate {
+        m: 1.0,
+        k: 1.0,
+        fc: 0.0,
+    };
+    let problem = NonSmoothProblem::new(0.0, 1.0, V1::new(1.0), V1::new(0.0));
+    for method in [
+        NonSmoothMethod::default(),
+        NonSmoothMethod::TimeStepping {
+            h: 1e-3,
+            theta: 1.0,
+        },
+    ] {
+        let err = solve_nonsmooth(&s, &|_t, _q: &V1, _v: &V1| V1::zeros(), &problem, &method)
+            .expect_err("a law with 0/0 at f_crit");
+        assert!(
+            matches!(&err.kind, ErrorKind::InvalidInput(m) if m.contains("bingham_x") && m.contains("not finite")),
+            "{method:?}: {:?}",
+            err.kind
+        );
+    }
+}

@@ -383,17 +383,26 @@ where
         Ok(())
     }
 
-    /// The branches of the non-monotone laws (their folds located once).
+    /// The branches of the non-monotone laws (their folds located once); every user
+    /// law checked finite on its domain ([`Graph::new`]).
     fn build_branches(&mut self) -> Result<(), String> {
         for (e, el) in self.elements.iter().enumerate() {
-            if let ElementKind::DashPot {
-                law: Law::BinghamNonMonotone { .. },
-                ..
-            } = el.kind
-            {
-                self.branches[e] = Graph::new(self.system, e)
-                    .and_then(|g| g.branches(self.system))
-                    .map_err(|err| err.to_string())?;
+            match el.kind {
+                ElementKind::DashPot {
+                    law: Law::BinghamNonMonotone { .. },
+                    ..
+                } => {
+                    self.branches[e] = Graph::new(self.system, e)
+                        .and_then(|g| g.branches(self.system))
+                        .map_err(|err| err.to_string())?;
+                }
+                ElementKind::DashPot {
+                    law: Law::BinghamMonotone,
+                    ..
+                } => {
+                    Graph::new(self.system, e).map_err(|err| err.to_string())?;
+                }
+                _ => {}
             }
         }
         Ok(())

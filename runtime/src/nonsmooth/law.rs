@@ -166,6 +166,13 @@ impl Graph {
     pub fn new<S: NonSmooth<N>, const N: usize>(system: &S, e: usize) -> Result<Self, LawError> {
         let element = system.element(e);
         check(&element)?;
+        if let ElementKind::DashPot {
+            law: Law::BinghamMonotone | Law::BinghamNonMonotone { .. },
+            f_crit,
+        } = element.kind
+        {
+            check_law_finite(system, e, f_crit)?;
+        }
         let mut graph = Graph {
             index: e,
             element,
@@ -731,6 +738,31 @@ fn upper_bound(g: impl Fn(f64) -> f64, f_crit: f64) -> Result<f64, LawError> {
 
 /// Local extrema of `φ` on `f_crit < f ≤ FOLD_SCAN (f_crit + 1)`: sign changes of `φ'`
 /// on a uniform grid, refined by bisection on `φ'`.
+/// A user slip law must be finite, with a finite slope, on its whole domain
+/// `|f| ≥ f_crit`: it is sampled at `±f_crit` and on the fold-scan grid beyond (both
+/// signs). A law like `(f − f_c)/f` with `f_c = 0` (`0/0` at `f = 0`) would otherwise
+/// give NaN forces that no comparison catches.
+fn check_law_finite<S: NonSmooth<N>, const N: usize>(
+    system: &S,
+    e: usize,
+    f_crit: f64,
+) -> Result<(), LawError> {
+    let top = FOLD_SCAN * (f_crit + 1.0);
+    for k in 0..=FOLD_CELLS {
+        let x = f_crit + (top - f_crit) * k as f64 / FOLD_CELLS as f64;
+        for f in [x, -x] {
+            let (phi, dphi) = system.law(e, f);
+            if !(phi.is_finite() && dphi.is_finite()) {
+                return Err(LawError::InvalidElement(format!(
+                    "element `{}`: its slip law is not finite at f = {f} (φ = {phi}, φ' = {dphi}); a law v = φ(f) must be finite, with a finite slope, for every |f| ≥ f_crit = {f_crit}",
+                    system.element(e).name
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
 fn find_folds<S: NonSmooth<N>, const N: usize>(
     system: &S,
     e: usize,

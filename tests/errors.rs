@@ -294,3 +294,37 @@ fn law_not_finite_on_its_domain_is_refused() {
         );
     }
 }
+
+/// `validate()` covers every parameter expression, origins, rpy, gravity and spring rest
+/// positions included: one that overflows names its role, before anything runs.
+#[test]
+fn validate_names_every_non_finite_parameter_expression() {
+    #[derive(Mechanism)]
+    #[mechanism(gravity = [0.0, -g * s * s, 0.0])]
+    #[body(link, mass = m, com = [l / 2.0, 0.0, 0.0], inertia = rod(m, l))]
+    #[joint(hinge: revolute(z), parent = world, child = link, origin = [l * s * s, 0.0, 0.0], rpy = [0.0, 0.0, s * s])]
+    #[spring(hinge, k = 1.0, rest = s * s)]
+    struct Scaled {
+        m: f64,
+        l: f64,
+        g: f64,
+        s: f64,
+    }
+    let ok = Scaled {
+        m: 1.0,
+        l: 1.0,
+        g: 9.81,
+        s: 1.0,
+    };
+    assert!(ok.validate().is_ok());
+    let huge = Scaled { s: 1e200, ..ok };
+    let err = huge.validate().unwrap_err().to_string();
+    for role in [
+        "gravity [1]",
+        "origin [0] of joint `hinge`",
+        "rpy [2] of joint `hinge`",
+        "rest position of the spring",
+    ] {
+        assert!(err.contains(role), "{role} missing in: {err}");
+    }
+}

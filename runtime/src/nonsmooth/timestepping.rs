@@ -114,7 +114,10 @@ where
     for g in &graphs {
         let el = &g.element;
         if let Err(msg) = super::mode::check_not_penetrating(el, problem.q0[el.coordinate]) {
-            return Err(SolveError::new(ErrorKind::InconsistentInitialData(msg), traj));
+            return Err(SolveError::new(
+                ErrorKind::InconsistentInitialData(msg),
+                traj,
+            ));
         }
     }
     let coord: Vec<usize> = graphs.iter().map(|g| g.element.coordinate).collect();

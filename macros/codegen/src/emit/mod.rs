@@ -307,7 +307,10 @@ pub fn rename_crate(tokens: TokenStream, path: &syn::Path) -> TokenStream {
             && a.spacing() == Spacing::Joint
             && b.as_char() == ':'
             && id == "filippov"
-            && !matches!(i.checked_sub(1).and_then(|j| trees.get(j)), Some(TokenTree::Ident(_)))
+            && !matches!(
+                i.checked_sub(1).and_then(|j| trees.get(j)),
+                Some(TokenTree::Ident(_))
+            )
         {
             out.extend(replacement.clone());
             i += 3;

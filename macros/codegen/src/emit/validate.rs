@@ -12,7 +12,13 @@ pub fn validate_fn(model: &Model) -> TokenStream {
     let p = &model.params;
     let ck = quote!(::filippov::runtime::system::check);
     let mut checks = Vec::new();
-    let mut scalar = |what: String, e: &PExpr, f: TokenStream| {
+    // One run-time check of an expression; none when it is a constant that passes
+    // (constants are checked at expansion, a check that cannot fail is dead code).
+    let mut scalar = |what: String, e: &PExpr, check: Check| {
+        if e.as_const().is_some_and(|c| check.passes(c)) {
+            return;
+        }
+        let f = check.function();
         let value = expr(e, p);
         let what = format!("{what} (`{}`)", e.display(p));
         checks.push(quote! {
@@ -24,7 +30,7 @@ pub fn validate_fn(model: &Model) -> TokenStream {
         scalar(
             name,
             &PExpr::Param(p.iter().position(|f| f == field).unwrap_or(0) as u16),
-            quote!(finite),
+            Check::Finite,
         );
     }
     for l in &model.links {
@@ -37,28 +43,54 @@ pub fn validate_fn(model: &Model) -> TokenStream {
         scalar(
             format!("mass of body `{}`", l.name),
             &l.mass,
-            quote!(positive),
+            Check::Positive,
         );
         for (k, c) in l.com.iter().enumerate() {
             scalar(
                 format!("centre of mass [{k}] of body `{}`", l.name),
                 c,
-                quote!(finite),
+                Check::Finite,
+            );
+        }
+    }
+    if let Some(g) = &model.gravity {
+        for (k, c) in g.iter().enumerate() {
+            scalar(format!("gravity [{k}]"), c, Check::Finite);
+        }
+    }
+    for l in &model.links {
+        for (k, c) in l.origin.iter().enumerate() {
+            scalar(
+                format!("origin [{k}] of joint `{}`", l.joint_name),
+                c,
+                Check::Finite,
+            );
+        }
+        for (k, c) in l.rpy.iter().enumerate() {
+            scalar(
+                format!("rpy [{k}] of joint `{}`", l.joint_name),
+                c,
+                Check::Finite,
             );
         }
     }
     for s in &model.springs {
         scalar(
+            format!("rest position of the spring on coordinate {}", s.coordinate),
+            &s.rest,
+            Check::Finite,
+        );
+        scalar(
             format!("stiffness of the spring on coordinate {}", s.coordinate),
             &s.k,
-            quote!(finite),
+            Check::Finite,
         );
     }
     for d in &model.dampers {
         scalar(
             format!("damping of the damper on coordinate {}", d.coordinate),
             &d.c,
-            quote!(non_negative),
+            Check::NonNegative,
         );
     }
     for e in &model.elements {
@@ -67,28 +99,24 @@ pub fn validate_fn(model: &Model) -> TokenStream {
                 scalar(
                     format!("f_crit of `{}`", e.name),
                     f_crit,
-                    quote!(non_negative),
+                    Check::NonNegative,
                 );
                 if let Law::BinghamLinear { eta } = law {
-                    scalar(format!("eta of `{}`", e.name), eta, quote!(positive));
+                    scalar(format!("eta of `{}`", e.name), eta, Check::Positive);
                 }
             }
             ElementKind::Stop { position, kind, .. } => {
-                scalar(
-                    format!("position of `{}`", e.name),
-                    position,
-                    quote!(finite),
-                );
+                scalar(format!("position of `{}`", e.name), position, Check::Finite);
                 match kind {
                     StopKind::Rigid { restitution } => scalar(
                         format!("restitution of `{}`", e.name),
                         restitution,
-                        quote!(unit_interval),
+                        Check::UnitInterval,
                     ),
                     StopKind::SpringBacked { stiffness } => scalar(
                         format!("k_support of `{}`", e.name),
                         stiffness,
-                        quote!(positive),
+                        Check::Positive,
                     ),
                 }
             }
@@ -98,6 +126,8 @@ pub fn validate_fn(model: &Model) -> TokenStream {
         .links
         .iter()
         .filter(|l| l.kind != JointKind::Translation)
+        // A constant inertia was checked at expansion.
+        .filter(|l| l.inertia.iter().flatten().any(|e| e.as_const().is_none()))
     {
         let entries: Vec<TokenStream> = l.inertia.iter().flatten().map(|e| expr(e, p)).collect();
         let what = format!("inertia of body `{}`", l.name);
@@ -117,6 +147,37 @@ pub fn validate_fn(model: &Model) -> TokenStream {
             } else {
                 Err(::filippov::runtime::system::ParameterError { problems })
             }
+        }
+    }
+}
+
+/// The run-time checks of `filippov::runtime::system::check`.
+#[derive(Clone, Copy)]
+enum Check {
+    Finite,
+    Positive,
+    NonNegative,
+    UnitInterval,
+}
+
+impl Check {
+    fn function(self) -> proc_macro2::Ident {
+        let name = match self {
+            Check::Finite => "finite",
+            Check::Positive => "positive",
+            Check::NonNegative => "non_negative",
+            Check::UnitInterval => "unit_interval",
+        };
+        proc_macro2::Ident::new(name, proc_macro2::Span::call_site())
+    }
+
+    /// The same condition, evaluated at expansion.
+    fn passes(self, x: f64) -> bool {
+        match self {
+            Check::Finite => x.is_finite(),
+            Check::Positive => x.is_finite() && x > 0.0,
+            Check::NonNegative => x.is_finite() && x >= 0.0,
+            Check::UnitInterval => (0.0..=1.0).contains(&x),
         }
     }
 }

@@ -17,6 +17,8 @@ use crate::sym::{Graph, Id, InputKind, Node, Unary};
 
 /// Most lets in one generated function.
 pub const CHUNK: usize = 1200;
+/// Deepest expression written inline (operators nested), beyond which a `let` is bound.
+pub const MAX_INLINE_DEPTH: u32 = 32;
 
 /// What a generated function looks like from outside.
 pub struct Signature {
@@ -85,9 +87,36 @@ pub fn emit(
     }
     let is_leaf = |id: Id| matches!(g.node(id), Node::Const(_) | Node::Param(_) | Node::Input(_));
     let is_trig = |id: Id| matches!(g.node(id), Node::Unary(Unary::Sin | Unary::Cos, _));
-    let bound: Vec<bool> = (0..g.len())
+    let mut bound: Vec<bool> = (0..g.len())
         .map(|i| reach[i] && !is_leaf(Id(i as u32)) && (uses[i] >= 2 || is_trig(Id(i as u32))))
         .collect();
+    // No inline expression deeper than MAX_INLINE_DEPTH: a node that would be is bound
+    // to a `let` instead, so that neither rustc (which recurses over expression depth
+    // and overflowed its stack on a 1,000-term sum written inline) nor the renderer
+    // below meets a deep tree, whatever the user wrote. Arena order is topological, so
+    // one forward pass sees every child before its parent.
+    let mut depth = vec![0u32; g.len()];
+    for i in 0..g.len() {
+        if !reach[i] {
+            continue;
+        }
+        let child = |c: Id| {
+            if bound[c.index()] {
+                0
+            } else {
+                depth[c.index()]
+            }
+        };
+        let d = 1 + match g.node(Id(i as u32)) {
+            Node::Add(a, b) | Node::Mul(a, b) => child(a).max(child(b)),
+            Node::Unary(_, a) => child(a),
+            _ => 0,
+        };
+        if d > MAX_INLINE_DEPTH && !bound[i] {
+            bound[i] = true;
+        }
+        depth[i] = if bound[i] { 0 } else { d };
+    }
 
     // Items in topological order; sin and cos of one argument together.
     let mut items = Vec::new();

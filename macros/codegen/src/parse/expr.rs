@@ -40,7 +40,89 @@ pub fn lower(e: &Expr, fields: &[String], diag: &mut Diagnostics) -> Option<PExp
     }
 }
 
+/// Chains of more operands than this (`a + b − c + …`, `a * b / c * …`) are lowered to a
+/// balanced tree instead of the left-nested one the parser builds, so that no later pass
+/// (folding, differentiation, emission) recurses once per term.
+const BALANCE_FROM: usize = 16;
+
+/// Operands of a left-nested chain of `+`/`−` (or `*`/`/`) starting at `e`, each with
+/// whether it is subtracted (divided), in source order; walked iteratively.
+fn chain(e: &Expr, additive: bool) -> Vec<(bool, &Expr)> {
+    let mut out = Vec::new();
+    let mut cur = e;
+    loop {
+        match strip(cur) {
+            Expr::Binary(b) => {
+                let inverse = match (b.op, additive) {
+                    (BinOp::Add(_), true) | (BinOp::Mul(_), false) => false,
+                    (BinOp::Sub(_), true) | (BinOp::Div(_), false) => true,
+                    _ => break,
+                };
+                out.push((inverse, &*b.right));
+                cur = &b.left;
+            }
+            _ => break,
+        }
+    }
+    out.push((false, cur));
+    out.reverse();
+    out
+}
+
+/// `x₁ ∘ x₂ ∘ …` as a balanced tree of `op`.
+fn balanced(mut xs: Vec<PExpr>, op: char) -> Option<PExpr> {
+    while xs.len() > 1 {
+        let mut next = Vec::with_capacity(xs.len().div_ceil(2));
+        let mut it = xs.into_iter();
+        while let Some(a) = it.next() {
+            next.push(match it.next() {
+                Some(b) => PExpr::Bin(op, Box::new(a), Box::new(b)),
+                None => a,
+            });
+        }
+        xs = next;
+    }
+    xs.pop()
+}
+
+/// A long chain as (balanced direct terms) op⁻¹ (balanced inverse terms).
+fn lower_chain(
+    links: &[(bool, &Expr)],
+    additive: bool,
+    fields: &[String],
+    diag: &mut Diagnostics,
+) -> Option<PExpr> {
+    let (mut direct, mut inverse) = (Vec::new(), Vec::new());
+    let mut ok = true;
+    for (inv, x) in links {
+        match lower(x, fields, diag) {
+            Some(p) if *inv => inverse.push(p),
+            Some(p) => direct.push(p),
+            None => ok = false,
+        }
+    }
+    if !ok {
+        return None;
+    }
+    let (op, inv_op) = if additive { ('+', '-') } else { ('*', '/') };
+    let identity = PExpr::Const(if additive { 0.0 } else { 1.0 });
+    let d = balanced(direct, op).unwrap_or(identity);
+    Some(match balanced(inverse, op) {
+        Some(i) => PExpr::Bin(inv_op, Box::new(d), Box::new(i)),
+        None => d,
+    })
+}
+
 fn lower_unchecked(e: &Expr, fields: &[String], diag: &mut Diagnostics) -> Option<PExpr> {
+    if let Expr::Binary(b) = strip(e) {
+        let additive = matches!(b.op, BinOp::Add(_) | BinOp::Sub(_));
+        if additive || matches!(b.op, BinOp::Mul(_) | BinOp::Div(_)) {
+            let links = chain(e, additive);
+            if links.len() > BALANCE_FROM {
+                return lower_chain(&links, additive, fields, diag);
+            }
+        }
+    }
     match strip(e) {
         Expr::Lit(l) => match &l.lit {
             Lit::Float(f) => f
@@ -135,6 +217,23 @@ fn lower_unchecked(e: &Expr, fields: &[String], diag: &mut Diagnostics) -> Optio
             call(e, name.as_deref(), &args, fields, diag)
         }
         Expr::MethodCall(m) => {
+            // A chain of calls nests like brackets do (see `parse::MAX_NESTING`).
+            let mut depth = 0;
+            let mut cur = &*m.receiver;
+            while let Expr::MethodCall(inner) = strip(cur) {
+                depth += 1;
+                cur = &inner.receiver;
+            }
+            if depth >= super::MAX_NESTING {
+                diag.error_at(
+                    &m.method,
+                    format_args!(
+                        "more than {} method calls in a chain; split the expression (e.g. into struct fields)",
+                        super::MAX_NESTING
+                    ),
+                );
+                return None;
+            }
             // `x.sqrt()` and `x.powi(2)` read as `sqrt(x)` and `x * x`.
             let mut args: Vec<&Expr> = vec![&m.receiver];
             args.extend(m.args.iter());

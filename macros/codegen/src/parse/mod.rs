@@ -100,7 +100,9 @@ pub fn read_attrs(attrs: &[syn::Attribute], diag: &mut Diagnostics) -> Vec<RawAt
         let span = attr.span();
         let parser = |input: ParseStream| read_body(input, family, span);
         let parsed = match &attr.meta {
-            syn::Meta::List(list) => parser.parse2(list.tokens.clone()),
+            syn::Meta::List(list) => {
+                check_nesting(list.tokens.clone()).and_then(|()| parser.parse2(list.tokens.clone()))
+            }
             _ => Err(syn::Error::new_spanned(
                 attr,
                 "expected a list of arguments, e.g. `#[body(link, mass = m)]`",
@@ -112,6 +114,65 @@ pub fn read_attrs(attrs: &[syn::Attribute], diag: &mut Diagnostics) -> Vec<RawAt
         }
     }
     out
+}
+
+/// Deepest nesting of brackets, and longest run of prefix `-`, an attribute may have.
+pub const MAX_NESTING: usize = 256;
+/// Most tokens in one attribute (a sum of about 10,000 terms).
+pub const MAX_TOKENS: usize = 20_000;
+
+/// Refuses attribute tokens nested deeper than [`MAX_NESTING`] (brackets, or a run of
+/// unary minus signs) or more than [`MAX_TOKENS`] long, before any recursive parser sees
+/// them: the expression parser and every later pass recurse once per level (and syn's
+/// trees drop recursively), and a size no human writes must not be able to overflow
+/// the compiler's stack. Iterative.
+fn check_nesting(tokens: proc_macro2::TokenStream) -> syn::Result<()> {
+    use proc_macro2::TokenTree;
+    let mut stack = vec![tokens.into_iter()];
+    let mut minus_run = 0usize;
+    let mut count = 0usize;
+    while let Some(top) = stack.last_mut() {
+        let Some(tree) = top.next() else {
+            stack.pop();
+            continue;
+        };
+        count += 1;
+        if count > MAX_TOKENS {
+            return Err(syn::Error::new(
+                tree.span(),
+                format_args!(
+                    "an attribute of more than {MAX_TOKENS} tokens; split the expression (e.g. into struct fields)"
+                ),
+            ));
+        }
+        match tree {
+            TokenTree::Group(g) => {
+                minus_run = 0;
+                if stack.len() >= MAX_NESTING {
+                    return Err(syn::Error::new(
+                        g.span(),
+                        format_args!(
+                            "brackets nested more than {MAX_NESTING} deep; split the expression (e.g. into struct fields)"
+                        ),
+                    ));
+                }
+                stack.push(g.stream().into_iter());
+            }
+            TokenTree::Punct(p) if p.as_char() == '-' => {
+                minus_run += 1;
+                if minus_run > MAX_NESTING {
+                    return Err(syn::Error::new(
+                        p.span(),
+                        format_args!(
+                            "more than {MAX_NESTING} minus signs in a row; simplify the expression"
+                        ),
+                    ));
+                }
+            }
+            _ => minus_run = 0,
+        }
+    }
+    Ok(())
 }
 
 fn read_body(input: ParseStream, family: Family, span: Span) -> syn::Result<RawAttr> {

@@ -33,6 +33,11 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let fields = check_struct_shape(input, diag)?;
     let names: Vec<String> = fields.iter().map(|f| f.to_string()).collect();
     let raws = parse::read_attrs(&input.attrs, diag);
+    // Whether the user wrote any (even wrong) body or joint: if so, the errors about
+    // those say what is wrong, and "needs a body and a joint" would mislead.
+    let raws_had_bodies_or_joints = raws
+        .iter()
+        .any(|r| matches!(r.family, Family::Body | Family::Joint));
 
     let mut gravity = None;
     let mut inputs_expr = None;
@@ -42,6 +47,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let mut joints = Vec::new();
     let mut element_attrs = Vec::new();
     let mut nonsmooth_attrs = Vec::new();
+    let mut claimed: Vec<Ident> = Vec::new();
     for mut raw in raws {
         match raw.family {
             Family::Mechanism => {
@@ -64,14 +70,27 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
                 raw.reject_rest(&["gravity", "inputs", "crate"], diag);
             }
             Family::Body => bodies.extend(read_body(raw, &names, diag)),
-            Family::Joint => joints.extend(read_joint(raw, &names, diag)),
+            Family::Joint => {
+                // The child a joint names, even if the joint has errors: that body is
+                // attached as far as the user is concerned, and saying otherwise would
+                // only add a misleading second message.
+                let child = raw
+                    .args
+                    .iter()
+                    .find(|(k, _)| k == "child")
+                    .and_then(|(_, e)| ident_of(e).cloned());
+                match read_joint(raw, &names, diag) {
+                    Some(j) => joints.push(j),
+                    None => claimed.extend(child),
+                }
+            }
             Family::Spring | Family::Damper => element_attrs.push(raw),
             Family::Friction | Family::Bingham | Family::Stop => nonsmooth_attrs.push(raw),
         }
     }
     check_unique(bodies.iter().map(|b| &b.name), "body", diag);
     check_unique(joints.iter().map(|j| &j.name), "joint", diag);
-    if bodies.is_empty() && joints.is_empty() {
+    if !raws_had_bodies_or_joints {
         diag.error_span(
             input.ident.span(),
             "a mechanism needs at least one `#[body(…)]` and one `#[joint(…)]`, e.g.\n\
@@ -79,7 +98,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
              #[joint(hinge: revolute(z), parent = world, child = link)]",
         );
     }
-    let links = build_tree(&bodies, &joints, diag)?;
+    let links = build_tree(&bodies, &joints, &claimed, diag)?;
     let springs_dampers = read_elements(element_attrs, &links, &names, diag);
     if links.iter().any(|l| l.kind.is_lie()) {
         for raw in &nonsmooth_attrs {
@@ -215,6 +234,13 @@ fn zero3() -> Vec3 {
 
 fn read_body(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Option<Body> {
     let name = raw.name.clone()?;
+    if name == "world" {
+        diag.error_at(
+            &name,
+            "`world` is the fixed frame every tree hangs from and cannot be a body; name the body differently, e.g. `base`",
+        );
+        return None;
+    }
     if let Some(h) = &raw.head {
         diag.error_at(
             h,
@@ -576,9 +602,14 @@ fn axis(e: &Expr, diag: &mut Diagnostics) -> Option<[f64; 3]> {
 /// Bodies and joints must form one tree rooted at the world: every body is the child of
 /// exactly one joint, every parent exists, and following parents from any body reaches
 /// the world (no cycles).
-fn build_tree(bodies: &[Body], joints: &[Joint], diag: &mut Diagnostics) -> Option<Vec<Link>> {
+fn build_tree(
+    bodies: &[Body],
+    joints: &[Joint],
+    claimed: &[Ident],
+    diag: &mut Diagnostics,
+) -> Option<Vec<Link>> {
     if joints.is_empty() {
-        for b in bodies {
+        for b in bodies.iter().filter(|b| !claimed.contains(&b.name)) {
             diag.error_at(&b.name, format_args!("body `{}` is not attached; add `#[joint(<name>: <kind>, parent = world, child = {})]`", b.name, b.name));
         }
         return None;
@@ -628,7 +659,7 @@ fn build_tree(bodies: &[Body], joints: &[Joint], diag: &mut Diagnostics) -> Opti
         return None;
     }
     for (b, body) in bodies.iter().enumerate() {
-        if joint_of[b].is_none() {
+        if joint_of[b].is_none() && !claimed.contains(&body.name) {
             diag.error_at(&body.name, format_args!("body `{}` is not attached; add `#[joint(<name>: <kind>, parent = <body or world>, child = {})]`", body.name, body.name));
             ok = false;
         }

@@ -43,7 +43,9 @@
 //! - Non-smooth elements: `#[friction(joint, f_crit = …)]` (Coulomb),
 //!   `#[bingham(joint, f_crit = …, eta = …)]`, `#[bingham(joint, f_crit = …, law = φ(f))]`
 //!   (`select = no_jumps | max_dissipation` for a non-monotone law),
-//!   `#[stop(joint, max = L | min = L, restitution = e | k_support = k)]`.
+//!   `#[stop(joint, max = L | min = L, restitution = e | k_support = k)]`; both `min` and
+//!   `max` in one attribute (or one stop per side) for two-sided joint limits, named
+//!   `stop_<joint>_min` and `stop_<joint>_max`.
 //!
 //! Values are expressions over the struct's `f64` fields, numbers, `PI`, `+ - * /`,
 //! `sqrt`, `sin`, `cos`, `exp`, `ln` and `powi`.

@@ -1122,3 +1122,63 @@ fn event_driven_grid_error_is_within_twice_the_step_error() {
         }
     }
 }
+
+/// A block gliding between two rigid walls declared as one two-sided stop
+/// (`min = −L, max = L`): impacts alternate between the walls at the closed-form times
+/// `t₁ = L/v₀`, `t_{k+1} = t_k + 2L/(eᵏ v₀)`, each logged with its wall, and the block
+/// never leaves `[−L, L]`; time-stepping agrees at first order.
+#[test]
+fn two_sided_stop_between_walls() {
+    use filippov::Mechanism;
+    use filippov::runtime::SwitchKind;
+
+    #[derive(Mechanism)]
+    #[body(block, mass = m)]
+    #[joint(x: prismatic(x), parent = world, child = block)]
+    #[stop(x, min = -l, max = l, restitution = e)]
+    struct Walls {
+        m: f64,
+        l: f64,
+        e: f64,
+    }
+    assert_eq!(Walls::NON_SMOOTH_ELEMENTS, ["stop_x_max", "stop_x_min"]);
+    let (l, e, v0) = (0.5, 0.8, 1.0);
+    let s = Walls { m: 2.0, l, e };
+    let p = NonSmoothProblem::new(0.0, 6.0, V1::new(0.0), V1::new(v0));
+    let sol = solve_nonsmooth(&s, &unforced::<1>, &p, &tight()).unwrap();
+    let impacts: Vec<_> = sol
+        .switches
+        .iter()
+        .filter(|s| s.kind == SwitchKind::Impact)
+        .collect();
+    let mut t = l / v0;
+    let mut speed = v0;
+    let mut k = 0;
+    while t < 6.0 {
+        let wall = if k % 2 == 0 {
+            "stop_x_max"
+        } else {
+            "stop_x_min"
+        };
+        let hit = impacts
+            .get(k)
+            .unwrap_or_else(|| panic!("impact {k} at {t} missing"));
+        assert!((hit.t - t).abs() < 1e-9, "impact {k}: {} vs {t}", hit.t);
+        assert_eq!(hit.element.as_deref(), Some(wall));
+        speed *= e;
+        t += 2.0 * l / speed;
+        k += 1;
+    }
+    assert_eq!(impacts.len(), k);
+    assert!(sol.rows().all(|(_, y)| y[0].abs() <= l));
+    // Time-stepping at two steps: its error at tf falls about linearly.
+    let x_end = sol.last().unwrap().1[0];
+    let errs: Vec<f64> = [1e-3, 5e-4]
+        .iter()
+        .map(|&h| {
+            let ts = solve_nonsmooth(&s, &unforced::<1>, &p, &stepping(h)).unwrap();
+            (ts.last().unwrap().1[0] - x_end).abs()
+        })
+        .collect();
+    assert!(errs[0] < 2e-2 && errs[1] < 0.75 * errs[0], "{errs:?}");
+}

@@ -62,6 +62,12 @@ pub mod check {
         (!(x >= 0.0 && x.is_finite())).then(|| format!("must be non-negative and finite, got {x}"))
     }
 
+    /// Two stops on one coordinate: the lower limit below the upper one.
+    pub fn below(min: f64, max: f64) -> Option<String> {
+        (min.partial_cmp(&max) != Some(std::cmp::Ordering::Less))
+            .then(|| format!("must be below the upper stop's {max}, got {min}"))
+    }
+
     pub fn unit_interval(x: f64) -> Option<String> {
         (!(0.0..=1.0).contains(&x)).then(|| format!("must lie in [0, 1], got {x}"))
     }

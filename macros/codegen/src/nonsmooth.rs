@@ -8,7 +8,12 @@
 //! #[bingham(joint, f_crit = …, law = …, select = no_jumps | max_dissipation)]  non-monotone
 //! #[stop(joint, max = L | min = L, restitution = e)]            rigid stop
 //! #[stop(joint, max = L | min = L, k_support = k)]              spring-backed stop
+//! #[stop(joint, min = L1, max = L2, restitution = e | k_support = k)]  both limits
 //! ```
+//!
+//! A joint may have one stop per side, from one attribute with `min` and `max` or from
+//! two (each with its own restitution or support). A joint with one stop names it
+//! `stop_<joint>`; with two, `stop_<joint>_min` and `stop_<joint>_max`.
 
 use syn::Expr;
 
@@ -31,30 +36,107 @@ pub fn read(
             continue;
         };
         let coordinate = crate::validate::coordinate_of(&joint, links, "non-smooth elements", diag);
-        let (family, kind) = match raw.family {
-            Family::Friction => ("friction", read_friction(&mut raw, &joint, names, diag)),
-            Family::Bingham => ("bingham", read_bingham(&mut raw, &joint, names, diag)),
+        let (family, kinds) = match raw.family {
+            Family::Friction => (
+                "friction",
+                read_friction(&mut raw, &joint, names, diag)
+                    .into_iter()
+                    .collect(),
+            ),
+            Family::Bingham => (
+                "bingham",
+                read_bingham(&mut raw, &joint, names, diag)
+                    .into_iter()
+                    .collect(),
+            ),
             _ => ("stop", read_stop(&mut raw, &joint, names, diag)),
         };
-        let name = format!("{family}_{joint}");
-        if out.iter().any(|e| e.name == name) {
-            diag.error_at(
-                &joint,
-                format_args!(
-                    "joint `{joint}` already has a `{family}` element; one per joint and kind"
-                ),
-            );
-            continue;
+        for kind in kinds {
+            let side = match &kind {
+                ElementKind::Stop { upper: true, .. } => "_max",
+                ElementKind::Stop { upper: false, .. } => "_min",
+                _ => "",
+            };
+            // Provisional: stops carry their side until the joint's stops are counted.
+            let name = format!("{family}_{joint}{side}");
+            if out.iter().any(|e| e.name == name) {
+                let what = match side {
+                    "_max" => "an upper (`max`) stop".to_string(),
+                    "_min" => "a lower (`min`) stop".to_string(),
+                    _ => format!("a `{family}` element"),
+                };
+                diag.error_at(
+                    &joint,
+                    format_args!("joint `{joint}` already has {what}; one per joint and kind (stops: one per side)"),
+                );
+                continue;
+            }
+            if let Some(coordinate) = coordinate {
+                let element = Element {
+                    name,
+                    coordinate,
+                    kind,
+                };
+                check_stop_order(&out, &element, &joint, diag);
+                out.push(element);
+            }
         }
-        if let (Some(coordinate), Some(kind)) = (coordinate, kind) {
-            out.push(Element {
-                name,
-                coordinate,
-                kind,
-            });
+    }
+    // A joint with one stop names it `stop_<joint>`.
+    let stops_on = |c: usize, out: &[Element]| {
+        out.iter()
+            .filter(|e| e.coordinate == c && matches!(e.kind, ElementKind::Stop { .. }))
+            .count()
+    };
+    for i in 0..out.len() {
+        if matches!(out[i].kind, ElementKind::Stop { .. }) && stops_on(out[i].coordinate, &out) == 1
+        {
+            let name = &out[i].name;
+            out[i].name = name[..name.len() - 4].to_string();
         }
     }
     out
+}
+
+/// Two stops on one joint must leave room between them: `min < max` when both are
+/// constants (a field-valued pair is checked by `validate()` at run time).
+fn check_stop_order(
+    elements: &[Element],
+    new: &Element,
+    joint: &syn::Ident,
+    diag: &mut Diagnostics,
+) {
+    let ElementKind::Stop {
+        upper, position, ..
+    } = &new.kind
+    else {
+        return;
+    };
+    for other in elements.iter().filter(|e| e.coordinate == new.coordinate) {
+        if let ElementKind::Stop {
+            upper: other_upper,
+            position: other_position,
+            ..
+        } = &other.kind
+            && other_upper != upper
+        {
+            let (min, max) = if *upper {
+                (other_position, position)
+            } else {
+                (position, other_position)
+            };
+            if let (Some(a), Some(b)) = (min.as_const(), max.as_const())
+                && a >= b
+            {
+                diag.error_at(
+                    joint,
+                    format_args!(
+                        "the stops on `{joint}` leave no room: min = {a} must be below max = {b}"
+                    ),
+                );
+            }
+        }
+    }
 }
 
 fn required(
@@ -160,33 +242,52 @@ fn lower_law(e: &Expr, names: &[String], diag: &mut Diagnostics) -> Option<PExpr
     crate::parse::expr::lower_with_var(e, names, LAW_VAR, diag)
 }
 
+/// One stop, or two (`min` and `max` in one attribute) sharing the kind.
 fn read_stop(
     raw: &mut RawAttr,
     joint: &syn::Ident,
     names: &[String],
     diag: &mut Diagnostics,
-) -> Option<ElementKind> {
+) -> Vec<ElementKind> {
     let max = raw.take("max", diag);
     let min = raw.take("min", diag);
     let restitution = raw.take("restitution", diag);
     let k_support = raw.take("k_support", diag);
     raw.reject_rest(&["max", "min", "restitution", "k_support"], diag);
-    let (upper, pos) = match (max, min) {
-        (Some((_, e)), None) => (true, e),
-        (None, Some((_, e))) => (false, e),
-        (Some((k, _)), Some(_)) => {
-            diag.error_at(k, "a stop bounds one side: give `max = L` (q ≤ L) or `min = L` (q ≥ L); declare two stops for both");
-            return None;
-        }
-        (None, None) => {
-            diag.error_at(
-                joint,
-                "a stop needs `max = L` (the coordinate stays ≤ L) or `min = L` (≥ L)",
-            );
-            return None;
-        }
+    let sides: Vec<(bool, Expr)> = [(true, max), (false, min)]
+        .into_iter()
+        .filter_map(|(upper, e)| e.map(|(_, e)| (upper, e)))
+        .collect();
+    if sides.is_empty() {
+        diag.error_at(
+            joint,
+            "a stop needs `max = L` (the coordinate stays ≤ L), `min = L` (≥ L), or both",
+        );
+        return Vec::new();
+    }
+    let Some(kind) = read_stop_kind(restitution, k_support, joint, names, diag) else {
+        return Vec::new();
     };
-    let position = lower(&pos, names, diag)?;
+    sides
+        .into_iter()
+        .filter_map(|(upper, pos)| {
+            Some(ElementKind::Stop {
+                upper,
+                position: lower(&pos, names, diag)?,
+                kind: kind.clone(),
+            })
+        })
+        .collect()
+}
+
+/// `restitution = e` (rigid) or `k_support = k` (spring-backed).
+fn read_stop_kind(
+    restitution: Option<(syn::Ident, Expr)>,
+    k_support: Option<(syn::Ident, Expr)>,
+    joint: &syn::Ident,
+    names: &[String],
+    diag: &mut Diagnostics,
+) -> Option<StopKind> {
     let kind = match (restitution, k_support) {
         (Some((_, e)), None) => {
             let r = lower(&e, names, diag)?;
@@ -223,9 +324,5 @@ fn read_stop(
             return None;
         }
     };
-    Some(ElementKind::Stop {
-        upper,
-        position,
-        kind,
-    })
+    Some(kind)
 }

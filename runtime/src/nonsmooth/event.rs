@@ -689,6 +689,19 @@ where
                 let c = el.coordinate;
                 v[c] = d * mode::branch_end(&self.branches[e], k, d * v[c]);
             }
+            // Likewise a rigid stop reached: the located state touches it up to the
+            // root finder's bracket; the row shows the contact position exactly.
+            if let (
+                ElementKind::Stop {
+                    kind: StopKind::Rigid { .. },
+                    position,
+                    ..
+                },
+                Mode::Free,
+            ) = (el.kind, self.modes[e])
+            {
+                q[el.coordinate] = position;
+            }
         }
         let forces_before = self.push_row(
             t,

@@ -122,6 +122,36 @@ pub fn validate_fn(model: &Model) -> TokenStream {
             }
         }
     }
+    // Two stops on one coordinate leave room between them.
+    for lo in &model.elements {
+        let ElementKind::Stop {
+            upper: false,
+            position: min,
+            ..
+        } = &lo.kind
+        else {
+            continue;
+        };
+        for hi in model
+            .elements
+            .iter()
+            .filter(|e| e.coordinate == lo.coordinate)
+        {
+            if let ElementKind::Stop {
+                upper: true,
+                position: max,
+                ..
+            } = &hi.kind
+                && (min.as_const().is_none() || max.as_const().is_none())
+            {
+                let (a, b) = (expr(min, p), expr(max, p));
+                let what = format!("position of `{}` (`{}`)", lo.name, min.display(p));
+                checks.push(quote! {
+                    if let Some(why) = #ck::below(#a, #b) { problems.push((#what.to_string(), why)); }
+                });
+            }
+        }
+    }
     for l in model
         .links
         .iter()

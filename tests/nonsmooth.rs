@@ -1182,3 +1182,46 @@ fn two_sided_stop_between_walls() {
         .collect();
     assert!(errs[0] < 2e-2 && errs[1] < 0.75 * errs[0], "{errs:?}");
 }
+
+/// Large but finite scales integrate (the error norm used to overflow to ∞ and make the
+/// first step zero): Coulomb friction f_crit = 1e200 pushed by 2e200 from rest slips as
+/// x = 1e200 (1 − cos t); a mass launched at 1e100 moves as 1e100 sin t (its friction,
+/// 0.1, is negligible at that scale). Both integrators, relative errors.
+#[test]
+fn large_finite_scales_integrate() {
+    let big = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 1e200,
+    };
+    let fast = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+    };
+    let push = |_t: f64, _q: &V1, _v: &V1| V1::new(2e200);
+    let p_big = NonSmoothProblem::new(0.0, 1.0, V1::new(0.0), V1::new(0.0));
+    let p_fast = NonSmoothProblem::new(0.0, 1.0, V1::new(0.0), V1::new(1e100));
+    for (method, tol) in [(NonSmoothMethod::default(), 1e-7), (stepping(1e-4), 1e-3)] {
+        let x = solve_nonsmooth(&big, &push, &p_big, &method)
+            .unwrap()
+            .last()
+            .unwrap()
+            .1[0];
+        let exact = 1e200 * (1.0 - 1f64.cos());
+        assert!(
+            ((x - exact) / exact).abs() < tol,
+            "{method:?}: {x:e} vs {exact:e}"
+        );
+        let x = solve_nonsmooth(&fast, &unforced::<1>, &p_fast, &method)
+            .unwrap()
+            .last()
+            .unwrap()
+            .1[0];
+        let exact = 1e100 * 1f64.sin();
+        assert!(
+            ((x - exact) / exact).abs() < tol,
+            "{method:?}: {x:e} vs {exact:e}"
+        );
+    }
+}

@@ -26,16 +26,35 @@ pub(crate) fn check_finite(t: f64, x: &[f64]) -> Result<(), ErrorKind> {
 
 /// Weighted RMS norm of `err` with weights `atol + rtol · max(|y0|, |y1|)`
 /// (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.4, eq. 4.11).
+///
+/// Without overflow or underflow for every finite input: when the ratios are far from 1
+/// the squares are taken of the ratios divided by their largest magnitude (a state of
+/// 1e200 with atol 1e-10 would otherwise square to infinity and make every step size
+/// zero). A NaN anywhere gives NaN, which every caller treats as a failed step.
 pub(crate) fn error_norm(err: &[f64], y0: &[f64], y1: &[f64], options: &Options) -> f64 {
-    let sum: f64 = err
-        .iter()
-        .zip(y0.iter().zip(y1))
-        .map(|(e, (a, b))| {
-            let scale = options.atol + options.rtol * a.abs().max(b.abs());
-            (e / scale).powi(2)
-        })
-        .sum();
-    (sum / err.len().max(1) as f64).sqrt()
+    let ratio = |(e, (a, b)): (&f64, (&f64, &f64))| {
+        let scale = options.atol + options.rtol * a.abs().max(b.abs());
+        e / scale
+    };
+    let terms = || err.iter().zip(y0.iter().zip(y1)).map(ratio);
+    let n = err.len().max(1) as f64;
+    let mut big = 0.0f64;
+    for r in terms() {
+        if r.is_nan() {
+            return f64::NAN;
+        }
+        big = big.max(r.abs());
+    }
+    if (1e-150..=1e150).contains(&big) {
+        // The common case, in the textbook form (no rescaling round-off).
+        let sum: f64 = terms().map(|r| r.powi(2)).sum();
+        return (sum / n).sqrt();
+    }
+    if big == 0.0 || big.is_infinite() {
+        return big;
+    }
+    let sum: f64 = terms().map(|r| (r / big).powi(2)).sum();
+    big * (sum / n).sqrt()
 }
 
 /// Whether step `h` at time `t` is too small: below `h_min`, or lost in round-off.
@@ -83,4 +102,27 @@ pub(crate) fn initial_step(
         .min(options.h_max)
         .min(span)
         .max(options.h_min))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The norm is exact in the common range, finite and correct far outside it, and
+    /// NaN in gives NaN out.
+    #[test]
+    fn error_norm_neither_overflows_nor_underflows() {
+        let o = Options::tolerances(0.0, 1.0);
+        let zero = [0.0, 0.0];
+        assert_eq!(error_norm(&[3.0, 4.0], &zero, &zero, &o), (12.5f64).sqrt());
+        for scale in [1e-200, 1e200, 1e300] {
+            let n = error_norm(&[3.0 * scale, 4.0 * scale], &zero, &zero, &o);
+            assert!(
+                (n / ((12.5f64).sqrt() * scale) - 1.0).abs() < 1e-15,
+                "{scale:e}: {n:e}"
+            );
+        }
+        assert!(error_norm(&[f64::NAN, 1.0], &zero, &zero, &o).is_nan());
+        assert_eq!(error_norm(&[0.0, 0.0], &zero, &zero, &o), 0.0);
+    }
 }

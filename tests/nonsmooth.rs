@@ -1225,3 +1225,40 @@ fn large_finite_scales_integrate() {
         );
     }
 }
+
+/// Time-stepping on very stiff supports (k_support up to 1e12, h ω_support up to 1e3)
+/// completes for every θ and stays passive: the energy, support energy included, never
+/// exceeds its initial value by more than the θ = 0 method's O(h) oscillation.
+#[test]
+fn time_stepping_on_stiff_supports_is_stable_and_passive() {
+    let energy =
+        |x: f64, v: f64, ks: f64| 0.5 * v * v + 0.5 * x * x + 0.5 * ks * (x - 0.5).max(0.0).powi(2);
+    for ks in [1e10, 1e12] {
+        let s = BilinearOscillator {
+            m: 1.0,
+            k: 1.0,
+            l: 0.5,
+            k_support: ks,
+        };
+        let p = NonSmoothProblem::new(0.0, 10.0, V1::new(0.0), V1::new(1.0));
+        for (h, theta) in [
+            (1e-3, 0.0),
+            (1e-3, 0.5),
+            (1e-3, 1.0),
+            (1e-4, 0.5),
+            (1e-4, 1.0),
+        ] {
+            let m = NonSmoothMethod::TimeStepping { h, theta };
+            let sol = solve_nonsmooth(&s, &unforced::<1>, &p, &m)
+                .unwrap_or_else(|e| panic!("k_s {ks:e}, h {h}, θ {theta}: {e}"));
+            let e0 = energy(0.0, 1.0, ks);
+            for (t, y) in sol.rows() {
+                let e = energy(y[0], y[1], ks);
+                assert!(
+                    e <= e0 * (1.0 + 10.0 * h),
+                    "k_s {ks:e}, h {h}, θ {theta}: E({t}) = {e} > {e0}"
+                );
+            }
+        }
+    }
+}

@@ -31,6 +31,7 @@ pub fn read(
     diag: &mut Diagnostics,
 ) -> Vec<Element> {
     let mut out: Vec<Element> = Vec::new();
+    let mut reported: Vec<String> = Vec::new();
     for mut raw in raws {
         let Some(joint) = raw.name.clone() else {
             continue;
@@ -60,6 +61,11 @@ pub fn read(
             // Provisional: stops carry their side until the joint's stops are counted.
             let name = format!("{family}_{joint}{side}");
             if out.iter().any(|e| e.name == name) {
+                // One message per duplicated element, however many copies follow.
+                if reported.contains(&name) {
+                    continue;
+                }
+                reported.push(name.clone());
                 let what = match side {
                     "_max" => "an upper (`max`) stop".to_string(),
                     "_min" => "a lower (`min`) stop".to_string(),

@@ -62,6 +62,10 @@ pub enum SwitchKind {
     /// A rigid stop's impact: `jump` is the generalised impulse `P` along its coordinate
     /// (`v⁺ = v⁻ − M⁻¹ e_c P`).
     Impact,
+    /// A rigid stop reached so slowly that its rebound would stay within the position
+    /// tolerance: taken as plastic, the stop settles into contact (the Zeno limit of its
+    /// bounces); `jump` is the impulse.
+    Settled,
     /// Accumulating events (Zeno, chattering): the integration is handed to
     /// time-stepping from `t` on.
     HandOverToTimeStepping,

@@ -328,3 +328,50 @@ fn validate_names_every_non_finite_parameter_expression() {
         assert!(err.contains(role), "{role} missing in: {err}");
     }
 }
+
+/// When the event-driven integrator must give up because one element keeps switching
+/// (Coulomb friction under a force flipping 1e5 times a second, with a small step
+/// budget), the error names the element and its modes and points to time-stepping,
+/// which integrates the same run.
+#[test]
+fn an_element_that_keeps_switching_is_named() {
+    let s = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 0.1,
+    };
+    let shake = |t: f64, _q: &V1, _v: &V1| V1::new(0.2 * (1e5 * t).sin());
+    let p = NonSmoothProblem::new(0.0, 1.0, V1::new(0.0), V1::new(0.0));
+    let method = NonSmoothMethod::EventDriven {
+        method: SmoothMethod::Dopri5,
+        options: Options {
+            max_steps: 2000,
+            ..Options::tolerances(1e-8, 1e-10)
+        },
+    };
+    let err = solve_nonsmooth(&s, &shake, &p, &method).expect_err("budget");
+    match &err.kind {
+        ErrorKind::KeepsSwitching { element, cycle, .. } => {
+            assert_eq!(element, "friction_x");
+            assert!(cycle.contains("Stick") || cycle.contains("Slip"), "{cycle}");
+            assert!(err.to_string().contains("TimeStepping"), "{err}");
+        }
+        other => panic!(
+            "{other:?}; {} switches, last {:?}",
+            err.solution.switches.len(),
+            err.solution
+                .switches
+                .iter()
+                .rev()
+                .take(3)
+                .collect::<Vec<_>>()
+        ),
+    }
+    assert!(err.solution.len() > 1, "what was computed is kept");
+    let ts = NonSmoothMethod::TimeStepping {
+        h: 1e-6,
+        theta: 1.0,
+    };
+    let short = NonSmoothProblem::new(0.0, 0.01, V1::new(0.0), V1::new(0.0));
+    assert!(solve_nonsmooth(&s, &shake, &short, &ts).is_ok());
+}

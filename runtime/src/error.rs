@@ -27,6 +27,14 @@ pub enum ErrorKind {
     IllPosedMode { t: f64, detail: String },
     /// The [`Observer`](crate::Observer) asked to stop after the step ending at `t`.
     Cancelled { t: f64 },
+    /// Event-driven integration gave up near `t` because `element` kept switching
+    /// through the modes in `cycle` (the last ones, in order) faster than events can be
+    /// resolved; time-stepping integrates such spans.
+    KeepsSwitching {
+        t: f64,
+        element: String,
+        cycle: String,
+    },
 }
 
 impl fmt::Display for ErrorKind {
@@ -53,6 +61,12 @@ impl fmt::Display for ErrorKind {
                 write!(f, "no unique consistent mode at t = {t}: {detail}")
             }
             ErrorKind::Cancelled { t } => write!(f, "cancelled by the observer at t = {t}"),
+            ErrorKind::KeepsSwitching { t, element, cycle } => write!(
+                f,
+                "element `{element}` keeps switching near t = {t} ({cycle}); event-driven \
+                 integration cannot resolve it — use NonSmoothMethod::TimeStepping for this \
+                 run (or span)"
+            ),
         }
     }
 }

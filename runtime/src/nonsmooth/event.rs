@@ -431,7 +431,8 @@ where
         while self.t < tf {
             {
                 let sys = mode_system!(self);
-                stepper.step(&mut Eval::new(&sys, &mut self.out.stats), tf)?;
+                let stepped = stepper.step(&mut Eval::new(&sys, &mut self.out.stats), tf);
+                stepped.map_err(|kind| self.explain(kind))?;
             }
             let (t1, y1) = (stepper.t(), stepper.y());
             match self.scan(stepper.dense(), t1, y1, &mut arming, &mut buf) {
@@ -476,6 +477,66 @@ where
             }
         }
         Ok(())
+    }
+
+    /// A step budget used up while one element switched over and over is reported as
+    /// that element switching ([`ErrorKind::KeepsSwitching`]), naming its recent modes.
+    fn explain(&self, kind: ErrorKind) -> ErrorKind {
+        let ErrorKind::MaxSteps { t } = kind else {
+            return kind;
+        };
+        self.switching_element(t).unwrap_or(kind)
+    }
+
+    /// The element behind most of the last switches, if one dominates them.
+    fn switching_element(&self, t: f64) -> Option<ErrorKind> {
+        const RECENT: usize = 50;
+        let recent: Vec<&Switch> = self
+            .out
+            .switches
+            .iter()
+            .rev()
+            .take(RECENT)
+            .filter(|s| s.element.is_some())
+            .collect();
+        let mut best: Option<(&str, usize)> = None;
+        for s in &recent {
+            let name = s.element.as_deref().unwrap_or_default();
+            let n = recent
+                .iter()
+                .filter(|r| r.element.as_deref() == Some(name))
+                .count();
+            if best.is_none_or(|(_, m)| n > m) {
+                best = Some((name, n));
+            }
+        }
+        let (element, n) = best?;
+        // Ten or more switches of one element within a thousandth of the interval: a
+        // long run that merely used up its budget is not reported as switching.
+        let times: Vec<f64> = recent
+            .iter()
+            .filter(|s| s.element.as_deref() == Some(element))
+            .map(|s| s.t)
+            .collect();
+        let spread = times.first()? - times.get(9).or(times.last())?;
+        if n < 10 || spread > ZENO_SPAN * self.span {
+            return None;
+        }
+        let mut cycle: Vec<String> = recent
+            .iter()
+            .filter(|s| s.element.as_deref() == Some(element))
+            .take(6)
+            .map(|s| match (s.from, s.to) {
+                (Some(a), Some(b)) if s.kind == SwitchKind::Mode => format!("{a:?} → {b:?}"),
+                _ => format!("{:?}", s.kind),
+            })
+            .collect();
+        cycle.reverse();
+        Some(ErrorKind::KeepsSwitching {
+            t,
+            element: element.to_string(),
+            cycle: format!("last switches: {}", cycle.join(", ")),
+        })
     }
 
     /// The current `[q; v]`.
@@ -1054,10 +1115,12 @@ where
         let times: Vec<f64> = self.event_times.iter().copied().collect();
         let k = times.len();
         if times.iter().rev().take_while(|&&s| s == t).count() >= SAME_TIME_EVENTS {
-            return Err(ErrorKind::IllPosedMode {
-                t,
-                detail: format!("{SAME_TIME_EVENTS} mode switches at one instant (cycling)"),
-            });
+            return Err(self
+                .switching_element(t)
+                .unwrap_or(ErrorKind::IllPosedMode {
+                    t,
+                    detail: format!("{SAME_TIME_EVENTS} mode switches at one instant (cycling)"),
+                }));
         }
         let mut end = None;
         if k > ZENO_GEOMETRIC + 1 {

@@ -60,3 +60,26 @@ fn beyond_the_limits_is_a_spanned_error() {
         assert!(err.contains(message), "{err}");
     }
 }
+
+/// `#[mechanism(crate = fil)]` names the crate by the user's path everywhere: no
+/// `::filippov` is left in the expansion (a renamed dependency would not have one).
+#[test]
+fn crate_option_renames_every_path() {
+    let src = "#[derive(Mechanism)]
+        #[mechanism(gravity = [0.0, -9.81, 0.0], crate = fil)]
+        #[body(link, mass = m, com = [l, 0.0, 0.0], inertia = rod(m, l))]
+        #[joint(hinge: revolute(z), parent = world, child = link)]
+        #[friction(hinge, f_crit = 0.5)]
+        struct Renamed { m: f64, l: f64 }";
+    let out = filippov_codegen::expand(src.parse().unwrap())
+        .unwrap()
+        .to_string();
+    assert!(!out.contains(":: filippov"), "a ::filippov path is left");
+    assert!(out.contains("fil :: runtime"));
+    let quoted = "#[derive(Mechanism)]
+        #[mechanism(crate = \"fil\")]
+        #[body(link, mass = m)]
+        #[joint(hinge: revolute(z), parent = world, child = link)]
+        struct Renamed { m: f64 }";
+    assert!(filippov_codegen::expand(quoted.parse().unwrap()).is_ok());
+}

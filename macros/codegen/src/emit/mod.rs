@@ -307,9 +307,11 @@ pub fn rename_crate(tokens: TokenStream, path: &syn::Path) -> TokenStream {
             && a.spacing() == Spacing::Joint
             && b.as_char() == ':'
             && id == "filippov"
+            // A leading `::filippov`, not `a::filippov`: the token before is not a path
+            // segment (an identifier that is not a keyword such as `impl` or `for`).
             && !matches!(
                 i.checked_sub(1).and_then(|j| trees.get(j)),
-                Some(TokenTree::Ident(_))
+                Some(TokenTree::Ident(prev)) if syn::parse_str::<syn::Ident>(&prev.to_string()).is_ok()
             )
         {
             out.extend(replacement.clone());

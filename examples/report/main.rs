@@ -10,6 +10,10 @@
 #[path = "../support/mod.rs"]
 mod support;
 
+#[path = "agreement.rs"]
+mod agreement;
+#[path = "../support/agreement.rs"]
+mod agreement_support;
 #[path = "chains.rs"]
 mod chains;
 #[path = "config.rs"]
@@ -44,7 +48,7 @@ pub use config::Config;
 /// Runs every section and writes the report; returns the path of the Markdown page.
 pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     std::fs::create_dir_all(&config.out_dir)?;
-    let progress = config.progress(9);
+    let progress = config.progress(10);
     let mut page = markdown::Page::new("filippov report");
     page.para(&format!(
         "Measured on this machine in one run ({} configuration; {}). Times are medians of {} runs after a warm-up. \
@@ -61,6 +65,9 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     progress.inc(1);
     progress.set_message("non-smooth scenes read back on an output grid");
     let dense = dense::dense_output(config);
+    progress.inc(1);
+    progress.set_message("randomized agreement suite (1,000 random scenes)");
+    let agree = agreement::agreement(config);
     progress.inc(1);
     progress.set_message("S9: arm with joint friction and stops");
     let arm = s9::s9(config);
@@ -89,6 +96,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     summary.extend(wp.summary.iter().cloned());
     summary.extend(ns.summary.iter().cloned());
     summary.extend(dense.summary.iter().cloned());
+    summary.extend(agree.summary.iter().cloned());
     summary.extend(arm.summary.iter().cloned());
     summary.extend(lg.summary.iter().cloned());
     summary.extend(e.summary.iter().cloned());
@@ -99,6 +107,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     page.append(wp.page);
     page.append(ns.page);
     page.append(dense.page);
+    page.append(agree.page);
     page.append(arm.page);
     page.append(lg.page);
     page.append(k.page);

@@ -24,6 +24,7 @@ mod kinematics;
 mod lie_tests;
 mod model;
 mod rnea;
+mod scene;
 mod spatial;
 #[cfg(test)]
 pub(crate) mod test_models;
@@ -39,6 +40,7 @@ pub use dynamics::{
 pub use kinematics::{Pose, axis_rotation, link_poses, rpy_matrix};
 pub use model::*;
 pub use rnea::rnea;
+pub use scene::{Scene, SlipLaw};
 
 #[cfg(test)]
 mod tests {

@@ -7,10 +7,11 @@ use std::time::Instant;
 use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
-    MechanicalSystem, Method, NonSmoothMethod, NonSmoothProblem, Options, Problem, SmoothMethod,
-    solve, solve_nonsmooth,
+    MechanicalSystem, Method, NonSmoothMethod, NonSmoothProblem, Options, Output, Problem,
+    SmoothMethod, solve, solve_nonsmooth_with,
 };
 use filippov::scenes::{CoulombOscillator, DoublePendulum};
+use indicatif::ProgressBar;
 
 use super::markdown::sci;
 
@@ -21,7 +22,10 @@ type V1 = SVector<f64, 1>;
 /// (with its friction force when stuck). Drift: the largest change of `x(kT)` from
 /// `x(k₀T)` for `k ≥ k₀ = cycles / 10` (after the transient) — on the exact periodic
 /// orbit it is zero; the transient `|x(k₀T) − x(T)|` is reported beside it.
-pub fn stick_slip(cycles: usize) -> Vec<String> {
+///
+/// Each chunk keeps only the rows at `kT` (`Output::Times`) and reports its progress to
+/// the report's progress bar through an observer.
+pub fn stick_slip(cycles: usize, progress: &ProgressBar) -> Vec<String> {
     let s = CoulombOscillator {
         m: 1.0,
         k: 1.0,
@@ -47,8 +51,23 @@ pub fn stick_slip(cycles: usize) -> Vec<String> {
     while done < cycles {
         let n = chunk.min(cycles - done);
         let (t0, t1) = (done as f64 * period, (done + n) as f64 * period);
-        let p = NonSmoothProblem::new(t0, t1, V1::new(q), V1::new(v)).with_forces(vec![force]);
-        let traj = match solve_nonsmooth(&s, &input, &p, &method) {
+        let grid: Vec<f64> = (done..=done + n).map(|k| k as f64 * period).collect();
+        let p = NonSmoothProblem::new(t0, t1, V1::new(q), V1::new(v))
+            .with_forces(vec![force])
+            .with_output(Output::Times(grid));
+        let total = cycles as f64 * period;
+        let mut seen = 0usize;
+        let mut observe = |t: f64, _y: &[f64]| {
+            seen += 1;
+            if seen % 20_000 == 0 {
+                progress.set_message(format!(
+                    "stick–slip: {:.0} of {cycles} forcing periods",
+                    t / total * cycles as f64
+                ));
+            }
+            std::ops::ControlFlow::Continue(())
+        };
+        let traj = match solve_nonsmooth_with(&s, &input, &p, &method, &mut observe) {
             Ok(t) => t,
             Err(e) => {
                 return vec![
@@ -75,6 +94,7 @@ pub fn stick_slip(cycles: usize) -> Vec<String> {
                 drift = drift.max((y[0] - x_k0).abs());
             }
         }
+        // The last kept row is at t1 (the chunk's end is on the grid).
         let (_, y) = traj.last().expect("rows");
         (q, v) = (y[0], y[1]);
         force = (v == 0.0).then_some(y[2]);

@@ -61,7 +61,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     let wp = workprecision::smooth_scenes(config, &progress);
     progress.inc(1);
     progress.set_message("non-smooth scenes and the stiff/extreme suite");
-    let ns = nonsmooth::nonsmooth(config);
+    let ns = nonsmooth::nonsmooth(config, &progress);
     progress.inc(1);
     progress.set_message("non-smooth scenes read back on an output grid");
     let dense = dense::dense_output(config);

@@ -406,7 +406,7 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
     }
 }
 
-pub fn nonsmooth(config: &Config) -> Section {
+pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section {
     let mut page = Page::empty();
     let mut summary = Vec::new();
     page.h2("Work-precision: non-smooth scenes");
@@ -788,7 +788,7 @@ pub fn nonsmooth(config: &Config) -> Section {
         "long" => (1_000_000, 10_000.0),
         _ => (10_000, 1_000.0),
     };
-    rows.push(super::long_runs::stick_slip(cycles));
+    rows.push(super::long_runs::stick_slip(cycles, progress));
     rows.extend(super::long_runs::chaotic_pendulum(horizon));
     page.para("Each case reports whether it completed or ended with a typed error, what it computed, and its run time (median; the two long runs at the end are timed once). `--long` runs 10⁶ stick–slip cycles and 10⁴ s of the pendulum.");
     page.table(&["case", "method", "outcome", "result", "time [ms]"], &rows);

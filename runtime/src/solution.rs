@@ -291,6 +291,13 @@ impl Solution {
         while self.recorder.next < ts.len() && ts[self.recorder.next] <= t {
             let tau = ts[self.recorder.next];
             self.recorder.next += 1;
+            if tau == t {
+                // The step's end itself: the accepted state, not the polynomial's
+                // rounding of it (a stuck velocity stays exactly 0.0).
+                self.store(t, y, dy, HERMITE);
+                last_stored = t;
+                continue;
+            }
             let r = &self.recorder;
             let h = t - t0;
             let theta = if h > 0.0 { (tau - t0) / h } else { 1.0 };

@@ -1262,3 +1262,38 @@ fn time_stepping_on_stiff_supports_is_stable_and_passive() {
         }
     }
 }
+
+/// A spring 1e12 times stiffer than the other inside the mechanism (two blocks with
+/// friction): event-driven SDIRK4 and BDF complete and agree with each other on the
+/// first block's final position (SDIRK4 ended in an ill-posed mode while it kept the
+/// Jacobian of the equations before each switch, which its error estimate is filtered
+/// through).
+#[test]
+fn stiff_spring_inside_the_mechanism_with_implicit_event_driven_methods() {
+    use filippov::scenes::FrictionChain;
+    type V2 = SVector<f64, 2>;
+    let k2 = 1e12;
+    let s = FrictionChain {
+        m1: 1.0,
+        m2: 1.0,
+        k1: 1.0,
+        k2,
+        f1: 0.1,
+        f2: 0.2,
+    };
+    let none = |_t: f64, _q: &V2, _v: &V2| V2::zeros();
+    let p = NonSmoothProblem::new(0.0, 10.0, V2::new(1.0, 1e-3 / k2.sqrt()), V2::zeros());
+    let x1: Vec<f64> = [SmoothMethod::Sdirk4, SmoothMethod::Bdf]
+        .into_iter()
+        .map(|method| {
+            let m = NonSmoothMethod::EventDriven {
+                method,
+                options: Options::tolerances(1e-8, 1e-10),
+            };
+            let sol =
+                solve_nonsmooth(&s, &none, &p, &m).unwrap_or_else(|e| panic!("{method:?}: {e}"));
+            sol.last().unwrap().1[0]
+        })
+        .collect();
+    assert!((x1[0] - x1[1]).abs() < 1e-4, "{x1:?}");
+}

@@ -17,8 +17,9 @@
 //!    [`dense`](Stepper::dense) the method's continuous extension over the step.
 //! 3. [`restart`](Stepper::restart) at a discontinuity `(t, y⁺)`: everything that
 //!    assumed a smooth past (the FSAL derivative, BDF's history, the controller's memory)
-//!    is dropped; the Jacobian is kept (a stale Jacobian still serves a simplified Newton
-//!    iteration and is refreshed at its first failure), and so is the step size unless
+//!    is dropped; BDF keeps its Jacobian (a stale Jacobian still serves a simplified
+//!    Newton iteration and is refreshed at its first failure; SDIRK4 re-evaluates it,
+//!    because its error estimate is filtered through it), and the step size is kept unless
 //!    the starting-step estimate at the new point is smaller ([`restart_step`]): the
 //!    equations changed, and a step that suited the old ones may straddle a kink of the
 //!    new ones (measured: keeping it made SDIRK4 and BDF fail Newton on S4's plateau

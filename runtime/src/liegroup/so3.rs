@@ -313,8 +313,36 @@ impl std::ops::Mul for UnitQuat {
     }
 }
 
+/// To nalgebra's unit quaternion (the same rotation; nalgebra stores `(x, y, z, w)`).
+impl From<UnitQuat> for nalgebra::UnitQuaternion<f64> {
+    fn from(q: UnitQuat) -> Self {
+        let [w, x, y, z] = q.coords();
+        nalgebra::UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(w, x, y, z))
+    }
+}
+
+/// From nalgebra's unit quaternion (the same rotation).
+impl From<nalgebra::UnitQuaternion<f64>> for UnitQuat {
+    fn from(q: nalgebra::UnitQuaternion<f64>) -> Self {
+        UnitQuat::from_coords_unchecked(q.w, q.i, q.j, q.k)
+    }
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn conversions_to_and_from_nalgebra_keep_the_rotation() {
+        let q = UnitQuat::try_new(0.3, -0.5, 0.2, 0.7).unwrap();
+        let n: nalgebra::UnitQuaternion<f64> = q.into();
+        let v = nalgebra::Vector3::new(0.4, -1.0, 2.0);
+        let ours = q.to_matrix() * v;
+        assert!((n * v - ours).norm() < 1e-14);
+        let back: UnitQuat = n.into();
+        let [w, x, y, z] = back.coords();
+        let [w0, x0, y0, z0] = q.coords();
+        assert!((w - w0).abs() + (x - x0).abs() + (y - y0).abs() + (z - z0).abs() < 1e-15);
+    }
+
     use super::*;
 
     /// Deterministic pseudo-random vectors (no dev-dependency needed).

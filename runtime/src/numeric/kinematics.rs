@@ -21,6 +21,27 @@ pub struct Pose {
     pub translation: Vector3<f64>,
 }
 
+/// To nalgebra's isometry (rotation then translation, as `Pose` applies them).
+impl From<Pose> for nalgebra::Isometry3<f64> {
+    fn from(p: Pose) -> Self {
+        let r = nalgebra::Rotation3::from_matrix_unchecked(p.rotation);
+        nalgebra::Isometry3::from_parts(
+            nalgebra::Translation3::from(p.translation),
+            nalgebra::UnitQuaternion::from_rotation_matrix(&r),
+        )
+    }
+}
+
+/// From nalgebra's isometry.
+impl From<nalgebra::Isometry3<f64>> for Pose {
+    fn from(iso: nalgebra::Isometry3<f64>) -> Self {
+        Pose {
+            rotation: iso.rotation.to_rotation_matrix().into_inner(),
+            translation: iso.translation.vector,
+        }
+    }
+}
+
 impl Pose {
     /// The world frame.
     pub fn identity() -> Self {
@@ -227,5 +248,26 @@ mod tests {
         // The pole's x axis points along world y after a quarter turn about z.
         let tip = poses[1].transform_point(&Vector3::new(1.0, 0.0, 0.0));
         assert!((tip - Vector3::new(0.4, 1.0, 0.0)).norm() < 1e-15);
+    }
+}
+
+#[cfg(test)]
+mod conversion_tests {
+    use super::*;
+
+    /// A pose and its nalgebra isometry move points the same way, both directions.
+    #[test]
+    fn pose_and_isometry_agree() {
+        let pose = Pose {
+            rotation: rpy_matrix(&Vector3::new(0.3, -0.7, 1.1)),
+            translation: Vector3::new(1.0, -2.0, 0.5),
+        };
+        let iso: nalgebra::Isometry3<f64> = pose.into();
+        let p = Vector3::new(0.2, 0.4, -0.9);
+        let q = iso.transform_point(&nalgebra::Point3::from(p)).coords;
+        assert!((q - pose.transform_point(&p)).norm() < 1e-14);
+        let back: Pose = iso.into();
+        assert!((back.rotation - pose.rotation).norm() < 1e-14);
+        assert_eq!(back.translation, pose.translation);
     }
 }

@@ -949,6 +949,25 @@ fn smooth_path_refuses_a_non_smooth_scene() {
     assert!((sol.last().unwrap().1[0] - 1f64.cos()).abs() < 1e-8);
 }
 
+/// S6 and S1 (m = k = 1, f_crit = 0.1, η = 0.2) released from x = 1 at rest over
+/// [0, 30], as the closed forms below describe them.
+fn free_decays() -> (NonSmoothProblem<1>, CoulombOscillator, BinghamOscillator) {
+    (
+        NonSmoothProblem::new(0.0, 30.0, V1::new(1.0), V1::new(0.0)),
+        CoulombOscillator {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 0.1,
+        },
+        BinghamOscillator {
+            m: 1.0,
+            k: 1.0,
+            f_crit: 0.1,
+            eta: 0.2,
+        },
+    )
+}
+
 /// S6 in closed form (m = k = 1, f_crit = 0.1 from x = 1 at rest): half-periods about the
 /// offsets ±f_crit, turning points (−1)ⁿ (1 − 0.2 n) at t = nπ, stuck at 0 from 5π on.
 fn s6_exact(t: f64) -> [f64; 2] {
@@ -1004,18 +1023,7 @@ fn switch_logs_of_s1_and_s6_match_the_closed_forms() {
         method: SmoothMethod::Dopri5,
         options: Options::tolerances(1e-10, 1e-12),
     };
-    let p = NonSmoothProblem::new(0.0, 30.0, V1::new(1.0), V1::new(0.0));
-    let s6 = CoulombOscillator {
-        m: 1.0,
-        k: 1.0,
-        f_crit: 0.1,
-    };
-    let s1 = BinghamOscillator {
-        m: 1.0,
-        k: 1.0,
-        f_crit: 0.1,
-        eta: 0.2,
-    };
+    let (p, s6, s1) = free_decays();
     let s6_turns: Vec<f64> = (1..=5).map(|n| n as f64 * std::f64::consts::PI).collect();
     let s1_turns: Vec<f64> = s1_exact().0.iter().map(|(t, _)| *t).collect();
     for (name, element, sol, turns) in [
@@ -1062,18 +1070,7 @@ fn switch_logs_of_s1_and_s6_match_the_closed_forms() {
 /// measured 2.08× on S1 at rtol 1e-10.
 #[test]
 fn event_driven_grid_error_is_within_twice_the_step_error() {
-    let p = NonSmoothProblem::new(0.0, 30.0, V1::new(1.0), V1::new(0.0));
-    let s6 = CoulombOscillator {
-        m: 1.0,
-        k: 1.0,
-        f_crit: 0.1,
-    };
-    let s1 = BinghamOscillator {
-        m: 1.0,
-        k: 1.0,
-        f_crit: 0.1,
-        eta: 0.2,
-    };
+    let (p, s6, s1) = free_decays();
     let (_, s1_closed) = s1_exact();
     for rtol in [1e-6, 1e-8, 1e-10] {
         for method in [

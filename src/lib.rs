@@ -50,6 +50,11 @@
 //! Values are expressions over the struct's `f64` fields, numbers, `PI`, `+ - * /`,
 //! `sqrt`, `sin`, `cos`, `exp`, `ln` and `powi`.
 
+//! A struct with more than 127 attributes after `#[derive(Mechanism)]` (a 64-link chain:
+//! a body and a joint per link) needs `#![recursion_limit = "256"]` in its crate: rustc
+//! counts each derive helper attribute as one expansion step, and stops at 128 before
+//! the derive runs.
+
 // Lets the crate's own scenes use the derive, whose output names `::filippov`.
 extern crate self as filippov;
 

@@ -50,10 +50,10 @@
 //! Values are expressions over the struct's `f64` fields, numbers, `PI`, `+ - * /`,
 //! `sqrt`, `sin`, `cos`, `exp`, `ln` and `powi`.
 
-//! A struct with more than 127 attributes after `#[derive(Mechanism)]` (a 64-link chain:
-//! a body and a joint per link) needs `#![recursion_limit = "256"]` in its crate: rustc
-//! counts each derive helper attribute as one expansion step, and stops at 128 before
-//! the derive runs.
+//! - `#[body(name: kind, parent = …, origin = …, rpy = …, mass = …, com = …, inertia = …)]`
+//!   declares a body and the joint it hangs from (named like the body) in one attribute:
+//!   rustc expands at most 128 derive helper attributes on one struct, so a chain of 64
+//!   links needs this form (65 attributes) or `#![recursion_limit = "256"]` in its crate.
 
 // Lets the crate's own scenes use the derive, whose output names `::filippov`.
 extern crate self as filippov;

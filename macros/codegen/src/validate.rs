@@ -69,6 +69,19 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
                 }
                 raw.reject_rest(&["gravity", "inputs", "crate"], diag);
             }
+            // `#[body(name: kind, parent = …, origin = …, mass = …, …)]` declares the body
+            // and the joint it hangs from (named like the body) in one attribute: half
+            // the attributes of a long chain (rustc stops at 128 helper attributes on
+            // one struct).
+            Family::Body if raw.head.is_some() => {
+                let child = raw.name.clone();
+                let (body, joint) = split_body_with_joint(raw);
+                bodies.extend(read_body(body, &names, diag));
+                match read_joint(joint, &names, diag) {
+                    Some(j) => joints.push(j),
+                    None => claimed.extend(child),
+                }
+            }
             Family::Body => bodies.extend(read_body(raw, &names, diag)),
             Family::Joint => {
                 // The child a joint names, even if the joint has errors: that body is
@@ -185,6 +198,30 @@ fn check_struct_shape(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Vec
     Some(out)
 }
 
+/// Splits `#[body(name: kind, …)]` into the body (mass, com, inertia and anything
+/// unknown, reported there) and its joint (the kind, parent, origin, rpy; child = name).
+fn split_body_with_joint(mut raw: RawAttr) -> (RawAttr, RawAttr) {
+    let name = raw.name.clone().expect("bodies are named");
+    let (joint_args, body_args): (Vec<_>, Vec<_>) = raw
+        .args
+        .drain(..)
+        .partition(|(k, _)| ["parent", "origin", "rpy"].iter().any(|j| k == j));
+    let mut joint_args = joint_args;
+    joint_args.push((
+        syn::Ident::new("child", name.span()),
+        syn::parse_quote!(#name),
+    ));
+    let joint = RawAttr {
+        family: Family::Joint,
+        name: Some(name),
+        head: raw.head.take(),
+        args: joint_args,
+        span: raw.span,
+    };
+    raw.args = body_args;
+    (raw, joint)
+}
+
 /// `crate = fil` or `crate = "fil"`: the path the generated code names the `filippov`
 /// crate by, for a dependency renamed in `Cargo.toml` (as serde's `crate` option).
 fn crate_path(e: &syn::Expr, diag: &mut Diagnostics) -> Option<syn::Path> {
@@ -244,7 +281,7 @@ fn read_body(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opti
     if let Some(h) = &raw.head {
         diag.error_at(
             h,
-            "a body takes no `: kind`; write `#[body(name, mass = …, com = […], inertia = …)]`",
+            "a body takes no `: kind` here; write `#[body(name, mass = …, com = […], inertia = …)]`",
         );
     }
     let mass = match raw.take("mass", diag) {

@@ -83,3 +83,29 @@ fn crate_option_renames_every_path() {
         struct Renamed { m: f64 }";
     assert!(filippov_codegen::expand(quoted.parse().unwrap()).is_ok());
 }
+
+/// `#[body(name: kind, parent = …, origin = …, rpy = …, mass = …, …)]` is the same scene
+/// as a `#[body]` and a `#[joint]` named like the body: the expansions are identical.
+#[test]
+fn body_with_its_joint_expands_as_the_two_attributes() {
+    let split = "#[derive(Mechanism)]
+        #[mechanism(gravity = [0.0, -9.81, 0.0])]
+        #[body(upper, mass = m, com = [l / 2.0, 0.0, 0.0], inertia = rod(m, l))]
+        #[joint(upper: revolute(z), parent = world, child = upper)]
+        #[body(lower, mass = m, com = [l / 2.0, 0.0, 0.0], inertia = rod(m, l))]
+        #[joint(lower: revolute(z), parent = upper, child = lower, origin = [l, 0.0, 0.0], rpy = [0.0, 0.1, 0.0])]
+        #[friction(lower, f_crit = 0.5)]
+        struct Arm { m: f64, l: f64 }";
+    let combined = "#[derive(Mechanism)]
+        #[mechanism(gravity = [0.0, -9.81, 0.0])]
+        #[body(upper: revolute(z), parent = world, mass = m, com = [l / 2.0, 0.0, 0.0], inertia = rod(m, l))]
+        #[body(lower: revolute(z), parent = upper, origin = [l, 0.0, 0.0], rpy = [0.0, 0.1, 0.0], mass = m, com = [l / 2.0, 0.0, 0.0], inertia = rod(m, l))]
+        #[friction(lower, f_crit = 0.5)]
+        struct Arm { m: f64, l: f64 }";
+    let expand = |src: &str| {
+        filippov_codegen::expand(src.parse().unwrap())
+            .unwrap()
+            .to_string()
+    };
+    assert_eq!(expand(split), expand(combined));
+}

@@ -47,13 +47,18 @@
 //!   `max` in one attribute (or one stop per side) for two-sided joint limits, named
 //!   `stop_<joint>_min` and `stop_<joint>_max`.
 //!
-//! Values are expressions over the struct's `f64` fields, numbers, `PI`, `+ - * /`,
-//! `sqrt`, `sin`, `cos`, `exp`, `ln` and `powi`.
-
 //! - `#[body(name: kind, parent = …, origin = …, rpy = …, mass = …, com = …, inertia = …)]`
 //!   declares a body and the joint it hangs from (named like the body) in one attribute:
 //!   rustc expands at most 128 derive helper attributes on one struct, so a chain of 64
 //!   links needs this form (65 attributes) or `#![recursion_limit = "256"]` in its crate.
+//! - `#[mechanism(crate = fil)]` when the crate is a renamed dependency
+//!   (`fil = { package = "filippov", … }`).
+//!
+//! Values are expressions over the struct's `f64` fields, numbers, `PI`, `+ - * /`,
+//! `sqrt`, `sin`, `cos`, `exp`, `ln` and `powi`; every number and constant part must be a
+//! finite `f64`. A field may be named like a function (`sin` is the field, `sin(x)` the
+//! function) but not `PI`. Expressions nest at most 256 brackets deep and an attribute
+//! holds at most 20,000 tokens; each limit is a spanned error.
 
 // Lets the crate's own scenes use the derive, whose output names `::filippov`.
 extern crate self as filippov;

@@ -6,49 +6,24 @@
 //!
 //! Run: `cargo run --release --example ensemble` (plots in `target/plots/`).
 
+#[path = "support/resting_arm.rs"]
+mod resting_arm;
 #[path = "support/mod.rs"]
 mod support;
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use filippov::Mechanism;
-use filippov::nalgebra::SVector;
 use filippov::runtime::{NonSmoothMethod, NonSmoothProblem, SwitchKind, solve_nonsmooth};
 use indicatif::{ProgressBar, ProgressStyle};
+use resting_arm::{RestingArm, V2, zero};
 use support::{Scale, Series, line_plot, plot_path};
-
-type V2 = SVector<f64, 2>;
-
-/// Two links in a vertical plane: a lower limit with restitution `e` on the shoulder,
-/// which gravity presses the arm onto, and Coulomb friction `fc` on the elbow.
-#[derive(Mechanism, Clone, Copy)]
-#[mechanism(gravity = [0.0, -9.81, 0.0])]
-#[body(upper, mass = m1, com = [l1 / 2.0, 0.0, 0.0], inertia = rod(m1, l1))]
-#[joint(shoulder: revolute(z), parent = world, child = upper)]
-#[body(lower, mass = m2, com = [l2 / 2.0, 0.0, 0.0], inertia = rod(m2, l2))]
-#[joint(elbow: revolute(z), parent = upper, child = lower, origin = [l1, 0.0, 0.0])]
-#[friction(elbow, f_crit = fc)]
-#[stop(shoulder, min = lim, restitution = e)]
-struct DroppedArm {
-    m1: f64,
-    l1: f64,
-    m2: f64,
-    l2: f64,
-    fc: f64,
-    lim: f64,
-    e: f64,
-}
-
-fn zero(_t: f64, _q: &V2, _v: &V2) -> V2 {
-    V2::zeros()
-}
 
 /// What one run came to: settle time and final elbow angle, or the error.
 type Outcome = Result<(f64, f64), String>;
 
 fn run(e: f64, fc: f64) -> Outcome {
-    let arm = DroppedArm {
+    let arm = RestingArm {
         m1: 1.0,
         l1: 1.0,
         m2: 0.5,

@@ -1,35 +1,11 @@
 //! Resting contact: an arm under gravity that falls onto its joint limit and comes to rest
 //! there — the most common state of a robot arm — and a ball settling on a floor.
 
-use filippov::Mechanism;
-use filippov::nalgebra::SVector;
+#[path = "../examples/support/resting_arm.rs"]
+mod resting_arm;
+
 use filippov::runtime::{NonSmoothMethod, NonSmoothProblem, solve_nonsmooth};
-
-type V2 = SVector<f64, 2>;
-
-/// Two links in a vertical plane; a lower limit with restitution `e` on the shoulder,
-/// which gravity presses the arm onto, and friction on the elbow.
-#[derive(Mechanism, Clone, Copy)]
-#[mechanism(gravity = [0.0, -9.81, 0.0])]
-#[body(upper, mass = m1, com = [l1 / 2.0, 0.0, 0.0], inertia = rod(m1, l1))]
-#[joint(shoulder: revolute(z), parent = world, child = upper)]
-#[body(lower, mass = m2, com = [l2 / 2.0, 0.0, 0.0], inertia = rod(m2, l2))]
-#[joint(elbow: revolute(z), parent = upper, child = lower, origin = [l1, 0.0, 0.0])]
-#[friction(elbow, f_crit = fc)]
-#[stop(shoulder, min = lim, restitution = e)]
-struct RestingArm {
-    m1: f64,
-    l1: f64,
-    m2: f64,
-    l2: f64,
-    fc: f64,
-    lim: f64,
-    e: f64,
-}
-
-fn zero(_t: f64, _q: &V2, _v: &V2) -> V2 {
-    V2::zeros()
-}
+use resting_arm::{RestingArm, V2, zero};
 
 /// The arm released above its limit settles on it: event-driven (default method and
 /// options) completes — the last bounces, too small to see, settle into contact instead

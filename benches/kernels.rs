@@ -4,11 +4,11 @@
 //! Run: `cargo bench --bench kernels`.
 
 use divan::{Bencher, black_box};
-use filippov::Mechanism;
 use filippov::nalgebra::{DVector, SVector, Vector3};
+use filippov::prelude::*;
 use filippov::runtime::liegroup::LieMechanism;
 use filippov::runtime::{UnitQuat, numeric};
-use filippov::scenes::{BallChain, BranchedTree, DoublePendulum, Panda, PlanarArm3, Satellite};
+use filippov_scenes::{BallChain, BranchedTree, DoublePendulum, Panda, PlanarArm3, Satellite};
 
 fn main() {
     divan::main();

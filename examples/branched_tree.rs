@@ -6,10 +6,10 @@
 #[path = "support/mod.rs"]
 mod support;
 
-use filippov::Mechanism;
 use filippov::nalgebra::SVector;
+use filippov::prelude::*;
 use filippov::runtime::{MechanicalSystem, Method, Options, Problem, solve};
-use filippov::scenes::BranchedTree;
+use filippov_scenes::BranchedTree;
 use support::{Scale, Series, line_plot, plot_over_time, plot_path, time_series};
 
 fn main() {

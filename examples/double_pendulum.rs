@@ -8,10 +8,10 @@ mod support;
 
 use std::time::Instant;
 
-use filippov::Mechanism;
 use filippov::nalgebra::SVector;
+use filippov::prelude::*;
 use filippov::runtime::{MechanicalSystem, Method, Options, Problem, Solution, solve};
-use filippov::scenes::DoublePendulum;
+use filippov_scenes::DoublePendulum;
 use support::{Scale, Series, line_plot, plot_over_time, plot_path, time_series};
 
 fn energy(p: &DoublePendulum, y: &[f64]) -> f64 {

@@ -1,7 +1,8 @@
 //! What the derive costs and what it emits, per scene: expansion time (median of
 //! repeated runs of the engine on the scene's source), graph size, lets and operation
-//! counts of every generated method. Also expands planar chains of 2…12 links and a
-//! 36-joint binary tree to show how expansion scales.
+//! counts of every generated method. Also expands planar chains of 2…30 links and 3D
+//! binary trees of up to 36 joints to show how expansion scales, each twice: with the
+//! default kernels (what the integrators call) and with `emit = all`.
 //!
 //! Run: `cargo run --release --example expansion`.
 
@@ -11,7 +12,7 @@ use proc_macro2::TokenStream;
 
 fn scene(file: &str) -> Vec<(String, TokenStream)> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("src/scenes")
+        .join("scenes/src")
         .join(file);
     let src = std::fs::read_to_string(path).expect("scene source");
     syn::parse_file(&src)
@@ -27,10 +28,14 @@ fn scene(file: &str) -> Vec<(String, TokenStream)> {
         .collect()
 }
 
+fn header(gravity: &str, all: bool) -> String {
+    let emit = if all { ", emit = all" } else { "" };
+    format!("#[derive(Mechanism)]\n#[mechanism(gravity = {gravity}{emit})]\n")
+}
+
 /// A planar chain of `n` rods.
-fn chain(n: usize) -> TokenStream {
-    let mut attrs =
-        String::from("#[derive(Mechanism)]\n#[mechanism(gravity = [0.0, -9.81, 0.0])]\n");
+fn chain(n: usize, all: bool) -> TokenStream {
+    let mut attrs = header("[0.0, -9.81, 0.0]", all);
     for i in 0..n {
         let parent = if i == 0 {
             "world".to_string()
@@ -49,9 +54,8 @@ fn chain(n: usize) -> TokenStream {
 }
 
 /// A binary tree of `n` links in 3D, joint axes cycling x, y, z.
-fn tree(n: usize) -> TokenStream {
-    let mut attrs =
-        String::from("#[derive(Mechanism)]\n#[mechanism(gravity = [0.0, 0.0, -9.81])]\n");
+fn tree(n: usize, all: bool) -> TokenStream {
+    let mut attrs = header("[0.0, 0.0, -9.81]", all);
     for i in 0..n {
         let parent = if i == 0 {
             "world".to_string()
@@ -107,12 +111,15 @@ fn main() {
             report(&name, &tokens, 21, true);
         }
     }
-    println!("\n== planar chains (M, C, g, FD, Jacobian, energies)");
-    for n in [2, 3, 4, 5, 6, 7, 8, 10, 12] {
-        report(&format!("chain{n}"), &chain(n), 5, false);
+    println!("\n== planar chains: default kernels (M, FD, FD Jacobian) | emit = all");
+    for n in [2, 4, 7, 12, 20, 30] {
+        let reps = if n > 12 { 3 } else { 5 };
+        report(&format!("chain{n}"), &chain(n, false), reps, false);
+        report(&format!("chain{n} all"), &chain(n, true), reps, false);
     }
-    println!("\n== 3D binary trees");
+    println!("\n== 3D binary trees: default kernels | emit = all");
     for n in [7, 15, 36] {
-        report(&format!("tree{n}"), &tree(n), 3, false);
+        report(&format!("tree{n}"), &tree(n, false), 3, false);
+        report(&format!("tree{n} all"), &tree(n, true), 3, false);
     }
 }

@@ -17,13 +17,13 @@ mod support;
 
 use std::time::Instant;
 
-use filippov::Mechanism;
 use filippov::nalgebra::{Matrix3, Rotation3, SVector};
+use filippov::prelude::*;
 use filippov::runtime::liegroup::{LieMechanical, LieMechanism, so3};
 use filippov::runtime::{
     LieProblem, LieTrajectory, MechanicalSystem, Method, Options, Problem, Rkmk5, Solution, solve,
 };
-use filippov::scenes::{EulerBody, SphericalBody};
+use filippov_scenes::{EulerBody, SphericalBody};
 use support::{Scale, Series, line_plot, plot_path};
 
 const T_END: f64 = 10.0;

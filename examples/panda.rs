@@ -9,12 +9,12 @@ mod support;
 
 use std::time::Instant;
 
-use filippov::Mechanism;
 use filippov::nalgebra::SVector;
+use filippov::prelude::*;
 use filippov::runtime::{
     MechanicalSystem, Method, NumericSystem, Options, Problem, numeric, solve,
 };
-use filippov::scenes::Panda;
+use filippov_scenes::Panda;
 use support::{plot_over_time, time_series};
 
 type V7 = SVector<f64, 7>;

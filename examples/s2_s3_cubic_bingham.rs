@@ -15,7 +15,7 @@ use filippov::nalgebra::SVector;
 use filippov::runtime::{
     NonSmooth, NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, solve_nonsmooth,
 };
-use filippov::scenes::CubicBingham;
+use filippov_scenes::CubicBingham;
 
 type V1 = SVector<f64, 1>;
 

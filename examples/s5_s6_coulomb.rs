@@ -17,7 +17,7 @@ use filippov::nalgebra::SVector;
 use filippov::runtime::{
     NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, solve_nonsmooth,
 };
-use filippov::scenes::CoulombOscillator;
+use filippov_scenes::CoulombOscillator;
 
 type V1 = SVector<f64, 1>;
 const H: f64 = 1e-3;

@@ -17,7 +17,7 @@ use filippov::nalgebra::SVector;
 use filippov::runtime::{
     NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, solve_nonsmooth,
 };
-use filippov::scenes::{BilinearOscillator, SupportedStop};
+use filippov_scenes::{BilinearOscillator, SupportedStop};
 use support::{Scale, Series, line_plot, plot_path};
 
 type V1 = SVector<f64, 1>;

@@ -14,9 +14,9 @@ mod support;
 
 use std::time::Instant;
 
-use filippov::Mechanism;
+use filippov::prelude::*;
 use filippov::runtime::{NonSmoothMethod, Options, SmoothMethod};
-use filippov::scenes::PandaS9;
+use filippov_scenes::PandaS9;
 use s9::{V7, s9_balance, s9_run, s9_torque};
 use support::{Series, plot_over_time, time_series};
 

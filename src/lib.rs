@@ -2,14 +2,19 @@
 //!
 //! Compile-time specialised simulators for rigid multibody systems. A struct whose
 //! fields are physical parameters, described with attributes, becomes straight-line
-//! Rust for the mass matrix, Christoffel symbols and Coriolis matrix, gravity, forward
-//! and inverse dynamics and the Jacobian of the forward dynamics:
+//! Rust for what the integrators call — the mass matrix, forward dynamics and its
+//! Jacobian (and, with friction, dash-pots or stops, `M⁻¹` and the element laws). Other
+//! kernels are emitted when the scene asks for them by name, `#[mechanism(emit = [...])]`:
+//! Christoffel symbols, Coriolis matrix, gravity, bias, passive and inverse dynamics,
+//! energies, and the DAE residuals, Delassus operator and switching functions of a
+//! non-smooth scene ([`runtime::kernels`]). Nothing a scene does not ask for is built:
+//! the Christoffel symbols alone are most of a long chain's code.
 //!
 //! ```
 //! use filippov::prelude::*;
 //!
 //! #[derive(Mechanism)]
-//! #[mechanism(gravity = [0.0, -9.81, 0.0])]
+//! #[mechanism(gravity = [0.0, -9.81, 0.0], emit = [energy])]
 //! #[body(upper, mass = m1, com = [l1 / 2.0, 0.0, 0.0], inertia = rod(m1, l1))]
 //! #[joint(shoulder: revolute(z), parent = world, child = upper)]
 //! #[body(lower, mass = m2, com = [l2 / 2.0, 0.0, 0.0], inertia = rod(m2, l2))]
@@ -18,14 +23,21 @@
 //!
 //! let p = DoublePendulum { m1: 1.0, l1: 1.0, m2: 0.5, l2: 0.7 };
 //! let q = SVector::<f64, 2>::new(0.3, -0.2);
+//! let v = SVector::<f64, 2>::new(1.0, 0.0);
 //! let m = p.mass_matrix(&q);
 //! assert!((m[(0, 1)] - m[(1, 0)]).abs() == 0.0);
+//! // Asked for with `emit = [energy]`: ½ vᵀ M v.
+//! assert!((p.kinetic_energy(&q, &v) - 0.5 * m[(0, 0)]).abs() < 1e-15);
 //! ```
 //!
 //! ## Attributes
-//! - `#[mechanism(gravity = [gx, gy, gz], inputs = [joint, …])]` — both optional; no
-//!   gravity code without gravity; `inputs` names the actuated joints and adds
-//!   `INPUTS` and `input_forces(u)` (the map `τ = B u`).
+//! - `#[mechanism(gravity = [gx, gy, gz], inputs = [joint, …], emit = [kernel, …])]` —
+//!   all optional; no gravity code without gravity; `inputs` names the actuated joints
+//!   and adds `INPUTS` and `input_forces(u)` (the map `τ = B u`); `emit` lists the
+//!   optional kernels — `christoffel`, `coriolis`, `gravity`, `bias`, `passive_forces`,
+//!   `inverse_dynamics`, `energy`, `delassus`, `dae_residuals`, `switching_functions` —
+//!   or says `emit = all`. Each is a trait of [`runtime::kernels`] (in the [`prelude`]);
+//!   calling one the scene did not ask for is a compile error naming the option.
 //! - `#[body(name, mass = m, com = [x, y, z], inertia = …)]` — inertia about the centre
 //!   of mass in the link frame: `rod(m, l)` (along x), `cylinder(m, r, h)` (along z),
 //!   `cuboid(m, a, b, c)`, `sphere(m, r)`, `diag(ixx, iyy, izz)`, a symmetric 3×3 array,
@@ -60,21 +72,24 @@
 //! function) but not `PI`. Expressions nest at most 256 brackets deep and an attribute
 //! holds at most 20,000 tokens; each limit is a spanned error.
 
-// Lets the crate's own scenes use the derive, whose output names `::filippov`.
-extern crate self as filippov;
-
-pub mod scenes;
-
 // The derive and the trait share a name, as serde's do: one lives in the macro
 // namespace, the other in the type namespace.
 pub use filippov_macros::Mechanism;
 pub use filippov_runtime as runtime;
+pub use filippov_runtime::kernels::{
+    Bias, Christoffel, Coriolis, Energy, Gravity, InverseDynamics, PassiveForces,
+};
 pub use filippov_runtime::liegroup::LieMechanism;
 pub use filippov_runtime::system::{ForwardJacobian, Mechanism};
 pub use nalgebra;
 
-/// The names most programs need.
+/// The names most programs need: the core traits, the traits of the kernels a scene
+/// asks for with `emit = [...]` (so that their methods can be called), and nalgebra's
+/// fixed-size vectors.
 pub mod prelude {
-    pub use crate::{ForwardJacobian, LieMechanism, Mechanism};
+    pub use crate::{
+        Bias, Christoffel, Coriolis, Energy, ForwardJacobian, Gravity, InverseDynamics,
+        LieMechanism, Mechanism, PassiveForces,
+    };
     pub use nalgebra::{SMatrix, SVector};
 }

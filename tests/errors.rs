@@ -8,7 +8,7 @@ use filippov::runtime::{
     ErrorKind, MechanicalSystem, Method, NonSmoothMethod, NonSmoothProblem, Options, Problem,
     SmoothMethod, solve, solve_nonsmooth,
 };
-use filippov::scenes::{BouncingBall, CoulombOscillator, DoublePendulum};
+use filippov_scenes::{BouncingBall, CoulombOscillator, DoublePendulum};
 
 type V1 = SVector<f64, 1>;
 

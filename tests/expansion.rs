@@ -1,15 +1,19 @@
 //! Snapshots of what the derive emits for every canonical scene, pretty-printed, so a
 //! reader sees exactly the generated code and a change to it shows in review. The scene
-//! sources are read from `src/scenes/`, the same declarations the crate compiles.
+//! sources are read from `scenes/src/`, the same declarations the `filippov-scenes` crate compiles.
 
 use std::path::Path;
 
 fn scene_structs(file: &str) -> Vec<(String, proc_macro2::TokenStream)> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("src/scenes")
+        .join("scenes/src")
         .join(file);
     let src = std::fs::read_to_string(&path).expect("scene source");
-    let parsed: syn::File = syn::parse_file(&src).expect("scene parses");
+    structs_of(&src)
+}
+
+fn structs_of(src: &str) -> Vec<(String, proc_macro2::TokenStream)> {
+    let parsed: syn::File = syn::parse_file(src).expect("scene parses");
     parsed
         .items
         .into_iter()
@@ -74,4 +78,65 @@ fn lie_group_scenes() {
 #[test]
 fn s9_arm() {
     snapshot("s9.rs");
+}
+
+/// What each bundled scene gets by default, without its `emit = all`: the kernels the
+/// integrators call (mass matrix, forward dynamics and its Jacobian; with non-smooth
+/// elements `M⁻¹` and the element laws) and nothing else.
+#[test]
+fn default_kernels() {
+    const CORE: [&str; 5] = [
+        "law",
+        "mass_matrix",
+        "forward_dynamics",
+        "forward_dynamics_jacobian",
+        "inverse_mass_matrix",
+    ];
+    let mut summary = String::new();
+    for file in [
+        "double_pendulum.rs",
+        "arm3.rs",
+        "tree.rs",
+        "panda.rs",
+        "lumped.rs",
+        "lie.rs",
+        "s9.rs",
+    ] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenes/src")
+            .join(file);
+        let src = std::fs::read_to_string(&path).expect("scene source");
+        assert!(
+            src.contains("emit = all"),
+            "{file}: the bundled scenes ask for every kernel"
+        );
+        let src = src
+            .replace("#[mechanism(emit = all)]", "")
+            .replace("emit = all, ", "");
+        for (name, tokens) in structs_of(&src) {
+            let exp = filippov_codegen::expand_with_stats(tokens).expect("scene expands");
+            summary.push_str(&format!("{name}\n"));
+            for f in &exp.functions {
+                assert!(
+                    CORE.contains(&f.name) || f.name.starts_with("__law"),
+                    "{name}: `{}` emitted without being asked for",
+                    f.name
+                );
+                summary.push_str(&format!("  {:<26} {:>5} lets; {}\n", f.name, f.lets, f.ops));
+            }
+            let code = exp.tokens.to_string();
+            for absent in [
+                "christoffel_symbols",
+                "coriolis_matrix",
+                "kinetic_energy",
+                "delassus",
+            ] {
+                assert!(
+                    !code.contains(absent),
+                    "{name}: `{absent}` in the default expansion"
+                );
+            }
+        }
+    }
+    insta::assert_snapshot!("default_kernels", summary);
 }

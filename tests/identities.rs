@@ -10,9 +10,9 @@
 mod common;
 
 use common::{Rng, assert_close};
-use filippov::Mechanism;
 use filippov::nalgebra::SVector;
-use filippov::scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
+use filippov::prelude::*;
+use filippov_scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
 
 use common::{STATES, check};
 
@@ -79,7 +79,7 @@ fn input_map_places_inputs_on_actuated_joints() {
 mod nonsmooth {
     use super::*;
     use filippov::runtime::nonsmooth::{ElementKind, Law, NonSmooth, Selection, Side, StopKind};
-    use filippov::scenes::{
+    use filippov_scenes::{
         BinghamOscillator, BouncingBall, CoulombOscillator, CubicBingham,
         NonMonotoneMaxDissipation, NonMonotoneNoJumps, SupportedStop,
     };
@@ -248,7 +248,7 @@ mod nonsmooth {
 /// `validate()` accepts the canonical parameters and names every bad one.
 #[test]
 fn validate_names_bad_parameters() {
-    use filippov::scenes::{BouncingBall, CoulombOscillator, SupportedStop};
+    use filippov_scenes::{BouncingBall, CoulombOscillator, SupportedStop};
     assert_eq!(DoublePendulum::default().validate(), Ok(()));
     assert_eq!(Panda::default().validate(), Ok(()));
     assert_eq!(BranchedTree::default().validate(), Ok(()));

@@ -2,12 +2,12 @@
 
 mod common;
 
-use filippov::Mechanism;
 use filippov::nalgebra::SVector;
+use filippov::prelude::*;
 use filippov::runtime::{MechanicalSystem, Method, NumericSystem, Options, Problem, solve};
-use filippov::scenes::{DoublePendulum, Panda};
+use filippov_scenes::{DoublePendulum, Panda};
 
-fn energy<S: Mechanism<N>, const N: usize>(sys: &S, y: &[f64]) -> f64 {
+fn energy<S: Energy<N>, const N: usize>(sys: &S, y: &[f64]) -> f64 {
     let q = SVector::<f64, N>::from_column_slice(&y[..N]);
     let v = SVector::<f64, N>::from_column_slice(&y[N..]);
     sys.kinetic_energy(&q, &v) + sys.potential_energy(&q)

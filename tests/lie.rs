@@ -13,9 +13,10 @@ mod common;
 
 use common::{Rng, assert_close};
 use filippov::nalgebra::{DVector, SMatrix, SVector, Vector3};
+use filippov::prelude::*;
 use filippov::runtime::liegroup::{LieMechanical, LieMechanism};
 use filippov::runtime::{LieProblem, Options, Rkmk5, UnitQuat, numeric};
-use filippov::scenes::{BallChain, FreeBody, Satellite, SphericalBody};
+use filippov_scenes::{BallChain, FreeBody, Satellite, SphericalBody};
 
 fn dv<const N: usize>(v: &SVector<f64, N>) -> DVector<f64> {
     DVector::from_column_slice(v.as_slice())
@@ -55,7 +56,19 @@ fn retract<S: LieMechanism<N, NQ>, const N: usize, const NQ: usize>(
     out
 }
 
-fn check<S: LieMechanism<N, NQ>, const N: usize, const NQ: usize>(sys: &S, seed: u64) {
+fn check<
+    S: LieMechanism<N, NQ>
+        + Coriolis<N, NQ>
+        + Gravity<N, NQ>
+        + Bias<N, NQ>
+        + InverseDynamics<N, NQ>
+        + Energy<N, NQ>,
+    const N: usize,
+    const NQ: usize,
+>(
+    sys: &S,
+    seed: u64,
+) {
     let model = sys.model();
     let mut rng = Rng::new(seed);
     for _ in 0..common::STATES {

@@ -6,7 +6,7 @@ use filippov::runtime::nonsmooth::event_driven;
 use filippov::runtime::{
     NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, solve_nonsmooth,
 };
-use filippov::scenes::{
+use filippov_scenes::{
     BilinearOscillator, BinghamBlock, BinghamOscillator, CoulombOscillator, FrictionChain,
 };
 
@@ -296,7 +296,7 @@ fn friction_chain_both_integrators_agree() {
 /// fine grid (trapezoidal rule, error ~1e-7 here).
 #[test]
 fn s5_energy_balance_and_dissipation_sign() {
-    use filippov::Mechanism;
+    use filippov::prelude::*;
     let s = CoulombOscillator {
         m: 1.0,
         k: 1.0,
@@ -375,8 +375,8 @@ fn bad_parameters_are_reported_not_integrated() {
 /// energy balance E(t) − E(0) = −∫ f v dt of the Bingham dash-pot along a run.
 #[test]
 fn duffing_spring_from_its_potential() {
-    use filippov::Mechanism;
-    use filippov::scenes::DuffingBingham;
+    use filippov::prelude::*;
+    use filippov_scenes::DuffingBingham;
     let s = DuffingBingham {
         m: 1.0,
         k: 1.0,
@@ -427,9 +427,9 @@ fn duffing_spring_from_its_potential() {
 /// the runtime's own quantities and direct formulas.
 #[test]
 fn emitted_element_kernels() {
-    use filippov::Mechanism;
+    use filippov::prelude::*;
     use filippov::runtime::NonSmooth;
-    use filippov::scenes::SupportedStop;
+    use filippov_scenes::SupportedStop;
     type V2 = SVector<f64, 2>;
     let chain = FrictionChain {
         m1: 1.0,
@@ -501,7 +501,7 @@ fn emitted_element_kernels() {
 /// at order one.
 #[test]
 fn s3_cubic_bingham_both_integrators_agree() {
-    use filippov::scenes::CubicBingham;
+    use filippov_scenes::CubicBingham;
     let s = CubicBingham {
         m: 1.0,
         k: 1.0,
@@ -534,7 +534,7 @@ fn s3_cubic_bingham_both_integrators_agree() {
 #[test]
 fn s4_non_monotone_default_event_driven_and_time_stepping_agree() {
     use filippov::runtime::NonSmooth;
-    use filippov::scenes::{NonMonotoneMaxDissipation, NonMonotoneNoJumps};
+    use filippov_scenes::{NonMonotoneMaxDissipation, NonMonotoneNoJumps};
     fn run<S: NonSmooth<1>>(s: &S) -> f64 {
         let input = |t: f64, _q: &V1, _v: &V1| V1::new(3.0 * (0.5 * t).sin());
         let p = NonSmoothProblem::new(0.0, 40.0, V1::new(0.0), V1::new(0.0));
@@ -586,10 +586,10 @@ fn s4_non_monotone_default_event_driven_and_time_stepping_agree() {
 fn energy_balance_on_every_lumped_scene() {
     use filippov::runtime::NonSmooth;
     use filippov::runtime::nonsmooth::{ElementKind, Side, StopKind};
-    use filippov::scenes::{
+    use filippov_scenes::{
         CubicBingham, NonMonotoneMaxDissipation, NonMonotoneNoJumps, SupportedStop,
     };
-    fn check<S: NonSmooth<1>>(
+    fn check<S: NonSmooth<1> + filippov::Energy<1>>(
         name: &str,
         s: &S,
         x0: f64,
@@ -750,7 +750,7 @@ fn energy_balance_on_every_lumped_scene() {
 #[test]
 fn constitutive_residuals_vanish_on_solutions() {
     use filippov::runtime::nonsmooth::Relation;
-    use filippov::scenes::{CubicBingham, SupportedStop};
+    use filippov_scenes::{CubicBingham, SupportedStop};
     let z = V1::zeros();
     // S1 (linear Bingham) and S3 (cubic law): slipping rows satisfy the slip law.
     let s1 = BinghamOscillator {
@@ -1126,7 +1126,7 @@ fn event_driven_grid_error_is_within_twice_the_step_error() {
 /// never leaves `[−L, L]`; time-stepping agrees at first order.
 #[test]
 fn two_sided_stop_between_walls() {
-    use filippov::Mechanism;
+    use filippov::prelude::*;
     use filippov::runtime::SwitchKind;
 
     #[derive(Mechanism)]
@@ -1267,7 +1267,7 @@ fn time_stepping_on_stiff_supports_is_stable_and_passive() {
 /// through).
 #[test]
 fn stiff_spring_inside_the_mechanism_with_implicit_event_driven_methods() {
-    use filippov::scenes::FrictionChain;
+    use filippov_scenes::FrictionChain;
     type V2 = SVector<f64, 2>;
     let k2 = 1e12;
     let s = FrictionChain {

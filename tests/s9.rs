@@ -9,7 +9,7 @@
 mod s9;
 
 use filippov::runtime::{NonSmoothMethod, Options, SmoothMethod};
-use filippov::scenes::PandaS9;
+use filippov_scenes::PandaS9;
 use s9::{s9_balance, s9_run};
 
 #[test]

@@ -8,7 +8,7 @@
 //! its own commit, saying why.
 
 use filippov::runtime::{MechanicalSystem, Method, Options, Problem, solve};
-use filippov::scenes::{DoublePendulum, Panda};
+use filippov_scenes::{DoublePendulum, Panda};
 
 /// FNV-1a over the bit patterns of every stored time and state.
 fn fingerprint(times: &[f64], states: impl Iterator<Item = f64>) -> u64 {

@@ -9,7 +9,7 @@ use filippov::runtime::{
     NonSmooth, NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, SolveError,
     solve_nonsmooth,
 };
-use filippov::scenes::{
+use filippov_scenes::{
     BilinearOscillator, BinghamOscillator, BouncingBall, CoulombOscillator, CubicBingham,
     NonMonotoneMaxDissipation, NonMonotoneNoJumps, SupportedStop,
 };

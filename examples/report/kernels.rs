@@ -6,17 +6,17 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Instant;
 
-use filippov::Mechanism;
 use filippov::nalgebra::{DVector, SVector};
+use filippov::prelude::*;
 use filippov::runtime::numeric;
-use filippov::scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
+use filippov_scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
 
 use super::config::Config;
 use super::markdown::{Page, sci};
 use super::timing::{median, ns_per_call};
 use super::workprecision::Section;
 
-fn row<S: Mechanism<N>, const N: usize>(
+fn row<S: Mechanism<N> + Coriolis<N> + Gravity<N>, const N: usize>(
     config: &Config,
     name: &str,
     s: &S,
@@ -129,7 +129,7 @@ pub fn kernels(config: &Config) -> Kernels {
 }
 
 fn scene_sources() -> Vec<(String, String)> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/scenes");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/src");
     [
         "double_pendulum.rs",
         "arm3.rs",

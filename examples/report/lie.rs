@@ -10,12 +10,13 @@
 use std::hint::black_box as bb;
 
 use filippov::nalgebra::{DVector, Matrix3, SVector, Vector3};
+use filippov::prelude::*;
 use filippov::runtime::liegroup::{LieMechanical, LieMechanism, so3};
 use filippov::runtime::{
     FnSystem, LieProblem, LieSdirk, LieTrajectory, Method, Options, Problem, Rkmk5, Solution,
     SolveError, UnitQuat, numeric, solve,
 };
-use filippov::scenes::{BallChain, FreeBody, Satellite};
+use filippov_scenes::{BallChain, FreeBody, Satellite};
 
 use super::config::Config;
 use super::lie_support::{flip_period, s10_initial, s10_run};
@@ -361,7 +362,7 @@ pub fn lie(config: &Config) -> Section {
     Section { page, summary }
 }
 
-fn lie_row<S: LieMechanism<N, NQ>, const N: usize, const NQ: usize>(
+fn lie_row<S: LieMechanism<N, NQ> + Coriolis<N, NQ>, const N: usize, const NQ: usize>(
     config: &Config,
     name: &str,
     s: &S,

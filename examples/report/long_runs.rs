@@ -4,13 +4,13 @@
 
 use std::time::Instant;
 
-use filippov::Mechanism;
 use filippov::nalgebra::SVector;
+use filippov::prelude::*;
 use filippov::runtime::{
     MechanicalSystem, Method, NonSmoothMethod, NonSmoothProblem, Options, Output, Problem,
     SmoothMethod, solve, solve_nonsmooth_with,
 };
-use filippov::scenes::{CoulombOscillator, DoublePendulum};
+use filippov_scenes::{CoulombOscillator, DoublePendulum};
 use indicatif::ProgressBar;
 
 use super::markdown::sci;

@@ -9,7 +9,7 @@ use filippov::nalgebra::SVector;
 use filippov::runtime::{
     NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, solve_nonsmooth,
 };
-use filippov::scenes::{
+use filippov_scenes::{
     BilinearOscillator, BinghamOscillator, BouncingBall, CoulombOscillator, SupportedStop,
 };
 
@@ -519,7 +519,7 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
 
     let horizon = 30.0 * config.horizon.max(0.34);
     page.h3("S2: cubic Bingham (thesis 4.7b), forced by 2 sin t (reference runs)");
-    let cubic = filippov::scenes::CubicBingham {
+    let cubic = filippov_scenes::CubicBingham {
         m: 1.0,
         k: 1.0,
         f_crit: 1.0,
@@ -577,7 +577,7 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
         &mut page,
         &mut summary,
         "S4 approach 1",
-        &filippov::scenes::NonMonotoneNoJumps {
+        &filippov_scenes::NonMonotoneNoJumps {
             m: 1.0,
             k: 1.0,
             f_crit: 1.0,
@@ -591,7 +591,7 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
         &mut page,
         &mut summary,
         "S4 approach 2",
-        &filippov::scenes::NonMonotoneMaxDissipation {
+        &filippov_scenes::NonMonotoneMaxDissipation {
             m: 1.0,
             k: 1.0,
             f_crit: 1.0,
@@ -668,7 +668,7 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
     // A stiff spring inside the mechanism: two blocks with friction, the second on a
     // spring of stiffness k2 relative to the first (k1 = 1): stiffness ratio k2/k1.
     for k2 in [1e3, 1e6, 1e9, 1e12] {
-        let s = filippov::scenes::FrictionChain {
+        let s = filippov_scenes::FrictionChain {
             m1: 1.0,
             m2: 1.0,
             k1: 1.0,

@@ -16,7 +16,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use filippov::Mechanism;
-use filippov::scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
+use filippov_scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
 
 use super::config::Config;
 use super::markdown::{Page, sci};

@@ -4,7 +4,7 @@
 //! term computed independently, see `examples/support/s9.rs`), events and run time.
 
 use filippov::runtime::{NonSmoothMethod, Options, SmoothMethod};
-use filippov::scenes::PandaS9;
+use filippov_scenes::PandaS9;
 
 use super::config::Config;
 use super::markdown::{Page, sci};

@@ -9,7 +9,7 @@ use indicatif::ProgressBar;
 
 use filippov::Mechanism;
 use filippov::runtime::{MechanicalSystem, Method, Options, Problem, Solution, SolveError, solve};
-use filippov::scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
+use filippov_scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
 
 use super::config::Config;
 use super::markdown::{Page, sci};

@@ -356,8 +356,8 @@ fn check<const N: usize, const E: usize>(d: Description) -> Verdict {
     let energy = |y: &[f64]| {
         let q = SVector::<f64, N>::from_column_slice(&y[..N]);
         let v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
-        let mut e = filippov::Mechanism::kinetic_energy(&scene, &q, &v)
-            + filippov::Mechanism::potential_energy(&scene, &q);
+        let mut e = filippov::Energy::kinetic_energy(&scene, &q, &v)
+            + filippov::Energy::potential_energy(&scene, &q);
         for el in &elements {
             if let ElementKind::Stop {
                 side,

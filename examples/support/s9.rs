@@ -3,12 +3,12 @@
 //! `E(t) − E(0) = W_in(t) − D_friction(t) − L_impacts(t)`.
 #![allow(dead_code)]
 
-use filippov::Mechanism;
 use filippov::nalgebra::SVector;
+use filippov::prelude::*;
 use filippov::runtime::{
     NonSmooth, NonSmoothMethod, NonSmoothProblem, Solution, SolveError, solve_nonsmooth,
 };
-use filippov::scenes::PandaS9;
+use filippov_scenes::PandaS9;
 
 pub type V7 = SVector<f64, 7>;
 

@@ -1,7 +1,8 @@
 //! Runtime of filippov: what generated kernels implement, an independent numeric
 //! reference of the same physics, and the integrators that run them.
 //!
-//! * [`system`]: the [`Mechanism`] trait the derive implements.
+//! * [`system`]: the [`Mechanism`] trait the derive implements; [`kernels`]: the
+//!   traits of the kernels a scene asks for by name (Coriolis matrix, energies, …).
 //! * [`numeric`]: plain numeric RNEA / CRBA / exact `∂M/∂q` over a runtime
 //!   [`numeric::Model`] — the cross-check and the baseline.
 //! * Integration, in layers whose arrows point down:
@@ -67,6 +68,7 @@
 //! [`Stats`], [`Options`], [`Problem`], [`NonSmoothProblem`] and the steppers are `Send +
 //! Sync`; a parameter sweep may run one integration per thread.
 mod error;
+pub mod kernels;
 pub mod liegroup;
 mod mechanical;
 pub mod method;

@@ -185,6 +185,7 @@ impl<F: Fn(f64, &DVector<f64>, &DVector<f64>) -> DVector<f64>> OdeSystem for Num
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernels::Energy;
     use crate::numeric::test_models::double_pendulum;
     use crate::system::ForwardJacobian;
     use crate::{Dopri5, Options, Problem, Sdirk4};
@@ -205,30 +206,6 @@ mod tests {
         const JOINTS: [&'static str; 2] = ["shoulder", "elbow"];
         fn mass_matrix(&self, q: &SVector<f64, 2>) -> SMatrix<f64, 2, 2> {
             SMatrix::from_column_slice(numeric::crba(&self.0, &d(q)).as_slice())
-        }
-        fn christoffel_symbols(&self, q: &SVector<f64, 2>) -> [SMatrix<f64, 2, 2>; 2] {
-            let c = numeric::christoffel_symbols(&self.0, &d(q));
-            [0, 1].map(|i| SMatrix::from_column_slice(c[i].as_slice()))
-        }
-        fn coriolis_matrix(&self, q: &SVector<f64, 2>, v: &SVector<f64, 2>) -> SMatrix<f64, 2, 2> {
-            SMatrix::from_column_slice(numeric::coriolis_matrix(&self.0, &d(q), &d(v)).as_slice())
-        }
-        fn gravity(&self, q: &SVector<f64, 2>) -> SVector<f64, 2> {
-            s(&numeric::gravity(&self.0, &d(q)))
-        }
-        fn bias(&self, q: &SVector<f64, 2>, v: &SVector<f64, 2>) -> SVector<f64, 2> {
-            s(&numeric::bias(&self.0, &d(q), &d(v)))
-        }
-        fn passive_forces(&self, q: &SVector<f64, 2>, v: &SVector<f64, 2>) -> SVector<f64, 2> {
-            s(&numeric::passive_forces(&self.0, &d(q), &d(v)))
-        }
-        fn inverse_dynamics(
-            &self,
-            q: &SVector<f64, 2>,
-            v: &SVector<f64, 2>,
-            a: &SVector<f64, 2>,
-        ) -> SVector<f64, 2> {
-            s(&numeric::inverse_dynamics(&self.0, &d(q), &d(v), &d(a)))
         }
         fn forward_dynamics(
             &self,
@@ -258,14 +235,59 @@ mod tests {
                 ),
             }
         }
+        fn model(&self) -> Model {
+            self.0.clone()
+        }
+    }
+
+    impl crate::kernels::Christoffel<2> for Pendulum {
+        fn christoffel_symbols(&self, q: &SVector<f64, 2>) -> [SMatrix<f64, 2, 2>; 2] {
+            let c = numeric::christoffel_symbols(&self.0, &d(q));
+            [0, 1].map(|i| SMatrix::from_column_slice(c[i].as_slice()))
+        }
+    }
+
+    impl crate::kernels::Coriolis<2> for Pendulum {
+        fn coriolis_matrix(&self, q: &SVector<f64, 2>, v: &SVector<f64, 2>) -> SMatrix<f64, 2, 2> {
+            SMatrix::from_column_slice(numeric::coriolis_matrix(&self.0, &d(q), &d(v)).as_slice())
+        }
+    }
+
+    impl crate::kernels::Gravity<2> for Pendulum {
+        fn gravity(&self, q: &SVector<f64, 2>) -> SVector<f64, 2> {
+            s(&numeric::gravity(&self.0, &d(q)))
+        }
+    }
+
+    impl crate::kernels::Bias<2> for Pendulum {
+        fn bias(&self, q: &SVector<f64, 2>, v: &SVector<f64, 2>) -> SVector<f64, 2> {
+            s(&numeric::bias(&self.0, &d(q), &d(v)))
+        }
+    }
+
+    impl crate::kernels::PassiveForces<2> for Pendulum {
+        fn passive_forces(&self, q: &SVector<f64, 2>, v: &SVector<f64, 2>) -> SVector<f64, 2> {
+            s(&numeric::passive_forces(&self.0, &d(q), &d(v)))
+        }
+    }
+
+    impl crate::kernels::InverseDynamics<2> for Pendulum {
+        fn inverse_dynamics(
+            &self,
+            q: &SVector<f64, 2>,
+            v: &SVector<f64, 2>,
+            a: &SVector<f64, 2>,
+        ) -> SVector<f64, 2> {
+            s(&numeric::inverse_dynamics(&self.0, &d(q), &d(v), &d(a)))
+        }
+    }
+
+    impl crate::kernels::Energy<2> for Pendulum {
         fn kinetic_energy(&self, q: &SVector<f64, 2>, v: &SVector<f64, 2>) -> f64 {
             numeric::kinetic_energy(&self.0, &d(q), &d(v))
         }
         fn potential_energy(&self, q: &SVector<f64, 2>) -> f64 {
             numeric::potential_energy(&self.0, &d(q))
-        }
-        fn model(&self) -> Model {
-            self.0.clone()
         }
     }
 

@@ -3,8 +3,8 @@
 
 pub mod random_trees;
 
-use filippov::Mechanism;
 use filippov::nalgebra::{DMatrix, DVector, SMatrix, SVector};
+use filippov::prelude::*;
 use filippov::runtime::numeric;
 
 /// A small deterministic generator (SplitMix64), so tests need no RNG dependency and
@@ -64,7 +64,31 @@ pub fn assert_close(a: &[f64], b: &[f64], tol: f64, floor: f64, what: &str) {
 /// `tests/identities.rs`).
 pub const STATES: usize = 25;
 
-pub fn check<S: Mechanism<N>, const N: usize>(sys: &S, seed: u64) {
+/// A scene with every kernel (`emit = all`).
+pub trait AllKernels<const N: usize>:
+    Mechanism<N>
+    + Christoffel<N>
+    + Coriolis<N>
+    + Gravity<N>
+    + Bias<N>
+    + PassiveForces<N>
+    + InverseDynamics<N>
+    + Energy<N>
+{
+}
+impl<S, const N: usize> AllKernels<N> for S where
+    S: Mechanism<N>
+        + Christoffel<N>
+        + Coriolis<N>
+        + Gravity<N>
+        + Bias<N>
+        + PassiveForces<N>
+        + InverseDynamics<N>
+        + Energy<N>
+{
+}
+
+pub fn check<S: AllKernels<N>, const N: usize>(sys: &S, seed: u64) {
     let model = sys.model();
     let mut rng = Rng::new(seed);
     for _ in 0..STATES {

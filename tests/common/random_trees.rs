@@ -26,7 +26,7 @@ pub fn source() -> String {
          //! `common::check`.\n\n\
          // clippy's duplicated_attributes misreads repeated derive-helper attributes.\n\
          #![allow(clippy::duplicated_attributes)]\n\n\
-         mod common;\n\nuse filippov::Mechanism;\n\n",
+         mod common;\n\nuse filippov::prelude::*;\n\n",
     );
     for t in 0..TREES {
         let n = 3 + (rng.next_u64() % 7) as usize;
@@ -36,7 +36,10 @@ pub fn source() -> String {
             num(&mut rng, -10.0, 0.0),
         ];
         out += "#[derive(Mechanism)]\n";
-        out += &format!("#[mechanism(gravity = [{}, {}, {}])]\n", g[0], g[1], g[2]);
+        out += &format!(
+            "#[mechanism(emit = all, gravity = [{}, {}, {}])]\n",
+            g[0], g[1], g[2]
+        );
         let mut moving = Vec::new();
         for i in 0..n {
             let parent = if i == 0 || rng.next_u64().is_multiple_of(4) {

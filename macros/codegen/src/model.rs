@@ -244,6 +244,88 @@ pub struct Model {
     pub elements: Vec<Element>,
     /// Non-linear springs by their potentials.
     pub potentials: Vec<Potential>,
+    /// The optional kernels asked for with `emit = [...]`.
+    pub emit: Emit,
+}
+
+/// Kernels the integrators do not call, emitted only when the scene asks for them by
+/// name (`#[mechanism(emit = [coriolis, energy])]` or `emit = all`). The mass matrix,
+/// forward dynamics and its Jacobian (and, with non-smooth elements, `M⁻¹` and the
+/// element laws) are always emitted: every integrator needs them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Emit {
+    pub christoffel: bool,
+    pub coriolis: bool,
+    pub gravity: bool,
+    pub bias: bool,
+    pub passive_forces: bool,
+    pub inverse_dynamics: bool,
+    pub energy: bool,
+    pub delassus: bool,
+    pub dae_residuals: bool,
+    pub switching_functions: bool,
+}
+
+impl Emit {
+    /// Every name `emit = [...]` accepts, with what it adds.
+    pub const NAMES: [(&'static str, &'static str); 10] = [
+        ("christoffel", "`christoffel_symbols` (trait `Christoffel`)"),
+        ("coriolis", "`coriolis_matrix` (trait `Coriolis`)"),
+        ("gravity", "`gravity` (trait `Gravity`)"),
+        ("bias", "`bias` = C v + g (trait `Bias`)"),
+        ("passive_forces", "`passive_forces` (trait `PassiveForces`)"),
+        (
+            "inverse_dynamics",
+            "`inverse_dynamics` (trait `InverseDynamics`)",
+        ),
+        (
+            "energy",
+            "`kinetic_energy` and `potential_energy` (trait `Energy`)",
+        ),
+        ("delassus", "`delassus` (scenes with non-smooth elements)"),
+        (
+            "dae_residuals",
+            "`momentum_residual` and `constitutive_residual` (scenes with non-smooth elements)",
+        ),
+        (
+            "switching_functions",
+            "`switching_functions` (scenes with non-smooth elements)",
+        ),
+    ];
+
+    pub fn all() -> Emit {
+        Emit {
+            christoffel: true,
+            coriolis: true,
+            gravity: true,
+            bias: true,
+            passive_forces: true,
+            inverse_dynamics: true,
+            energy: true,
+            delassus: true,
+            dae_residuals: true,
+            switching_functions: true,
+        }
+    }
+
+    /// Sets the flag of `name`; `false` for an unknown name.
+    pub fn set(&mut self, name: &str) -> bool {
+        let flag = match name {
+            "christoffel" => &mut self.christoffel,
+            "coriolis" => &mut self.coriolis,
+            "gravity" => &mut self.gravity,
+            "bias" => &mut self.bias,
+            "passive_forces" => &mut self.passive_forces,
+            "inverse_dynamics" => &mut self.inverse_dynamics,
+            "energy" => &mut self.energy,
+            "delassus" => &mut self.delassus,
+            "dae_residuals" => &mut self.dae_residuals,
+            "switching_functions" => &mut self.switching_functions,
+            _ => return false,
+        };
+        *flag = true;
+        true
+    }
 }
 
 /// Which velocity a non-monotone law's branch takes where several forces fit.

@@ -42,6 +42,8 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let mut gravity = None;
     let mut inputs_expr = None;
     let mut krate = None;
+    let mut emit = crate::model::Emit::default();
+    let mut emit_expr: Option<syn::Expr> = None;
     let mut mechanism_seen = false;
     let mut bodies = Vec::new();
     let mut joints = Vec::new();
@@ -67,7 +69,11 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
                 if let Some((_, e)) = raw.take("crate", diag) {
                     krate = crate_path(&e, diag);
                 }
-                raw.reject_rest(&["gravity", "inputs", "crate"], diag);
+                if let Some((_, e)) = raw.take("emit", diag) {
+                    emit = read_emit(&e, diag);
+                    emit_expr = Some(e);
+                }
+                raw.reject_rest(&["gravity", "inputs", "crate", "emit"], diag);
             }
             // `#[body(name: kind, parent = …, origin = …, mass = …, …)]` declares the body
             // and the joint it hangs from (named like the body) in one attribute: half
@@ -129,6 +135,26 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         None => Vec::new(),
     };
     let gravity = gravity.filter(|g: &Vec3| !g.iter().all(|c| c.as_const() == Some(0.0)));
+    if let Some(e) = &emit_expr
+        && ident_of(e).is_none()
+    {
+        // Kernels the scene has nothing to emit for: an explicit list naming them is a
+        // misunderstanding worth saying (`emit = all` just means "everything there is").
+        let lie = links.iter().any(|l| l.kind.is_lie());
+        if emit.christoffel && lie {
+            diag.error_at(
+                e,
+                "`christoffel` is not available for scenes with spherical or free joints (their Coriolis matrix is emitted directly); drop it from `emit`",
+            );
+        }
+        if elements.is_empty() && (emit.delassus || emit.dae_residuals || emit.switching_functions)
+        {
+            diag.error_at(
+                e,
+                "`delassus`, `dae_residuals` and `switching_functions` belong to scenes with non-smooth elements (friction, dash-pots, stops), and this scene has none; drop them from `emit`",
+            );
+        }
+    }
     if diag.has_errors() {
         return None;
     }
@@ -144,7 +170,56 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         elements,
         potentials,
         krate,
+        emit,
     })
+}
+
+/// `emit = [coriolis, energy, …]` or `emit = all`: the optional kernels to emit.
+fn read_emit(e: &syn::Expr, diag: &mut Diagnostics) -> crate::model::Emit {
+    use crate::model::Emit;
+    let known = || {
+        let names: Vec<String> = Emit::NAMES.iter().map(|(n, _)| format!("`{n}`")).collect();
+        format!("{} (see `filippov::runtime::kernels`)", names.join(", "))
+    };
+    if ident_of(e).is_some_and(|i| i == "all") {
+        return Emit::all();
+    }
+    let mut emit = Emit::default();
+    let syn::Expr::Array(a) = parse::strip(e) else {
+        diag.error_at(
+            e,
+            format_args!(
+                "`emit` takes a list of kernel names, e.g. `emit = [coriolis, energy]`, or `emit = all`; the names are {}",
+                known()
+            ),
+        );
+        return emit;
+    };
+    let mut seen: Vec<String> = Vec::new();
+    for item in &a.elems {
+        match ident_of(item) {
+            Some(name) if Emit::default().set(&name.to_string()) => {
+                let s = name.to_string();
+                if seen.contains(&s) {
+                    diag.error_at(item, format_args!("`{s}` is listed twice; keep one"));
+                }
+                emit.set(&s);
+                seen.push(s);
+            }
+            Some(name) => diag.error_at(
+                item,
+                format_args!("no kernel is called `{name}`; `emit` knows {}", known()),
+            ),
+            None => diag.error_at(
+                item,
+                format_args!(
+                    "`emit` lists kernel names, e.g. `coriolis`; the names are {}",
+                    known()
+                ),
+            ),
+        }
+    }
+    emit
 }
 
 /// Parameters are the fields of a plain struct, each an `f64`: the generated code reads

@@ -24,7 +24,7 @@ use filippov::runtime::{
     MechanicalSystem, Method, NonSmoothMethod, NonSmoothProblem, Options, Problem, SmoothMethod,
     Solution, solve, solve_nonsmooth,
 };
-use filippov::scenes::{CoulombOscillator, DoublePendulum, Panda};
+use filippov_scenes::{CoulombOscillator, DoublePendulum, Panda};
 
 use exact::CoulombFreeDecay;
 use ode::{Mechanical, Regularised};

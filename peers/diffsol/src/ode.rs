@@ -7,7 +7,7 @@ use std::cell::{Cell, RefCell};
 use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::ForwardJacobian;
-use filippov::scenes::CoulombOscillator;
+use filippov_scenes::CoulombOscillator;
 
 /// A first-order ODE `y' = f(t, y)` with the action of its Jacobian, in the slice form of
 /// diffsol's closure API (`rhs(x, p, t, y)`, `jac_mul(x, p, t, v, y)`).
@@ -150,7 +150,7 @@ impl Ode for Regularised {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use filippov::scenes::DoublePendulum;
+    use filippov_scenes::DoublePendulum;
 
     /// The Jacobian-vector product agrees with central differences of the rhs.
     fn check_jac(ode: &dyn Ode, x: &[f64]) {

@@ -57,24 +57,6 @@ pub trait LieMechanism<const N: usize, const NQ: usize> {
 
     /// Mass matrix `M(q)`, symmetric positive definite.
     fn mass_matrix(&self, q: &SVector<f64, NQ>) -> SMatrix<f64, N, N>;
-    /// Coriolis matrix: `C_ij = Σ_k ½ (∂M_ij/∂φ_k + ∂M_ik/∂φ_j − ∂M_jk/∂φ_i) v_k +
-    /// (M v)·[e_i, e_j]`. It has the same `C v` as theory §2's
-    /// `Σ_k (∂M_ij/∂φ_k − ½ ∂M_jk/∂φ_i) v_k − [ad_vᵀ M]_ij`, and keeps `Ṁ − 2C`
-    /// skew-symmetric.
-    fn coriolis_matrix(&self, q: &SVector<f64, NQ>, v: &SVector<f64, N>) -> SMatrix<f64, N, N>;
-    /// Generalised gravity force `g = ∂U/∂φ`.
-    fn gravity(&self, q: &SVector<f64, NQ>) -> SVector<f64, N>;
-    /// `C(q, v) v + g(q)`.
-    fn bias(&self, q: &SVector<f64, NQ>, v: &SVector<f64, N>) -> SVector<f64, N>;
-    /// Passive forces of springs and dampers on the Euclidean coordinates.
-    fn passive_forces(&self, q: &SVector<f64, NQ>, v: &SVector<f64, N>) -> SVector<f64, N>;
-    /// `τ = M a + C v + g − τ_p`.
-    fn inverse_dynamics(
-        &self,
-        q: &SVector<f64, NQ>,
-        v: &SVector<f64, N>,
-        a: &SVector<f64, N>,
-    ) -> SVector<f64, N>;
     /// `v̇ = M⁻¹ (τ + τ_p − C v − g)`.
     fn forward_dynamics(
         &self,
@@ -90,10 +72,6 @@ pub trait LieMechanism<const N: usize, const NQ: usize> {
         v: &SVector<f64, N>,
         tau: &SVector<f64, N>,
     ) -> ForwardJacobian<N>;
-    /// Kinetic energy `½ vᵀ M v`.
-    fn kinetic_energy(&self, q: &SVector<f64, NQ>, v: &SVector<f64, N>) -> f64;
-    /// Potential energy of gravity and springs.
-    fn potential_energy(&self, q: &SVector<f64, NQ>) -> f64;
     /// Checks every parameter; see [`crate::Mechanism::validate`].
     fn validate(&self) -> Result<(), ParameterError> {
         Ok(())
@@ -262,8 +240,11 @@ where
         LieMechanical { mechanism, input }
     }
 
-    /// Kinetic plus potential energy at a state.
-    pub fn energy(&self, state: &LieState) -> f64 {
+    /// Kinetic plus potential energy at a state (scenes with `emit = [energy]`).
+    pub fn energy(&self, state: &LieState) -> f64
+    where
+        S: crate::kernels::Energy<N, NQ>,
+    {
         let (q, v) = S::state_to_qv(state);
         self.mechanism.kinetic_energy(&q, &v) + self.mechanism.potential_energy(&q)
     }

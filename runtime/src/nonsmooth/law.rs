@@ -840,33 +840,6 @@ pub(crate) mod test_systems {
         fn mass_matrix(&self, _q: &SVector<f64, N>) -> SMatrix<f64, N, N> {
             self.m()
         }
-        fn christoffel_symbols(&self, _q: &SVector<f64, N>) -> [SMatrix<f64, N, N>; N] {
-            [SMatrix::zeros(); N]
-        }
-        fn coriolis_matrix(
-            &self,
-            _q: &SVector<f64, N>,
-            _v: &SVector<f64, N>,
-        ) -> SMatrix<f64, N, N> {
-            SMatrix::zeros()
-        }
-        fn gravity(&self, _q: &SVector<f64, N>) -> SVector<f64, N> {
-            SVector::zeros()
-        }
-        fn bias(&self, _q: &SVector<f64, N>, _v: &SVector<f64, N>) -> SVector<f64, N> {
-            SVector::zeros()
-        }
-        fn passive_forces(&self, q: &SVector<f64, N>, _v: &SVector<f64, N>) -> SVector<f64, N> {
-            -self.k() * q
-        }
-        fn inverse_dynamics(
-            &self,
-            q: &SVector<f64, N>,
-            _v: &SVector<f64, N>,
-            a: &SVector<f64, N>,
-        ) -> SVector<f64, N> {
-            self.m() * a + self.k() * q
-        }
         fn forward_dynamics(
             &self,
             q: &SVector<f64, N>,
@@ -886,12 +859,6 @@ pub(crate) mod test_systems {
                 d_dq: -self.inverse_mass_matrix(q) * self.k(),
                 d_dv: SMatrix::zeros(),
             }
-        }
-        fn kinetic_energy(&self, _q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64 {
-            0.5 * v.dot(&(self.m() * v))
-        }
-        fn potential_energy(&self, q: &SVector<f64, N>) -> f64 {
-            0.5 * q.dot(&(self.k() * q))
         }
         fn model(&self) -> Model {
             Model {
@@ -918,6 +885,60 @@ pub(crate) mod test_systems {
                     .collect(),
                 dampers: vec![],
             }
+        }
+    }
+
+    impl<const N: usize, const E: usize> crate::kernels::Christoffel<N> for Chain<N, E> {
+        fn christoffel_symbols(&self, _q: &SVector<f64, N>) -> [SMatrix<f64, N, N>; N] {
+            [SMatrix::zeros(); N]
+        }
+    }
+
+    impl<const N: usize, const E: usize> crate::kernels::Coriolis<N> for Chain<N, E> {
+        fn coriolis_matrix(
+            &self,
+            _q: &SVector<f64, N>,
+            _v: &SVector<f64, N>,
+        ) -> SMatrix<f64, N, N> {
+            SMatrix::zeros()
+        }
+    }
+
+    impl<const N: usize, const E: usize> crate::kernels::Gravity<N> for Chain<N, E> {
+        fn gravity(&self, _q: &SVector<f64, N>) -> SVector<f64, N> {
+            SVector::zeros()
+        }
+    }
+
+    impl<const N: usize, const E: usize> crate::kernels::Bias<N> for Chain<N, E> {
+        fn bias(&self, _q: &SVector<f64, N>, _v: &SVector<f64, N>) -> SVector<f64, N> {
+            SVector::zeros()
+        }
+    }
+
+    impl<const N: usize, const E: usize> crate::kernels::PassiveForces<N> for Chain<N, E> {
+        fn passive_forces(&self, q: &SVector<f64, N>, _v: &SVector<f64, N>) -> SVector<f64, N> {
+            -self.k() * q
+        }
+    }
+
+    impl<const N: usize, const E: usize> crate::kernels::InverseDynamics<N> for Chain<N, E> {
+        fn inverse_dynamics(
+            &self,
+            q: &SVector<f64, N>,
+            _v: &SVector<f64, N>,
+            a: &SVector<f64, N>,
+        ) -> SVector<f64, N> {
+            self.m() * a + self.k() * q
+        }
+    }
+
+    impl<const N: usize, const E: usize> crate::kernels::Energy<N> for Chain<N, E> {
+        fn kinetic_energy(&self, _q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64 {
+            0.5 * v.dot(&(self.m() * v))
+        }
+        fn potential_energy(&self, q: &SVector<f64, N>) -> f64 {
+            0.5 * q.dot(&(self.k() * q))
         }
     }
 

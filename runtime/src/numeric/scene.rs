@@ -53,42 +53,6 @@ impl<const N: usize, const E: usize> Mechanism<N> for Scene<N, E> {
         SMatrix::from_column_slice(crba::crba(&self.model, &Self::d(q)).as_slice())
     }
 
-    fn christoffel_symbols(&self, q: &SVector<f64, N>) -> [SMatrix<f64, N, N>; N] {
-        let c = super::christoffel_symbols(&self.model, &Self::d(q));
-        std::array::from_fn(|i| SMatrix::from_column_slice(c[i].as_slice()))
-    }
-
-    fn coriolis_matrix(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> SMatrix<f64, N, N> {
-        let c = super::coriolis_matrix(&self.model, &Self::d(q), &Self::d(v));
-        SMatrix::from_column_slice(c.as_slice())
-    }
-
-    fn gravity(&self, q: &SVector<f64, N>) -> SVector<f64, N> {
-        Self::s(&dynamics::gravity(&self.model, &Self::d(q)))
-    }
-
-    fn bias(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> SVector<f64, N> {
-        Self::s(&dynamics::bias(&self.model, &Self::d(q), &Self::d(v)))
-    }
-
-    fn passive_forces(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> SVector<f64, N> {
-        Self::s(&dynamics::passive_forces(
-            &self.model,
-            &Self::d(q),
-            &Self::d(v),
-        ))
-    }
-
-    fn inverse_dynamics(
-        &self,
-        q: &SVector<f64, N>,
-        v: &SVector<f64, N>,
-        a: &SVector<f64, N>,
-    ) -> SVector<f64, N> {
-        let (q, v, a) = (Self::d(q), Self::d(v), Self::d(a));
-        Self::s(&dynamics::inverse_dynamics(&self.model, &q, &v, &a))
-    }
-
     fn forward_dynamics(
         &self,
         q: &SVector<f64, N>,
@@ -128,16 +92,65 @@ impl<const N: usize, const E: usize> Mechanism<N> for Scene<N, E> {
         }
     }
 
+    fn model(&self) -> Model {
+        self.model.clone()
+    }
+}
+
+impl<const N: usize, const E: usize> crate::kernels::Christoffel<N> for Scene<N, E> {
+    fn christoffel_symbols(&self, q: &SVector<f64, N>) -> [SMatrix<f64, N, N>; N] {
+        let c = super::christoffel_symbols(&self.model, &Self::d(q));
+        std::array::from_fn(|i| SMatrix::from_column_slice(c[i].as_slice()))
+    }
+}
+
+impl<const N: usize, const E: usize> crate::kernels::Coriolis<N> for Scene<N, E> {
+    fn coriolis_matrix(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> SMatrix<f64, N, N> {
+        let c = super::coriolis_matrix(&self.model, &Self::d(q), &Self::d(v));
+        SMatrix::from_column_slice(c.as_slice())
+    }
+}
+
+impl<const N: usize, const E: usize> crate::kernels::Gravity<N> for Scene<N, E> {
+    fn gravity(&self, q: &SVector<f64, N>) -> SVector<f64, N> {
+        Self::s(&dynamics::gravity(&self.model, &Self::d(q)))
+    }
+}
+
+impl<const N: usize, const E: usize> crate::kernels::Bias<N> for Scene<N, E> {
+    fn bias(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> SVector<f64, N> {
+        Self::s(&dynamics::bias(&self.model, &Self::d(q), &Self::d(v)))
+    }
+}
+
+impl<const N: usize, const E: usize> crate::kernels::PassiveForces<N> for Scene<N, E> {
+    fn passive_forces(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> SVector<f64, N> {
+        Self::s(&dynamics::passive_forces(
+            &self.model,
+            &Self::d(q),
+            &Self::d(v),
+        ))
+    }
+}
+
+impl<const N: usize, const E: usize> crate::kernels::InverseDynamics<N> for Scene<N, E> {
+    fn inverse_dynamics(
+        &self,
+        q: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        a: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        let (q, v, a) = (Self::d(q), Self::d(v), Self::d(a));
+        Self::s(&dynamics::inverse_dynamics(&self.model, &q, &v, &a))
+    }
+}
+
+impl<const N: usize, const E: usize> crate::kernels::Energy<N> for Scene<N, E> {
     fn kinetic_energy(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64 {
         dynamics::kinetic_energy(&self.model, &Self::d(q), &Self::d(v))
     }
-
     fn potential_energy(&self, q: &SVector<f64, N>) -> f64 {
         dynamics::potential_energy(&self.model, &Self::d(q))
-    }
-
-    fn model(&self) -> Model {
-        self.model.clone()
     }
 }
 

@@ -50,7 +50,6 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
     let vec_t = quote!(::filippov::nalgebra::SVector<f64, #n>);
     let mat_t = quote!(::filippov::nalgebra::SMatrix<f64, #n, #n>);
     let flat = |m: &[Vec<Id>]| m.iter().flatten().copied().collect::<Vec<Id>>();
-    let mut methods = TokenStream::new();
     let mut helpers = TokenStream::new();
     let mut stats = Vec::new();
     let mut add = |name: &'static str,
@@ -58,7 +57,8 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
                    ret: TokenStream,
                    outs: Vec<Id>,
                    asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
-                   doc: &str| {
+                   doc: &str|
+     -> TokenStream {
         let sig = Signature {
             vis: quote!(),
             elements: 0,
@@ -73,12 +73,14 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
             ops: g.count_ops(&outs),
             lets: e.lets,
         });
-        methods.extend(e.method);
         helpers.extend(e.helpers);
+        e.method
     };
     let vasm = |o: Vec<TokenStream>| vector(o, n);
     let masm = |o: Vec<TokenStream>| matrix(o, n);
-    add(
+    let emits = model.emit;
+    // What every integrator calls: in the core trait.
+    let mut methods = add(
         "mass_matrix",
         vec![Q],
         mat_t.clone(),
@@ -86,82 +88,18 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         &masm,
         " Mass matrix `M(q)` (composite-rigid-body algorithm, unrolled).",
     );
-    let chris: Vec<Id> = k
-        .christoffel
-        .iter()
-        .flat_map(|ci| ci.iter().flatten().copied())
-        .collect();
-    if !lie {
-        add(
-            "christoffel_symbols",
-            vec![Q],
-            quote!([#mat_t; #n]),
-            chris,
-            &|o: Vec<TokenStream>| {
-                let per: Vec<TokenStream> =
-                    o.chunks(n * n).map(|c| matrix(c.to_vec(), n)).collect();
-                quote!([#(#per),*])
-            },
-            " Christoffel symbols of the first kind, `out[i][(j, k)] = c_ijk`.",
-        );
-    }
-    add(
-        "coriolis_matrix",
-        vec![Q, V],
-        mat_t.clone(),
-        flat(&k.coriolis),
-        &masm,
-        if lie {
-            " Coriolis matrix `C_ij = Σ_k c_ijk v_k + (M v)·[e_i, e_j]`, `c_ijk` the \
-             Christoffel symbols in local exponential coordinates."
-        } else {
-            " Coriolis matrix `C_ij = Σ_k c_ijk v_k`."
-        },
-    );
-    add(
-        "gravity",
-        vec![Q],
-        vec_t.clone(),
-        k.gravity.clone(),
-        &vasm,
-        " Generalised gravity force `g(q)`.",
-    );
-    add(
-        "bias",
-        vec![Q, V],
-        vec_t.clone(),
-        k.bias.clone(),
-        &vasm,
-        " Bias force `C(q, v) v + g(q)` (recursive Newton–Euler with zero acceleration).",
-    );
-    add(
-        "passive_forces",
-        vec![Q, V],
-        vec_t.clone(),
-        k.passive.clone(),
-        &vasm,
-        " Spring and damper forces on the joint coordinates.",
-    );
-    add(
-        "inverse_dynamics",
-        vec![Q, V, A],
-        vec_t.clone(),
-        k.inverse.clone(),
-        &vasm,
-        " Inverse dynamics `M a + C v + g − τ_p` (recursive Newton–Euler).",
-    );
-    add(
+    methods.extend(add(
         "forward_dynamics",
         vec![Q, V, Tau],
         vec_t.clone(),
         k.forward.clone(),
         &vasm,
         " Forward dynamics `M⁻¹ (τ + τ_p − C v − g)` by a sparse `LᵀDL` of `M`.",
-    );
+    ));
     let mut jac_outs = k.forward.clone();
     jac_outs.extend(flat(&k.jac_q));
     jac_outs.extend(flat(&k.jac_v));
-    add(
+    methods.extend(add(
         "forward_dynamics_jacobian",
         vec![Q, V, Tau],
         quote!(::filippov::runtime::system::ForwardJacobian<#n>),
@@ -173,23 +111,129 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
             quote!(::filippov::runtime::system::ForwardJacobian { acceleration: #acc, d_dq: #dq, d_dv: #dv })
         },
         " Forward dynamics and its symbolic Jacobian with respect to `(q, v)`.",
-    );
-    add(
-        "kinetic_energy",
-        vec![Q, V],
-        quote!(f64),
-        vec![k.kinetic],
-        &|mut o| o.remove(0),
-        " Kinetic energy `½ vᵀ M v`.",
-    );
-    add(
-        "potential_energy",
-        vec![Q],
-        quote!(f64),
-        vec![k.potential],
-        &|mut o| o.remove(0),
-        " Potential energy of gravity and springs.",
-    );
+    ));
+
+    // Asked for by name (`emit = [...]`): one trait each, so that a kernel the scene
+    // did not ask for is a compile error naming the option, not dead code in every build.
+    let generics = if lie { quote!(<#n, #nq>) } else { quote!(<#n>) };
+    let mut optional = TokenStream::new();
+    let mut kernel = |tr: &str, body: TokenStream| {
+        let tr = format_ident!("{}", tr);
+        optional.extend(quote! {
+            impl ::filippov::runtime::kernels::#tr #generics for #ident { #body }
+        });
+    };
+    if emits.christoffel && !lie {
+        let chris: Vec<Id> = k
+            .christoffel
+            .iter()
+            .flat_map(|ci| ci.iter().flatten().copied())
+            .collect();
+        kernel(
+            "Christoffel",
+            add(
+                "christoffel_symbols",
+                vec![Q],
+                quote!([#mat_t; #n]),
+                chris,
+                &|o: Vec<TokenStream>| {
+                    let per: Vec<TokenStream> =
+                        o.chunks(n * n).map(|c| matrix(c.to_vec(), n)).collect();
+                    quote!([#(#per),*])
+                },
+                " Christoffel symbols of the first kind, `out[i][(j, k)] = c_ijk`.",
+            ),
+        );
+    }
+    if emits.coriolis {
+        kernel(
+            "Coriolis",
+            add(
+                "coriolis_matrix",
+                vec![Q, V],
+                mat_t.clone(),
+                flat(&k.coriolis),
+                &masm,
+                if lie {
+                    " Coriolis matrix `C_ij = Σ_k c_ijk v_k + (M v)·[e_i, e_j]`, `c_ijk` the \
+                     Christoffel symbols in local exponential coordinates."
+                } else {
+                    " Coriolis matrix `C_ij = Σ_k c_ijk v_k`."
+                },
+            ),
+        );
+    }
+    if emits.gravity {
+        kernel(
+            "Gravity",
+            add(
+                "gravity",
+                vec![Q],
+                vec_t.clone(),
+                k.gravity.clone(),
+                &vasm,
+                " Generalised gravity force `g(q)`.",
+            ),
+        );
+    }
+    if emits.bias {
+        kernel(
+            "Bias",
+            add(
+                "bias",
+                vec![Q, V],
+                vec_t.clone(),
+                k.bias.clone(),
+                &vasm,
+                " Bias force `C(q, v) v + g(q)` (recursive Newton–Euler with zero acceleration).",
+            ),
+        );
+    }
+    if emits.passive_forces {
+        kernel(
+            "PassiveForces",
+            add(
+                "passive_forces",
+                vec![Q, V],
+                vec_t.clone(),
+                k.passive.clone(),
+                &vasm,
+                " Spring and damper forces on the joint coordinates.",
+            ),
+        );
+    }
+    if emits.inverse_dynamics {
+        kernel(
+            "InverseDynamics",
+            add(
+                "inverse_dynamics",
+                vec![Q, V, A],
+                vec_t.clone(),
+                k.inverse.clone(),
+                &vasm,
+                " Inverse dynamics `M a + C v + g − τ_p` (recursive Newton–Euler).",
+            ),
+        );
+    }
+    if let Some((kinetic, potential)) = k.energy {
+        let mut body = add(
+            "kinetic_energy",
+            vec![Q, V],
+            quote!(f64),
+            vec![kinetic],
+            &|mut o| o.remove(0),
+            " Kinetic energy `½ vᵀ M v`.",
+        );
+        body.extend(add(
+            "potential_energy",
+            vec![Q],
+            quote!(f64),
+            vec![potential],
+            &|mut o| o.remove(0),
+            " Potential energy of gravity and springs.",
+        ));
+        kernel("Energy", body);
+    }
 
     let names: Vec<Literal> = model
         .joint_names()
@@ -255,6 +299,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
     };
     let code = quote! {
         #head
+        #optional
         #nonsmooth
         impl #ident {
             /// Number of degrees of freedom.

@@ -140,7 +140,9 @@ pub fn nonsmooth_impl(
     helpers.extend(e.helpers);
     let inv_method = e.method;
     helpers.extend(element_kernels(model, k, stats));
-    helpers.extend(constitutive_residual(model, n));
+    if model.emit.dae_residuals {
+        helpers.extend(constitutive_residual(model, n));
+    }
     let law_fn = if law_arms.is_empty() {
         quote! {
             #[inline]
@@ -214,19 +216,23 @@ fn element_kernels(model: &Model, k: &Kernels, stats: &mut Vec<FnStats>) -> Toke
         .iter()
         .map(|e| format!("`{}`", e.name))
         .collect();
+    let emits = model.emit;
     let flat: Vec<_> = ek.delassus.iter().flatten().copied().collect();
-    add(
-        "delassus",
-        vec![InputKind::Q],
-        quote!(::filippov::nalgebra::SMatrix<f64, #m, #m>),
-        flat,
-        &|o| matrix(o, m),
-        format!(
-            " Delassus operator `W = J M⁻¹ Jᵀ` of the elements ({}), in that order.",
-            names.join(", ")
-        ),
-    );
-    add(
+    if emits.delassus {
+        add(
+            "delassus",
+            vec![InputKind::Q],
+            quote!(::filippov::nalgebra::SMatrix<f64, #m, #m>),
+            flat,
+            &|o| matrix(o, m),
+            format!(
+                " Delassus operator `W = J M⁻¹ Jᵀ` of the elements ({}), in that order.",
+                names.join(", ")
+            ),
+        );
+    }
+    if emits.dae_residuals {
+        add(
         "momentum_residual",
         vec![InputKind::Q, InputKind::V, InputKind::A, InputKind::Tau, InputKind::F],
         quote!(::filippov::nalgebra::SVector<f64, #n>),
@@ -234,18 +240,21 @@ fn element_kernels(model: &Model, k: &Kernels, stats: &mut Vec<FnStats>) -> Toke
         &|o| super::vector(o, n),
         " DAE residual of the momentum balance, `M a + C v + g − τ − τ_p + Σ_e f_e e_c`, with `a = v̇` and the element forces `f` (zero on a solution).".into(),
     );
+    }
     let s = ek.switching.len();
-    add(
-        "switching_functions",
-        vec![InputKind::Q, InputKind::V, InputKind::F],
-        quote!(::filippov::nalgebra::SVector<f64, #s>),
-        ek.switching.clone(),
-        &|o| super::vector(o, s),
-        format!(
-            " Switching functions, two per element ({}): a dash-pot gives `[v_c, f_crit² − f²]` (slip→stick, stick→slip), a stop `[gap, f]` (contact, release; the gap is positive on the admissible side).",
-            names.join(", ")
-        ),
-    );
+    if emits.switching_functions {
+        add(
+            "switching_functions",
+            vec![InputKind::Q, InputKind::V, InputKind::F],
+            quote!(::filippov::nalgebra::SVector<f64, #s>),
+            ek.switching.clone(),
+            &|o| super::vector(o, s),
+            format!(
+                " Switching functions, two per element ({}): a dash-pot gives `[v_c, f_crit² − f²]` (slip→stick, stick→slip), a stop `[gap, f]` (contact, release; the gap is positive on the admissible side).",
+                names.join(", ")
+            ),
+        );
+    }
     out
 }
 

@@ -30,8 +30,10 @@ pub struct Kernels {
     pub graph: Graph,
     pub dof: usize,
     pub mass: Vec<Vec<Id>>,
-    /// `christoffel[i][j][k] = c_ijk`.
+    /// `christoffel[i][j][k] = c_ijk`; built only when the scene asks for the
+    /// Christoffel symbols or the Coriolis matrix (empty otherwise).
     pub christoffel: Vec<Vec<Vec<Id>>>,
+    /// Built only when asked for (empty otherwise).
     pub coriolis: Vec<Vec<Id>>,
     pub gravity: Vec<Id>,
     pub bias: Vec<Id>,
@@ -40,8 +42,8 @@ pub struct Kernels {
     pub forward: Vec<Id>,
     pub jac_q: Vec<Vec<Id>>,
     pub jac_v: Vec<Vec<Id>>,
-    pub kinetic: Id,
-    pub potential: Id,
+    /// `(kinetic, potential)`, built only when the energies are asked for.
+    pub energy: Option<(Id, Id)>,
     /// `M⁻¹` (row-major), built only for scenes with non-smooth elements (their Delassus
     /// operator is its submatrix).
     pub inverse_mass: Option<Vec<Vec<Id>>>,
@@ -85,9 +87,17 @@ impl Kernels {
         let inertia = crba::link_inertias(&mut g, model);
         let composite = crba::composite_inertias(&mut g, model, &kin, &inertia);
         let mass = crba::mass_matrix(&mut g, model, &kin, &composite);
-        let christoffel = christoffel::christoffel_symbols(&mut g, &chart, &mass);
-        let mut coriolis = christoffel::coriolis(&mut g, &christoffel, &v);
-        christoffel::lie_bracket_term(&mut g, &chart, &mass, &v, &mut coriolis);
+        // The Christoffel symbols are O(n³) expressions no integrator calls: most of
+        // the code of a long chain when emitted. Built only on request.
+        let emit = model.emit;
+        let (christoffel, coriolis) = if emit.christoffel || emit.coriolis {
+            let christoffel = christoffel::christoffel_symbols(&mut g, &chart, &mass);
+            let mut coriolis = christoffel::coriolis(&mut g, &christoffel, &v);
+            christoffel::lie_bracket_term(&mut g, &chart, &mass, &v, &mut coriolis);
+            (christoffel, coriolis)
+        } else {
+            (Vec::new(), Vec::new())
+        };
 
         // RNEA without gravity plus gravity from composite first moments (see
         // [`gravity`] for why gravity is not a base acceleration here).
@@ -159,37 +169,40 @@ impl Kernels {
         let jac_v = jac(&mut g, InputKind::V);
 
         // Energies: T = ½ vᵀ M v; U = −gravity · (first moment of everything) + springs.
-        let mut kinetic = g.zero();
-        for i in 0..n {
-            let mv = g.dot(&mass[i], &v);
-            let t = g.mul(v[i], mv);
-            kinetic = g.add(kinetic, t);
-        }
-        let half = g.constant(0.5);
-        kinetic = g.mul(half, kinetic);
-        let mut potential = g.zero();
-        if let Some(gv) = gravity_vec {
-            for (i, link) in model.links.iter().enumerate() {
-                if link.parent.is_none() {
-                    let world: Inertia = composite[i].to_parent(&mut g, &kin.xform[i]);
-                    let w = dot3(&mut g, gv, world.h);
-                    potential = g.sub(potential, w);
+        let energy = emit.energy.then(|| {
+            let mut kinetic = g.zero();
+            for i in 0..n {
+                let mv = g.dot(&mass[i], &v);
+                let t = g.mul(v[i], mv);
+                kinetic = g.add(kinetic, t);
+            }
+            let half = g.constant(0.5);
+            kinetic = g.mul(half, kinetic);
+            let mut potential = g.zero();
+            if let Some(gv) = gravity_vec {
+                for (i, link) in model.links.iter().enumerate() {
+                    if link.parent.is_none() {
+                        let world: Inertia = composite[i].to_parent(&mut g, &kin.xform[i]);
+                        let w = dot3(&mut g, gv, world.h);
+                        potential = g.sub(potential, w);
+                    }
                 }
             }
-        }
-        for p in &model.potentials {
-            let u = p.u.lower_var(&mut g, q[p.coordinate]);
-            potential = g.add(potential, u);
-        }
-        for s in &model.springs {
-            let k = s.k.lower(&mut g);
-            let rest = s.rest.lower(&mut g);
-            let d = g.sub(q[s.coordinate], rest);
-            let dd = g.mul(d, d);
-            let e = g.mul(k, dd);
-            let e = g.mul(half, e);
-            potential = g.add(potential, e);
-        }
+            for p in &model.potentials {
+                let u = p.u.lower_var(&mut g, q[p.coordinate]);
+                potential = g.add(potential, u);
+            }
+            for s in &model.springs {
+                let k = s.k.lower(&mut g);
+                let rest = s.rest.lower(&mut g);
+                let d = g.sub(q[s.coordinate], rest);
+                let dd = g.mul(d, d);
+                let e = g.mul(k, dd);
+                let e = g.mul(half, e);
+                potential = g.add(potential, e);
+            }
+            (kinetic, potential)
+        });
 
         let elements = inverse_mass.as_ref().map(|inv: &Vec<Vec<Id>>| {
             use crate::model::ElementKind;
@@ -255,8 +268,7 @@ impl Kernels {
             forward,
             jac_q,
             jac_v,
-            kinetic,
-            potential,
+            energy,
             inverse_mass,
             elements,
         }

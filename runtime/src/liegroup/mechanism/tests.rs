@@ -54,26 +54,6 @@ impl<L: Layout<N, NQ>, const N: usize, const NQ: usize> LieMechanism<N, NQ> for 
     fn mass_matrix(&self, q: &SVector<f64, NQ>) -> SMatrix<f64, N, N> {
         sm(&numeric::crba(&self.model, &d(q)))
     }
-    fn coriolis_matrix(&self, q: &SVector<f64, NQ>, v: &SVector<f64, N>) -> SMatrix<f64, N, N> {
-        sm(&numeric::lie_coriolis_matrix(&self.model, &d(q), &d(v)))
-    }
-    fn gravity(&self, q: &SVector<f64, NQ>) -> SVector<f64, N> {
-        s(&numeric::gravity(&self.model, &d(q)))
-    }
-    fn bias(&self, q: &SVector<f64, NQ>, v: &SVector<f64, N>) -> SVector<f64, N> {
-        s(&numeric::bias(&self.model, &d(q), &d(v)))
-    }
-    fn passive_forces(&self, q: &SVector<f64, NQ>, v: &SVector<f64, N>) -> SVector<f64, N> {
-        s(&numeric::passive_forces(&self.model, &d(q), &d(v)))
-    }
-    fn inverse_dynamics(
-        &self,
-        q: &SVector<f64, NQ>,
-        v: &SVector<f64, N>,
-        a: &SVector<f64, N>,
-    ) -> SVector<f64, N> {
-        s(&numeric::inverse_dynamics(&self.model, &d(q), &d(v), &d(a)))
-    }
     fn forward_dynamics(
         &self,
         q: &SVector<f64, NQ>,
@@ -111,14 +91,64 @@ impl<L: Layout<N, NQ>, const N: usize, const NQ: usize> LieMechanism<N, NQ> for 
             d_dv,
         }
     }
+    fn model(&self) -> Model {
+        self.model.clone()
+    }
+}
+
+impl<L: Layout<N, NQ>, const N: usize, const NQ: usize> crate::kernels::Coriolis<N, NQ>
+    for Reference<L>
+{
+    fn coriolis_matrix(&self, q: &SVector<f64, NQ>, v: &SVector<f64, N>) -> SMatrix<f64, N, N> {
+        sm(&numeric::lie_coriolis_matrix(&self.model, &d(q), &d(v)))
+    }
+}
+
+impl<L: Layout<N, NQ>, const N: usize, const NQ: usize> crate::kernels::Gravity<N, NQ>
+    for Reference<L>
+{
+    fn gravity(&self, q: &SVector<f64, NQ>) -> SVector<f64, N> {
+        s(&numeric::gravity(&self.model, &d(q)))
+    }
+}
+
+impl<L: Layout<N, NQ>, const N: usize, const NQ: usize> crate::kernels::Bias<N, NQ>
+    for Reference<L>
+{
+    fn bias(&self, q: &SVector<f64, NQ>, v: &SVector<f64, N>) -> SVector<f64, N> {
+        s(&numeric::bias(&self.model, &d(q), &d(v)))
+    }
+}
+
+impl<L: Layout<N, NQ>, const N: usize, const NQ: usize> crate::kernels::PassiveForces<N, NQ>
+    for Reference<L>
+{
+    fn passive_forces(&self, q: &SVector<f64, NQ>, v: &SVector<f64, N>) -> SVector<f64, N> {
+        s(&numeric::passive_forces(&self.model, &d(q), &d(v)))
+    }
+}
+
+impl<L: Layout<N, NQ>, const N: usize, const NQ: usize> crate::kernels::InverseDynamics<N, NQ>
+    for Reference<L>
+{
+    fn inverse_dynamics(
+        &self,
+        q: &SVector<f64, NQ>,
+        v: &SVector<f64, N>,
+        a: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        s(&numeric::inverse_dynamics(&self.model, &d(q), &d(v), &d(a)))
+    }
+}
+
+impl<L: Layout<N, NQ>, const N: usize, const NQ: usize> crate::kernels::Energy<N, NQ>
+    for Reference<L>
+{
     fn kinetic_energy(&self, q: &SVector<f64, NQ>, v: &SVector<f64, N>) -> f64 {
         numeric::kinetic_energy(&self.model, &d(q), &d(v))
     }
     fn potential_energy(&self, q: &SVector<f64, NQ>) -> f64 {
         numeric::potential_energy(&self.model, &d(q))
-    }
-    fn model(&self) -> Model {
-        self.model.clone()
     }
 }
 

@@ -2,12 +2,13 @@
 //! three revolute joints in Euler angles (for the gimbal-lock comparison), a satellite
 //! with an arm, and a chain with a ball joint in the middle.
 
-use crate::Mechanism;
+use filippov::Mechanism;
 
 /// S10: a free rigid body, principal inertia `diag(i1, i2, i3)` about its centre of mass,
 /// no gravity. Configuration `(x, y, z, w, qx, qy, qz)`, velocity `(ẋ, ẏ, ż, ω)` with `ω`
 /// in the body frame.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
 #[body(body, mass = m, inertia = diag(i1, i2, i3))]
 #[joint(float: free, parent = world, child = body)]
 pub struct FreeBody {
@@ -35,6 +36,7 @@ impl Default for FreeBody {
 // Clippy reads the two massless frames' `mass = 0.0` as one attribute repeated.
 #[allow(clippy::duplicated_attributes)]
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
 #[body(yaw_frame, mass = 0.0)]
 #[joint(yaw: revolute(z), parent = world, child = yaw_frame)]
 #[body(pitch_frame, mass = 0.0)]
@@ -60,6 +62,7 @@ impl Default for EulerBody {
 /// The rotational part of S10 on a spherical joint (a body turning about a fixed
 /// point at its centre of mass): `I ω̇ + ω × I ω = τ`.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
 #[body(body, mass = 1.0, inertia = diag(i1, i2, i3))]
 #[joint(ball: spherical, parent = world, child = body)]
 pub struct SphericalBody {
@@ -82,6 +85,7 @@ impl Default for SphericalBody {
 /// shoulder off the base's centre; no gravity, so linear and angular momentum are
 /// conserved.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
 #[body(base, mass = m0, com = [0.0, 0.0, 0.0], inertia = cuboid(m0, 1.0, 0.8, 0.6))]
 #[joint(float: free, parent = world, child = base)]
 #[body(upper, mass = m1, com = [l1 / 2.0, 0.0, 0.0], inertia = rod(m1, l1))]
@@ -111,7 +115,7 @@ impl Default for Satellite {
 /// A pendulum chain under gravity with a ball joint in the middle: a hinge, a spherical
 /// joint, a hinge with a spring, off-centre masses and oblique origins.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(gravity = [0.0, 0.0, -g])]
+#[mechanism(emit = all, gravity = [0.0, 0.0, -g])]
 #[body(upper, mass = m, com = [0.0, 0.0, -l / 2.0], inertia = cuboid(m, 0.1, 0.08, l))]
 #[joint(hip: revolute(y), parent = world, child = upper)]
 #[body(middle, mass = m, com = [0.02, 0.0, -l / 2.0], inertia = cuboid(m, 0.1, 0.12, l))]

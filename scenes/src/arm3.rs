@@ -1,9 +1,9 @@
-use crate::Mechanism;
+use filippov::Mechanism;
 
 /// A planar three-link arm (rods) under gravity, with a torsional spring and a viscous
 /// damper in every joint.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(gravity = [0.0, -9.81, 0.0])]
+#[mechanism(emit = all, gravity = [0.0, -9.81, 0.0])]
 #[body(link1, mass = m, com = [l / 2.0, 0.0, 0.0], inertia = rod(m, l))]
 #[joint(j1: revolute(z), parent = world, child = link1)]
 #[body(link2, mass = m, com = [l / 2.0, 0.0, 0.0], inertia = rod(m, l))]

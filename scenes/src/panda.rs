@@ -1,17 +1,12 @@
-use crate::Mechanism;
+use filippov::Mechanism;
 
-/// Theory S9: the 7-dof arm of [`super::Panda`] (same kinematics and inertial data, Gaz
-/// et al. 2019) with Coulomb friction on every joint and rigid stops at the upper joint
-/// limits of j2 and j4 (the Panda's published limits), restitution `e`. Where a joint
-/// rests against its stop, the stop bears what presses on it and friction holds what
-/// pulls away, up to its critical torque.
-///
-/// Friction levels are the Coulomb amplitudes `φ1` of the friction model identified in
-/// the same paper (`τ_f = φ1 / (1 + exp(−φ2 (q̇ + φ3))) − …`), scaled by `friction`
-/// (1 = identified). Integrated with `solve_nonsmooth`; the reference is the energy
-/// balance `ΔE = work in − friction dissipation − impact losses`.
+/// A 7-dof arm with the kinematics of the Franka Emika Panda (its public URDF) and the
+/// inertial parameters identified by Gaz, Cognetti, Oliva, Robuffo Giordano and De Luca,
+/// "Dynamic identification of the Franka Emika Panda robot with retrieval of feasible
+/// parameters using penalty-based optimization", IEEE RA-L 4(4), 2019.
+/// Inertias are about the centres of mass, in the link frames.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(gravity = [0.0, 0.0, -g], inputs = [j1, j2, j3, j4, j5, j6, j7])]
+#[mechanism(emit = all, gravity = [0.0, 0.0, -g], inputs = [j1, j2, j3, j4, j5, j6, j7])]
 #[body(link1, mass = 4.970684, com = [0.003875, 0.002081, -0.04762],
     inertia = [[0.70337, -0.000139, 0.006772], [-0.000139, 0.70661, 0.019169], [0.006772, 0.019169, 0.009117]])]
 #[joint(j1: revolute(z), parent = world, child = link1, origin = [0.0, 0.0, 0.333])]
@@ -33,29 +28,12 @@ use crate::Mechanism;
 #[body(link7, mass = 0.735522, com = [0.010517, -0.004252, 0.061597],
     inertia = [[0.012516, -0.000428, -0.001196], [-0.000428, 0.010027, -0.000741], [-0.001196, -0.000741, 0.004815]])]
 #[joint(j7: revolute(z), parent = link6, child = link7, origin = [0.088, 0.0, 0.0], rpy = [PI / 2.0, 0.0, 0.0])]
-#[friction(j1, f_crit = 0.54615 * friction)]
-#[friction(j2, f_crit = 0.87224 * friction)]
-#[friction(j3, f_crit = 0.64068 * friction)]
-#[friction(j4, f_crit = 1.2794 * friction)]
-#[friction(j5, f_crit = 0.83904 * friction)]
-#[friction(j6, f_crit = 0.30301 * friction)]
-#[friction(j7, f_crit = 0.56489 * friction)]
-#[stop(j2, max = 1.7628, restitution = e)]
-#[stop(j4, max = -0.0698, restitution = e)]
-pub struct PandaS9 {
+pub struct Panda {
     pub g: f64,
-    /// Scale of the identified Coulomb friction levels.
-    pub friction: f64,
-    /// Restitution of the joint stops.
-    pub e: f64,
 }
 
-impl Default for PandaS9 {
+impl Default for Panda {
     fn default() -> Self {
-        PandaS9 {
-            g: 9.81,
-            friction: 1.0,
-            e: 0.5,
-        }
+        Panda { g: 9.81 }
     }
 }

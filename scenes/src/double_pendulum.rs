@@ -1,9 +1,9 @@
-use crate::Mechanism;
+use filippov::Mechanism;
 
 /// Theory S8: two uniform rods hinged at their ends, swinging in the x–y plane under
 /// gravity along −y. Angles are measured from the x axis.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(gravity = [0.0, -g, 0.0])]
+#[mechanism(emit = all, gravity = [0.0, -g, 0.0])]
 #[body(upper, mass = m1, com = [l1 / 2.0, 0.0, 0.0], inertia = rod(m1, l1))]
 #[joint(shoulder: revolute(z), parent = world, child = upper)]
 #[body(lower, mass = m2, com = [l2 / 2.0, 0.0, 0.0], inertia = rod(m2, l2))]

@@ -1,10 +1,10 @@
-use crate::Mechanism;
+use filippov::Mechanism;
 
 /// A small branched tree in 3D: a turntable carrying two branches, one with a hinge and
 /// a slider, the other tilted by a roll-pitch-yaw origin with a hinge and a rigidly
 /// attached tip mass (fixed joint).
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(gravity = [0.0, 0.0, -9.81], inputs = [turn, slide])]
+#[mechanism(emit = all, gravity = [0.0, 0.0, -9.81], inputs = [turn, slide])]
 #[body(base, mass = 2.0, com = [0.0, 0.0, 0.1], inertia = cylinder(2.0, 0.2, 0.2))]
 #[joint(turn: revolute(z), parent = world, child = base)]
 #[body(left, mass = m, com = [0.0, 0.0, l / 2.0], inertia = cuboid(m, 0.05, 0.05, l))]

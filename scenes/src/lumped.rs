@@ -2,10 +2,11 @@
 //! joint `x`, a linear spring to the wall, and a non-smooth element in parallel. External
 //! forces `F(t)` are given at run time as the input.
 
-use crate::Mechanism;
+use filippov::Mechanism;
 
 /// S1: linear Bingham dash-pot (`v = (f − sgn(f) f_crit)/η` outside the dead zone).
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
 #[body(block, mass = m)]
 #[joint(x: prismatic(x), parent = world, child = block)]
 #[spring(x, k = k)]
@@ -20,6 +21,7 @@ pub struct BinghamOscillator {
 /// S2, S3: Bingham dash-pot with the cubic law of thesis eq. 4.7b,
 /// `v = γ f² (f − sgn(f) f_crit)`.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
 #[body(block, mass = m)]
 #[joint(x: prismatic(x), parent = world, child = block)]
 #[spring(x, k = k)]
@@ -34,6 +36,7 @@ pub struct CubicBingham {
 /// S4, approach 1: the non-monotone law of thesis eq. 4.9b,
 /// `v = (1 + 0.1 (f² − 4)(f² − 9)) (f − sgn(f) f_crit)`, without velocity jumps.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
 #[body(block, mass = m)]
 #[joint(x: prismatic(x), parent = world, child = block)]
 #[spring(x, k = k)]
@@ -46,6 +49,7 @@ pub struct NonMonotoneNoJumps {
 
 /// S4, approach 2: the same law with maximal dissipation.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
 #[body(block, mass = m)]
 #[joint(x: prismatic(x), parent = world, child = block)]
 #[spring(x, k = k)]
@@ -58,6 +62,7 @@ pub struct NonMonotoneMaxDissipation {
 
 /// S5, S6: Coulomb friction.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
 #[body(block, mass = m)]
 #[joint(x: prismatic(x), parent = world, child = block)]
 #[spring(x, k = k)]
@@ -71,6 +76,7 @@ pub struct CoulombOscillator {
 /// S7: linear Bingham dash-pot and a stop at `x = l` backed by a massless support on a
 /// spring `k_support`.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
 #[body(block, mass = m)]
 #[joint(x: prismatic(x), parent = world, child = block)]
 #[spring(x, k = k)]
@@ -88,7 +94,7 @@ pub struct SupportedStop {
 /// A mass falling onto a rigid floor at `x = 0` with Newton restitution `e` (Zeno
 /// bouncing under gravity along −x).
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(gravity = [-g, 0.0, 0.0])]
+#[mechanism(emit = all, gravity = [-g, 0.0, 0.0])]
 #[body(ball, mass = m)]
 #[joint(x: prismatic(x), parent = world, child = ball)]
 #[stop(x, min = 0.0, restitution = e)]
@@ -101,6 +107,7 @@ pub struct BouncingBall {
 /// A Bingham dash-pot alone (no spring): under a constant force `F > f_crit` the
 /// velocity approaches `(F − f_crit)/η` (theory §5).
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
 #[body(block, mass = m)]
 #[joint(x: prismatic(x), parent = world, child = block)]
 #[bingham(x, f_crit = f_crit, eta = eta)]
@@ -113,6 +120,7 @@ pub struct BinghamBlock {
 /// S7's elastic case: spring and spring-backed stop, no dash-pot (a bilinear
 /// oscillator with a closed-form period, theory §5).
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
 #[body(block, mass = m)]
 #[joint(x: prismatic(x), parent = world, child = block)]
 #[spring(x, k = k)]
@@ -127,6 +135,7 @@ pub struct BilinearOscillator {
 /// Two blocks in a chain, each on a spring and with Coulomb friction on its own
 /// coordinate (the second coordinate is relative to the first): coupled stick–slip.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
 #[body(lower, mass = m1)]
 #[joint(x1: prismatic(x), parent = world, child = lower)]
 #[body(upper, mass = m2)]
@@ -147,6 +156,7 @@ pub struct FrictionChain {
 /// A hardening (Duffing) spring declared by its potential, `U = ½ k x² + ¼ k3 x⁴`, with a
 /// linear Bingham dash-pot: the spring force `−dU/dx` is derived symbolically.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
 #[body(block, mass = m)]
 #[joint(x: prismatic(x), parent = world, child = block)]
 #[spring(x, potential = 0.5 * k * x * x + 0.25 * k3 * x.powi(4))]

@@ -15,6 +15,7 @@ pub mod model;
 pub mod nonsmooth;
 pub mod parse;
 pub mod sym;
+pub mod urdf;
 pub mod validate;
 
 use proc_macro2::TokenStream;
@@ -44,7 +45,13 @@ pub fn expand_with_stats(input: TokenStream) -> Result<Expansion, syn::Error> {
     diag.finish()?;
     let model = model.expect("a model when there are no errors");
     let kernels = mech::Kernels::build(&model);
-    let (tokens, functions) = emit::mechanism_impl(&model, &kernels);
+    let (mut tokens, functions) = emit::mechanism_impl(&model, &kernels);
+    if let Some(path) = model.urdf_file.as_ref().and_then(|p| p.to_str()) {
+        // Cargo tracks files a crate includes: a changed URDF rebuilds the scene.
+        tokens.extend(quote::quote! {
+            const _: &[u8] = include_bytes!(#path);
+        });
+    }
     let tokens = match &model.krate {
         Some(path) => emit::rename_crate(tokens, path),
         None => tokens,

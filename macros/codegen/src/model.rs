@@ -246,6 +246,9 @@ pub struct Model {
     pub potentials: Vec<Potential>,
     /// The optional kernels asked for with `emit = [...]`.
     pub emit: Emit,
+    /// The URDF file the scene was read from (absolute), so that the expansion can make
+    /// cargo rebuild when it changes.
+    pub urdf_file: Option<std::path::PathBuf>,
 }
 
 /// Kernels the integrators do not call, emitted only when the scene asks for them by

@@ -32,7 +32,19 @@ struct Joint {
 pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let fields = check_struct_shape(input, diag)?;
     let names: Vec<String> = fields.iter().map(|f| f.to_string()).collect();
-    let raws = parse::read_attrs(&input.attrs, diag);
+    let mut raws = parse::read_attrs(&input.attrs, diag);
+    // A URDF file's links and joints, as the attributes a user would write.
+    let mut urdf_file = None;
+    if let Some(m) = raws.iter_mut().find(|r| r.family == Family::Mechanism)
+        && let Some(opts) = crate::urdf::take_options(m, diag)
+    {
+        urdf_file = Some(crate::urdf::resolve(&opts.path.value()));
+        match crate::urdf::attributes(&opts, diag) {
+            Some(more) => raws.extend(more),
+            // The file is the scene: without it every other message would mislead.
+            None => return None,
+        }
+    }
     // Whether the user wrote any (even wrong) body or joint: if so, the errors about
     // those say what is wrong, and "needs a body and a joint" would mislead.
     let raws_had_bodies_or_joints = raws
@@ -73,7 +85,21 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
                     emit = read_emit(&e, diag);
                     emit_expr = Some(e);
                 }
-                raw.reject_rest(&["gravity", "inputs", "crate", "emit"], diag);
+                raw.reject_rest(
+                    &[
+                        "gravity",
+                        "inputs",
+                        "crate",
+                        "emit",
+                        "urdf",
+                        "limits",
+                        "joint_friction",
+                        "joint_damping",
+                        "base",
+                        "lock",
+                    ],
+                    diag,
+                );
             }
             // `#[body(name: kind, parent = …, origin = …, mass = …, …)]` declares the body
             // and the joint it hangs from (named like the body) in one attribute: half
@@ -171,6 +197,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         potentials,
         krate,
         emit,
+        urdf_file,
     })
 }
 

@@ -28,6 +28,8 @@ mod scene;
 mod spatial;
 #[cfg(test)]
 pub(crate) mod test_models;
+#[cfg(feature = "urdf")]
+mod urdf;
 
 pub use coriolis::{
     christoffel_symbols, coriolis_matrix, lie_coriolis_matrix, mass_matrix_derivatives,

@@ -1,0 +1,541 @@
+//! `#[mechanism(urdf = "robots/arm.urdf", …)]`: a URDF file read at expansion time and
+//! turned into the same attributes a user would write by hand — `#[body]`, `#[joint]`,
+//! and, on request, `#[stop]`, `#[friction]` and `#[damper]` — so that everything after
+//! this point (validation, mechanics, emission) is the hand-written path.
+//!
+//! How a URDF maps:
+//! - the root link (the one no joint has as child) is the world, unless `base = free`
+//!   hangs it from the world by a free joint;
+//! - `revolute` and `continuous` → `revolute([ax, ay, az])`, `prismatic` →
+//!   `prismatic([…])`, `fixed` → `fixed` (the engine merges fixed bodies); `floating`,
+//!   `planar` and `spherical` joints and `<mimic>` are refused with the joint's name;
+//! - `<inertial>`: mass, centre of mass and the inertia about it, rotated from the
+//!   inertial frame into the link frame (`I = R I₀ Rᵀ`); a link without `<inertial>`
+//!   has no mass (an intermediate frame); a massless leaf on a fixed joint (a tool or
+//!   sensor frame) carries nothing and is left out;
+//! - `lock = [joint, …]` holds joints at zero (fixed): a gripper's fingers, a `<mimic>`;
+//! - `limits = stops(restitution = e)` or `limits = support(k = k)` turns each
+//!   `<limit lower upper>` of a revolute or prismatic joint into a two-sided stop;
+//!   `joint_friction = true` each `<dynamics friction>` into Coulomb friction and
+//!   `joint_damping = true` each `<dynamics damping>` into a viscous damper. Without
+//!   them, limits, friction and damping are not part of the dynamics.
+//!
+//! Every value becomes a literal, so structural zeros fold as in a hand-written scene.
+//! Errors are spanned at the `urdf = …` value and name the file and the link or joint.
+
+use proc_macro2::{Span, TokenStream, TokenTree};
+use syn::Expr;
+
+use crate::diag::Diagnostics;
+use crate::parse::{RawAttr, ident_of, read_attrs, strip};
+
+/// The URDF options taken off `#[mechanism(…)]`.
+#[cfg_attr(not(feature = "urdf"), allow(dead_code))]
+pub struct UrdfOptions {
+    pub path: syn::LitStr,
+    limits: Option<Expr>,
+    friction: bool,
+    damping: bool,
+    free_base: bool,
+    /// Joints held at zero (made fixed), by their URDF names: a gripper's fingers, or a
+    /// `<mimic>` joint.
+    lock: Vec<String>,
+}
+
+/// Takes `urdf = "…"` and its options off the mechanism attribute; `None` without
+/// `urdf`. Options given without `urdf` are reported.
+pub fn take_options(raw: &mut RawAttr, diag: &mut Diagnostics) -> Option<UrdfOptions> {
+    let urdf = raw.take("urdf", diag);
+    let limits = raw.take("limits", diag);
+    let friction = raw.take("joint_friction", diag);
+    let damping = raw.take("joint_damping", diag);
+    let base = raw.take("base", diag);
+    let lock = raw.take("lock", diag);
+    let Some((key, value)) = urdf else {
+        for (k, _) in [&limits, &friction, &damping, &base, &lock]
+            .into_iter()
+            .flatten()
+        {
+            diag.error_at(
+                k,
+                format_args!("`{k}` is an option of a scene read from a URDF file; add `urdf = \"path/to/robot.urdf\"` or drop it"),
+            );
+        }
+        return None;
+    };
+    let path = match strip(&value) {
+        Expr::Lit(syn::ExprLit {
+            lit: syn::Lit::Str(s),
+            ..
+        }) => s.clone(),
+        _ => {
+            diag.error_at(
+                &value,
+                "`urdf` takes the file's path as a string, relative to the crate's Cargo.toml, e.g. `urdf = \"robots/panda.urdf\"`",
+            );
+            return None;
+        }
+    };
+    let _ = key;
+    let flag = |e: Option<(syn::Ident, Expr)>, diag: &mut Diagnostics| match e {
+        None => false,
+        Some((k, v)) => match strip(&v) {
+            Expr::Lit(syn::ExprLit {
+                lit: syn::Lit::Bool(b),
+                ..
+            }) => b.value,
+            _ => {
+                diag.error_at(&v, format_args!("`{k}` is `true` or `false`"));
+                false
+            }
+        },
+    };
+    let friction = flag(friction, diag);
+    let damping = flag(damping, diag);
+    let free_base = match base {
+        None => false,
+        Some((_, v)) => match ident_of(&v) {
+            Some(i) if i == "free" => true,
+            Some(i) if i == "fixed" => false,
+            _ => {
+                diag.error_at(
+                    &v,
+                    "`base` is `fixed` (the root link is the world, the default) or `free` (a floating base)",
+                );
+                false
+            }
+        },
+    };
+    let lock = match lock {
+        None => Vec::new(),
+        Some((_, v)) => match strip(&v) {
+            Expr::Array(a) => a
+                .elems
+                .iter()
+                .filter_map(|e| match strip(e) {
+                    Expr::Lit(syn::ExprLit {
+                        lit: syn::Lit::Str(s),
+                        ..
+                    }) => Some(s.value()),
+                    other => match ident_of(other) {
+                        Some(i) => Some(i.to_string()),
+                        None => {
+                            diag.error_at(
+                                e,
+                                "`lock` lists URDF joint names, as identifiers or strings",
+                            );
+                            None
+                        }
+                    },
+                })
+                .collect(),
+            _ => {
+                diag.error_at(&v, "`lock` lists URDF joint names, e.g. `lock = [panda_finger_joint1, \"finger-2\"]`");
+                Vec::new()
+            }
+        },
+    };
+    Some(UrdfOptions {
+        path,
+        limits: limits.map(|(_, e)| e),
+        friction,
+        damping,
+        free_base,
+        lock,
+    })
+}
+
+/// The absolute path of the file (relative paths from the user's crate root).
+pub fn resolve(path: &str) -> std::path::PathBuf {
+    let p = std::path::Path::new(path);
+    if p.is_absolute() {
+        return p.to_path_buf();
+    }
+    match std::env::var_os("CARGO_MANIFEST_DIR") {
+        Some(dir) => std::path::Path::new(&dir).join(p),
+        None => p.to_path_buf(),
+    }
+}
+
+/// The attributes the file describes, as if written by hand; `None` after an error.
+pub fn attributes(opts: &UrdfOptions, diag: &mut Diagnostics) -> Option<Vec<RawAttr>> {
+    let span = opts.path.span();
+    let file = resolve(&opts.path.value());
+    let shown = opts.path.value();
+    let text = match std::fs::read_to_string(&file) {
+        Ok(t) => t,
+        Err(e) => {
+            diag.error_span(
+                span,
+                format_args!(
+                    "cannot read the URDF file `{shown}` (looked for {}): {e}; paths are relative to the crate's Cargo.toml",
+                    file.display()
+                ),
+            );
+            return None;
+        }
+    };
+    let source = match translate(&text, opts) {
+        Ok(s) => s,
+        Err(msgs) => {
+            for m in msgs {
+                diag.error_span(span, format_args!("URDF `{shown}`: {m}"));
+            }
+            return None;
+        }
+    };
+    // Parse the attributes with every token spanned at the `urdf = "…"` value, so that
+    // a later error (a realisability check, a massless leaf) points there.
+    let tokens: TokenStream = match source.parse() {
+        Ok(t) => respan(t, span),
+        Err(e) => {
+            diag.error_span(span, format_args!("URDF `{shown}`: {e}"));
+            return None;
+        }
+    };
+    let item: syn::ItemStruct = match syn::parse2(tokens) {
+        Ok(i) => i,
+        Err(e) => {
+            diag.error_span(span, format_args!("URDF `{shown}`: {e}"));
+            return None;
+        }
+    };
+    Some(read_attrs(&item.attrs, diag))
+}
+
+fn respan(tokens: TokenStream, span: Span) -> TokenStream {
+    tokens
+        .into_iter()
+        .map(|t| match t {
+            TokenTree::Group(g) => {
+                let mut n = proc_macro2::Group::new(g.delimiter(), respan(g.stream(), span));
+                n.set_span(span);
+                TokenTree::Group(n)
+            }
+            mut other => {
+                other.set_span(span);
+                other
+            }
+        })
+        .collect()
+}
+
+/// A URDF name as an identifier: other characters become `_`, a leading digit or a
+/// keyword gets a suffix. The joint's column names use this form.
+pub fn ident(name: &str) -> String {
+    let mut s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) {
+        s.insert(0, '_');
+    }
+    if syn::parse_str::<syn::Ident>(&s).is_err() || s == "world" || s == "_" {
+        s.push('_');
+    }
+    s
+}
+
+#[cfg_attr(not(feature = "urdf"), allow(dead_code))]
+fn num(x: f64) -> String {
+    format!("{x:?}")
+}
+
+#[cfg_attr(not(feature = "urdf"), allow(dead_code))]
+fn vec3(v: [f64; 3]) -> String {
+    format!("[{}, {}, {}]", num(v[0]), num(v[1]), num(v[2]))
+}
+
+/// `R = Rz(yaw) Ry(pitch) Rx(roll)`, the URDF convention.
+#[cfg_attr(not(feature = "urdf"), allow(dead_code))]
+fn rpy_matrix(r: [f64; 3]) -> [[f64; 3]; 3] {
+    let (sr, cr) = r[0].sin_cos();
+    let (sp, cp) = r[1].sin_cos();
+    let (sy, cy) = r[2].sin_cos();
+    [
+        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+        [-sp, cp * sr, cp * cr],
+    ]
+}
+
+/// The inertia in the link frame, `R I₀ Rᵀ`.
+#[cfg_attr(not(feature = "urdf"), allow(dead_code))]
+pub fn rotate_inertia(i0: [[f64; 3]; 3], rpy: [f64; 3]) -> [[f64; 3]; 3] {
+    if rpy == [0.0; 3] {
+        return i0;
+    }
+    let r = rpy_matrix(rpy);
+    let mut out = [[0.0; 3]; 3];
+    for a in 0..3 {
+        for b in 0..3 {
+            let mut s = 0.0;
+            for k in 0..3 {
+                for l in 0..3 {
+                    s += r[a][k] * i0[k][l] * r[b][l];
+                }
+            }
+            out[a][b] = s;
+        }
+    }
+    // Symmetric to the last bit.
+    for a in 0..3 {
+        for b in 0..a {
+            let m = 0.5 * (out[a][b] + out[b][a]);
+            out[a][b] = m;
+            out[b][a] = m;
+        }
+    }
+    out
+}
+
+/// Without the `urdf` feature there is no parser.
+#[cfg(not(feature = "urdf"))]
+pub fn translate(_: &str, _: &UrdfOptions) -> Result<String, Vec<String>> {
+    Err(vec![
+        "reading URDF files needs filippov's `urdf` feature: `filippov = { version = \"0.1\", features = [\"urdf\"] }` in Cargo.toml".to_string(),
+    ])
+}
+
+/// The URDF as attribute source text, or every problem found.
+#[cfg(feature = "urdf")]
+pub fn translate(text: &str, opts: &UrdfOptions) -> Result<String, Vec<String>> {
+    let robot = urdf_rs::read_from_string(text).map_err(|e| vec![format!("malformed: {e}")])?;
+    let mut errors = Vec::new();
+    let links: std::collections::HashMap<&str, &urdf_rs::Link> =
+        robot.links.iter().map(|l| (l.name.as_str(), l)).collect();
+    if links.len() != robot.links.len() {
+        errors.push("two links share a name".to_string());
+    }
+    // Parent of each link, and the root.
+    let mut parent_joint: std::collections::HashMap<&str, &urdf_rs::Joint> = Default::default();
+    for j in &robot.joints {
+        for l in [&j.parent.link, &j.child.link] {
+            if !links.contains_key(l.as_str()) {
+                errors.push(format!(
+                    "joint `{}` names a link `{l}` the file does not declare",
+                    j.name
+                ));
+            }
+        }
+        if parent_joint.insert(j.child.link.as_str(), j).is_some() {
+            errors.push(format!(
+                "link `{}` is the child of two joints; a URDF describes a tree (closed loops are not supported)",
+                j.child.link
+            ));
+        }
+    }
+    let roots: Vec<&str> = robot
+        .links
+        .iter()
+        .map(|l| l.name.as_str())
+        .filter(|n| !parent_joint.contains_key(n))
+        .collect();
+    if roots.len() != 1 && errors.is_empty() {
+        errors.push(if roots.is_empty() {
+            "every link is the child of a joint: the joints form a cycle".to_string()
+        } else {
+            format!(
+                "{} links are nobody's child ({}); a URDF has one root",
+                roots.len(),
+                roots.join(", ")
+            )
+        });
+    }
+    for l in &opts.lock {
+        if !robot.joints.iter().any(|j| &j.name == l) {
+            errors.push(format!(
+                "`lock` names a joint `{l}` the file does not declare"
+            ));
+        }
+    }
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    let root = roots[0];
+    let locked = |j: &urdf_rs::Joint| opts.lock.iter().any(|l| *l == j.name);
+    let fixed = |j: &urdf_rs::Joint| j.joint_type == urdf_rs::JointType::Fixed || locked(j);
+    // Children lists, and a depth-first order from the root (which also finds cycles
+    // not reachable from it: those links are never visited).
+    let mut children: std::collections::HashMap<&str, Vec<&urdf_rs::Joint>> = Default::default();
+    for j in &robot.joints {
+        children.entry(j.parent.link.as_str()).or_default().push(j);
+    }
+    let mut order: Vec<&urdf_rs::Joint> = Vec::new();
+    let mut stack = vec![root];
+    while let Some(l) = stack.pop() {
+        if let Some(cs) = children.get(l) {
+            for j in cs.iter().rev() {
+                order.push(j);
+                stack.push(j.child.link.as_str());
+            }
+        }
+    }
+    if order.len() != robot.joints.len() {
+        return Err(vec![
+            "some joints form a cycle not connected to the root".to_string(),
+        ]);
+    }
+    // Mass carried below each link (to leave out massless leaves on fixed joints).
+    let mass = |l: &str| links[l].inertial.mass.value;
+    let mut carries: std::collections::HashMap<&str, bool> = Default::default();
+    for j in order.iter().rev() {
+        let c = j.child.link.as_str();
+        let below = children
+            .get(c)
+            .is_some_and(|cs| cs.iter().any(|k| carries[k.child.link.as_str()]));
+        carries.insert(c, mass(c) > 0.0 || below || !fixed(j));
+    }
+
+    let mut out = String::new();
+    let body = |name: &str, l: &urdf_rs::Link, out: &mut String, errors: &mut Vec<String>| {
+        let m = l.inertial.mass.value;
+        if !m.is_finite() || m < 0.0 {
+            errors.push(format!("link `{name}` has mass {m}; a mass is positive (or zero for a frame that carries others)"));
+        }
+        let i = &l.inertial.inertia;
+        let i0 = [
+            [i.ixx, i.ixy, i.ixz],
+            [i.ixy, i.iyy, i.iyz],
+            [i.ixz, i.iyz, i.izz],
+        ];
+        let inertia = rotate_inertia(i0, l.inertial.origin.rpy.0);
+        let rows: Vec<String> = inertia.iter().map(|r| vec3(*r)).collect();
+        out.push_str(&format!(
+            "#[body({}, mass = {}, com = {}, inertia = [{}])]\n",
+            ident(name),
+            num(m),
+            vec3(l.inertial.origin.xyz.0),
+            rows.join(", ")
+        ));
+    };
+    let world_body = root;
+    if opts.free_base {
+        body(root, links[root], &mut out, &mut errors);
+        out.push_str(&format!(
+            "#[joint({}_base: free, parent = world, child = {})]\n",
+            ident(root),
+            ident(root)
+        ));
+    }
+    let mut stops = String::new();
+    for j in &order {
+        let child = j.child.link.as_str();
+        if !carries[child] {
+            continue;
+        }
+        let jn = ident(&j.name);
+        // The body first: its own errors are reported whatever is wrong with the joint.
+        body(child, links[child], &mut out, &mut errors);
+        if j.mimic.is_some() && !locked(j) {
+            errors.push(format!(
+                "joint `{}` has a <mimic>: coupled joints need closed-loop constraints, which are not supported yet; hold it with `lock = [{}]` or remove the mimic from the file",
+                j.name, j.name
+            ));
+            continue;
+        }
+        let axis = j.axis.xyz.0;
+        let kind = match j.joint_type {
+            _ if locked(j) => "fixed".to_string(),
+            urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => {
+                format!("revolute({})", vec3(axis))
+            }
+            urdf_rs::JointType::Prismatic => format!("prismatic({})", vec3(axis)),
+            urdf_rs::JointType::Fixed => "fixed".to_string(),
+            ref other => {
+                errors.push(format!(
+                    "joint `{}` is of type {other:?}, which is not supported: use revolute, continuous, prismatic or fixed joints (a floating base is `base = free`)",
+                    j.name
+                ));
+                continue;
+            }
+        };
+        let parent = if j.parent.link == world_body && !opts.free_base {
+            "world".to_string()
+        } else {
+            ident(&j.parent.link)
+        };
+        out.push_str(&format!(
+            "#[joint({jn}: {kind}, parent = {parent}, child = {}, origin = {}, rpy = {})]\n",
+            ident(child),
+            vec3(j.origin.xyz.0),
+            vec3(j.origin.rpy.0)
+        ));
+        let movable = !locked(j)
+            && matches!(
+                j.joint_type,
+                urdf_rs::JointType::Revolute | urdf_rs::JointType::Prismatic
+            );
+        if movable
+            && let Some(limits) = &opts.limits
+            && let Some(law) = stop_law(limits)
+        {
+            let (lo, hi) = (j.limit.lower, j.limit.upper);
+            if lo.is_finite() && hi.is_finite() && lo < hi {
+                stops.push_str(&format!(
+                    "#[stop({jn}, min = {}, max = {}, {law})]\n",
+                    num(lo),
+                    num(hi)
+                ));
+            }
+        }
+        if let Some(d) = &j.dynamics {
+            if opts.friction && d.friction > 0.0 && !fixed(j) {
+                stops.push_str(&format!(
+                    "#[friction({jn}, f_crit = {})]\n",
+                    num(d.friction)
+                ));
+            }
+            if opts.damping && d.damping > 0.0 && !fixed(j) {
+                stops.push_str(&format!("#[damper({jn}, c = {})]\n", num(d.damping)));
+            }
+        }
+    }
+    if let Some(limits) = &opts.limits
+        && stop_law(limits).is_none()
+        && !ident_of(limits).is_some_and(|i| i == "ignore")
+    {
+        errors.push(
+            "`limits` is `stops(restitution = e)`, `support(k = k)` or `ignore` (the default)"
+                .to_string(),
+        );
+    }
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    out.push_str(&stops);
+    out.push_str("struct __Urdf;\n");
+    Ok(out)
+}
+
+/// `stops(restitution = e)` → `restitution = e`; `support(k = k)` → `k_support = k`.
+#[cfg_attr(not(feature = "urdf"), allow(dead_code))]
+fn stop_law(e: &Expr) -> Option<String> {
+    let Expr::Call(c) = strip(e) else {
+        return None;
+    };
+    let f = match strip(&c.func) {
+        Expr::Path(p) => p.path.get_ident()?.to_string(),
+        _ => return None,
+    };
+    let [arg] = c.args.iter().collect::<Vec<_>>()[..] else {
+        return None;
+    };
+    let Expr::Assign(a) = arg else { return None };
+    let key = ident_of(&a.left)?.to_string();
+    let value = {
+        let r = &a.right;
+        quote::quote!(#r).to_string()
+    };
+    match (f.as_str(), key.as_str()) {
+        ("stops", "restitution") => Some(format!("restitution = {value}")),
+        ("support", "k") => Some(format!("k_support = {value}")),
+        _ => None,
+    }
+}

@@ -63,6 +63,10 @@
 //!   declares a body and the joint it hangs from (named like the body) in one attribute:
 //!   rustc expands at most 128 derive helper attributes on one struct, so a chain of 64
 //!   links needs this form (65 attributes) or `#![recursion_limit = "256"]` in its crate.
+//! - `#[mechanism(urdf = "robots/arm.urdf", lock = […], limits = stops(restitution = e),
+//!   joint_friction = true, joint_damping = true, base = free)]` (feature `urdf`) reads
+//!   the scene from a URDF file, relative to the crate's `Cargo.toml`, at compile time;
+//!   see the README's "Robots from URDF".
 //! - `#[mechanism(crate = fil)]` when the crate is a renamed dependency
 //!   (`fil = { package = "filippov", … }`).
 //!

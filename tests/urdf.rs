@@ -89,3 +89,46 @@ fn ur5_from_urdf_matches_the_numeric_reader() {
     against_numeric(&Ur5, &model, 21);
     common::check(&Ur5, 22);
 }
+
+#[derive(Mechanism)]
+#[mechanism(
+    urdf = "robots/three_link_arm.urdf",
+    limits = stops(restitution = 0.3),
+    joint_friction = true,
+    joint_damping = true,
+    gravity = [0.0, 0.0, -9.81]
+)]
+struct Arm;
+
+/// The arm of `examples/urdf_arm.rs`: its URDF limits as stops, its friction and
+/// damping as elements. Released under gravity, it falls onto the shoulder's upper
+/// limit and comes to rest there; time-stepping ends in the same state (first order in
+/// h). Three elements on one coordinate (two stops and friction) share its force while
+/// it rests: the time-stepping solve (also used inside the event-driven run, for the
+/// impacts' accumulation) must converge on the coordinate's force, not on its split.
+#[test]
+fn urdf_arm_comes_to_rest_on_its_limit() {
+    use filippov::runtime::{NonSmoothMethod, NonSmoothProblem, solve_nonsmooth};
+    type V3 = SVector<f64, 3>;
+    assert_eq!(Arm::NON_SMOOTH_ELEMENTS.len(), 9);
+    let p = NonSmoothProblem::new(0.0, 4.0, V3::new(0.0, 0.2, -0.3), V3::zeros());
+    let zero = |_t: f64, _q: &V3, _v: &V3| V3::zeros();
+    let sol = solve_nonsmooth(&Arm, &zero, &p, &NonSmoothMethod::default()).expect("completes");
+    let (_, y) = sol.last().unwrap();
+    assert_eq!(y[0], 0.6, "on the shoulder's upper limit");
+    assert!(y[3..6].iter().all(|v| *v == 0.0), "at rest: {y:?}");
+    let end = |h: f64| {
+        let ts = solve_nonsmooth(
+            &Arm,
+            &zero,
+            &p,
+            &NonSmoothMethod::TimeStepping { h, theta: 1.0 },
+        )
+        .expect("time-stepping completes");
+        let z = ts.last().unwrap().1.to_vec();
+        (0..3).map(|i| (z[i] - y[i]).abs()).fold(0.0, f64::max)
+    };
+    let (d3, d4) = (end(1e-3), end(1e-4));
+    eprintln!("end-state distance to time-stepping: h = 1e-3 {d3:.2e}, 1e-4 {d4:.2e}");
+    assert!(d4 < 2e-2 && d4 < 0.5 * d3, "{d3:e} → {d4:e}");
+}

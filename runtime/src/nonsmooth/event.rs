@@ -80,7 +80,7 @@
 
 use std::collections::VecDeque;
 
-use nalgebra::SVector;
+use nalgebra::{DMatrix, DVector, SVector};
 
 use super::law::{Branches, Graph};
 use super::mode::{self, Choices, Mode};
@@ -914,10 +914,13 @@ where
         pressing > 0.0 && w * w <= 2.0 * pressing * tolerance
     }
 
-    /// Newton's impact law at coordinate `c`: the generalised impulse `P e_c` with
-    /// `v⁺ = v⁻ − M⁻¹ e_c P` and `v⁺_c = −e v⁻_c` (the other coordinates move with the
-    /// impulse through the coupling of `M`; bounded element forces carry no impulse).
-    /// Returns `P`.
+    /// Newton's impact law at coordinate `c`: `v⁺_c = −e v⁻_c`, with the rigid stops in
+    /// contact on other coordinates held: they take impulses of their own (each pushing
+    /// only, `v⁺ = 0` on its coordinate), so an impact does not push an arm resting on
+    /// one limit into another. With `P` the impulses on the impacting coordinate and on
+    /// the held ones, `v⁺ = v⁻ − M⁻¹ Σ e_k P_k`; a held stop whose impulse would pull is
+    /// let go (it then leaves its contact at the mode selection that follows). Bounded
+    /// element forces carry no impulse. Returns the impulse at `c`.
     fn impact(
         &self,
         q: &SVector<f64, N>,
@@ -926,10 +929,66 @@ where
         restitution: f64,
     ) -> f64 {
         let w = self.system.inverse_mass_matrix(q);
-        let before = v[c];
-        let p = (1.0 + restitution) * before / w[(c, c)];
-        *v -= w.column(c) * p;
-        v[c] = -restitution * before;
+        let before = *v;
+        // Coordinates held by a rigid stop in contact, and which way each may push.
+        let mut held: Vec<(usize, f64)> = self
+            .elements
+            .iter()
+            .zip(&self.modes)
+            .filter_map(|(el, m)| match (el.kind, m) {
+                (
+                    ElementKind::Stop {
+                        kind: StopKind::Rigid { .. },
+                        side,
+                        ..
+                    },
+                    Mode::Contact,
+                ) if el.coordinate != c => Some((el.coordinate, mode::side_sign(side))),
+                _ => None,
+            })
+            .collect();
+        held.sort_by_key(|h| h.0);
+        held.dedup_by_key(|h| h.0);
+        loop {
+            let coords: Vec<usize> = std::iter::once(c).chain(held.iter().map(|h| h.0)).collect();
+            let k = coords.len();
+            // W_SS P = v⁻_S − v⁺_S.
+            let wss = DMatrix::from_fn(k, k, |i, j| w[(coords[i], coords[j])]);
+            let mut rhs = DVector::from_fn(k, |i, _| before[coords[i]]);
+            rhs[0] = (1.0 + restitution) * before[c];
+            let Some(p) = wss.lu().solve(&rhs) else {
+                // Dependent constraints: the single impact.
+                held.clear();
+                if k == 1 {
+                    break;
+                }
+                continue;
+            };
+            // A stop's impulse removes velocity into it: it has the sign `side_sign`.
+            if let Some(i) = held.iter().position(|&(cc, s)| {
+                let j = coords
+                    .iter()
+                    .position(|&x| x == cc)
+                    .expect("held coordinate");
+                s * p[j] < 0.0
+            }) {
+                held.remove(i);
+                continue;
+            }
+            let mut after = before;
+            for (i, &cc) in coords.iter().enumerate() {
+                after -= w.column(cc) * p[i];
+            }
+            after[c] = -restitution * before[c];
+            for &(cc, _) in &held {
+                after[cc] = 0.0;
+            }
+            *v = after;
+            return p[0];
+        }
+        let p = (1.0 + restitution) * before[c] / w[(c, c)];
+        *v = before - w.column(c) * p;
+        v[c] = -restitution * before[c];
         p
     }
 

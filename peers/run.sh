@@ -56,6 +56,12 @@ echo "== Pinocchio"
 "$PY" "$HERE/pin_bench.py" "$MODELS" "$BUILD" "$RES/pinocchio.json" "$( [ -x "$BIN" ] && echo "$BIN" || echo "")" \
   || fail "Pinocchio benchmark failed"
 
+# 2a'. Pinocchio on the URDF robots (robots/*.urdf), at the states the report exported
+if ls "$ROOT/target/report/urdf/"*.json >/dev/null 2>&1; then
+  echo "== Pinocchio on the URDF robots"
+  "$PY" "$HERE/urdf_pin.py" "$ROOT/target/report/urdf" "$OUT/urdf.tsv" || fail "URDF comparison failed"
+fi
+
 # 2b. SciPy
 echo "== SciPy"
 "$PY" "$HERE/scipy_bench.py" "$RES/scipy.json" > "$BUILD/scipy.log" || { cat "$BUILD/scipy.log"; fail "SciPy benchmark failed"; }

@@ -132,3 +132,63 @@ fn urdf_arm_comes_to_rest_on_its_limit() {
     eprintln!("end-state distance to time-stepping: h = 1e-3 {d3:.2e}, 1e-4 {d4:.2e}");
     assert!(d4 < 2e-2 && d4 < 0.5 * d3, "{d3:e} → {d4:e}");
 }
+
+#[derive(Mechanism)]
+#[mechanism(urdf = "robots/solo12.urdf", base = free, gravity = [0.0, 0.0, -9.81], emit = all)]
+struct Solo12;
+
+/// A quadruped with a floating base (SO(3) × ℝ³ and 12 revolute joints): the derive's
+/// expansion against the numeric reader at random configurations (unit quaternion for
+/// the base).
+#[test]
+fn solo12_with_a_free_base_matches_the_numeric_reader() {
+    use filippov::runtime::UnitQuat;
+    let text = include_str!("../robots/solo12.urdf");
+    let model = Model::from_urdf(text, Vector3::new(0.0, 0.0, -9.81), true, &[]).expect("reads");
+    assert_eq!((Solo12::DOF, Solo12::CONFIG, model.dof()), (18, 19, 18));
+    let mut rng = common::Rng::new(31);
+    let rel = |a: &[f64], b: &[f64]| {
+        let scale = b.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max)
+            / scale
+    };
+    for _ in 0..20 {
+        let mut q = SVector::<f64, 19>::from_fn(|_, _| rng.uniform(-2.0, 2.0));
+        for &(s, _) in Solo12::ROTATIONS {
+            let r = UnitQuat::try_new(q[s], q[s + 1], q[s + 2], q[s + 3])
+                .unwrap_or_default()
+                .coords();
+            q.fixed_rows_mut::<4>(s).copy_from_slice(&r);
+        }
+        let v = SVector::<f64, 18>::from_fn(|_, _| rng.uniform(-2.0, 2.0));
+        let tau = SVector::<f64, 18>::from_fn(|_, _| rng.uniform(-5.0, 5.0));
+        let (qd, vd) = (
+            DVector::from_column_slice(q.as_slice()),
+            DVector::from_column_slice(v.as_slice()),
+        );
+        let m = Solo12.mass_matrix(&q);
+        assert!(
+            rel(m.as_slice(), numeric::crba(&model, &qd).as_slice()) < 1e-12,
+            "M"
+        );
+        let b = Solo12.bias(&q, &v);
+        assert!(
+            rel(b.as_slice(), numeric::bias(&model, &qd, &vd).as_slice()) < 1e-12,
+            "C v + g"
+        );
+        let fd = Solo12.forward_dynamics(&q, &v, &tau);
+        let fd_ref = numeric::forward_dynamics(
+            &model,
+            &qd,
+            &vd,
+            &DVector::from_column_slice(tau.as_slice()),
+        );
+        assert!(
+            rel(fd.as_slice(), fd_ref.as_slice()) < 1e-10,
+            "forward dynamics"
+        );
+    }
+}

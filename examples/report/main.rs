@@ -40,6 +40,8 @@ mod s9;
 mod s9_support;
 #[path = "timing.rs"]
 mod timing;
+#[path = "urdf.rs"]
+mod urdf;
 #[path = "workprecision.rs"]
 mod workprecision;
 
@@ -48,7 +50,7 @@ pub use config::Config;
 /// Runs every section and writes the report; returns the path of the Markdown page.
 pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     std::fs::create_dir_all(&config.out_dir)?;
-    let progress = config.progress(10);
+    let progress = config.progress(11);
     let mut page = markdown::Page::new("filippov report");
     page.para(&format!(
         "Measured on this machine in one run ({} configuration; {}). Times are medians of {} runs after a warm-up. \
@@ -86,6 +88,9 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     progress.set_message("planar chains against SymPy");
     let ch = chains::chains(config);
     progress.inc(1);
+    progress.set_message("robots from URDF");
+    let u = urdf::urdf(config);
+    progress.inc(1);
     peers::export_models(config)?;
     let p = peers::peers(config, &k.forward_ns);
     progress.finish_with_message("done");
@@ -102,6 +107,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     summary.extend(e.summary.iter().cloned());
     summary.extend(c.summary.iter().cloned());
     summary.extend(ch.summary.iter().cloned());
+    summary.extend(u.summary.iter().cloned());
     summary.extend(p.summary.iter().cloned());
     page.bullets(&summary);
     page.append(wp.page);
@@ -114,6 +120,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     page.append(e.page);
     page.append(c.page);
     page.append(ch.page);
+    page.append(u.page);
     page.append(p.page);
     let path = config.out_dir.join("report.md");
     std::fs::write(&path, page.finish())?;

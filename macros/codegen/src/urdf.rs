@@ -367,14 +367,19 @@ pub fn translate(text: &str, opts: &UrdfOptions) -> Result<String, Vec<String>> 
     for j in &robot.joints {
         children.entry(j.parent.link.as_str()).or_default().push(j);
     }
+    // Depth-first preorder, children in file order.
     let mut order: Vec<&urdf_rs::Joint> = Vec::new();
-    let mut stack = vec![root];
-    while let Some(l) = stack.pop() {
-        if let Some(cs) = children.get(l) {
-            for j in cs.iter().rev() {
-                order.push(j);
-                stack.push(j.child.link.as_str());
-            }
+    let mut stack: Vec<&urdf_rs::Joint> = children
+        .get(root)
+        .map(|cs| cs.iter().rev().copied().collect())
+        .unwrap_or_default();
+    while let Some(j) = stack.pop() {
+        order.push(j);
+        if order.len() > robot.joints.len() {
+            break;
+        }
+        if let Some(cs) = children.get(j.child.link.as_str()) {
+            stack.extend(cs.iter().rev().copied());
         }
     }
     if order.len() != robot.joints.len() {

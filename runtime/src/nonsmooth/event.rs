@@ -73,9 +73,11 @@
 //!   between the two branch forces at `v_min`. At `|v_c| = v_min` the branch below, the
 //!   plateau and the branch above are selected among like the modes at rest.
 //!
+//! Impacts: Newton's law on every rigid stop closed at the impact instant at once (the
+//! impacting one, the others approaching or in contact), as the time-stepper applies it.
+//!
 //! Not supported: two constrained elements on one coordinate (their Delassus matrix is
-//! singular), impacts of several stops at the same instant (applied one after the
-//! other), non-monotone laws whose folds do not alternate maximum, minimum, … ending
+//! singular), non-monotone laws whose folds do not alternate maximum, minimum, … ending
 //! with a minimum ([`ErrorKind::InvalidInput`]).
 
 use std::collections::VecDeque;
@@ -817,7 +819,7 @@ where
                         } else {
                             restitution
                         };
-                        impacts.push((e, self.impact(&q, &mut v, c, e_eff)));
+                        impacts.extend(self.impact(e, &mut q, &mut v, e_eff));
                         jumped = true;
                     }
                 }
@@ -914,82 +916,128 @@ where
         pressing > 0.0 && w * w <= 2.0 * pressing * tolerance
     }
 
-    /// Newton's impact law at coordinate `c`: `v⁺_c = −e v⁻_c`, with the rigid stops in
-    /// contact on other coordinates held: they take impulses of their own (each pushing
-    /// only, `v⁺ = 0` on its coordinate), so an impact does not push an arm resting on
-    /// one limit into another. With `P` the impulses on the impacting coordinate and on
-    /// the held ones, `v⁺ = v⁻ − M⁻¹ Σ e_k P_k`; a held stop whose impulse would pull is
-    /// let go (it then leaves its contact at the mode selection that follows). Bounded
-    /// element forces carry no impulse. Returns the impulse at `c`.
+    /// Newton's impact law for the stop `element` (coordinate `c`, restitution `e`
+    /// after [`rebound_invisible`](Self::rebound_invisible)) and every other rigid stop
+    /// closed at this instant (its gap within the position tolerance), applied to all of
+    /// them at once as the time-stepper does: each approaching stop `k` gets
+    /// `v⁺_k = −e_k v⁻_k`, each in contact `v⁺_k = 0`, through impulses `P_k` that only
+    /// push, with `v⁺ = v⁻ − M⁻¹ Σ e_k P_k`. A stop whose impulse would pull takes none
+    /// (it separates); one left out that would then move into its stop is put back — a
+    /// small linear complementarity problem, solved by exchanging one stop at a time.
+    /// Applied one after the other instead, two stops hit together bounce off each other
+    /// in an endless geometric series at one instant. So an arm resting on one limit is
+    /// not pushed into another either. Bounded element forces carry no impulse. Closed
+    /// stops taking part are put exactly on their surfaces. Returns `(element,
+    /// impulse)` for every stop that took one.
     fn impact(
         &self,
-        q: &SVector<f64, N>,
+        element: usize,
+        q: &mut SVector<f64, N>,
         v: &mut SVector<f64, N>,
-        c: usize,
         restitution: f64,
-    ) -> f64 {
-        let w = self.system.inverse_mass_matrix(q);
+    ) -> Vec<(usize, f64)> {
+        let c = self.elements[element].coordinate;
         let before = *v;
-        // Coordinates held by a rigid stop in contact, and which way each may push.
-        let mut held: Vec<(usize, f64)> = self
-            .elements
-            .iter()
-            .zip(&self.modes)
-            .filter_map(|(el, m)| match (el.kind, m) {
-                (
-                    ElementKind::Stop {
-                        kind: StopKind::Rigid { .. },
-                        side,
-                        ..
-                    },
-                    Mode::Contact,
-                ) if el.coordinate != c => Some((el.coordinate, mode::side_sign(side))),
-                _ => None,
-            })
-            .collect();
-        held.sort_by_key(|h| h.0);
-        held.dedup_by_key(|h| h.0);
-        loop {
-            let coords: Vec<usize> = std::iter::once(c).chain(held.iter().map(|h| h.0)).collect();
-            let k = coords.len();
-            // W_SS P = v⁻_S − v⁺_S.
-            let wss = DMatrix::from_fn(k, k, |i, j| w[(coords[i], coords[j])]);
-            let mut rhs = DVector::from_fn(k, |i, _| before[coords[i]]);
-            rhs[0] = (1.0 + restitution) * before[c];
-            let Some(p) = wss.lu().solve(&rhs) else {
-                // Dependent constraints: the single impact.
-                held.clear();
-                if k == 1 {
-                    break;
-                }
+        // (element, coordinate, side sign, target velocity after) of every stop that
+        // may take part; the first is the impacting one.
+        let mut cands: Vec<(usize, usize, f64, f64)> = vec![(
+            element,
+            c,
+            match self.elements[element].kind {
+                ElementKind::Stop { side, .. } => mode::side_sign(side),
+                ElementKind::DashPot { .. } => 1.0,
+            },
+            -restitution * before[c],
+        )];
+        let mut starts = vec![true];
+        for (k, (el, m)) in self.elements.iter().zip(&self.modes).enumerate() {
+            let ElementKind::Stop {
+                kind: StopKind::Rigid { restitution: ek },
+                side,
+                position,
+            } = el.kind
+            else {
                 continue;
             };
+            let ck = el.coordinate;
+            if k == element || ck == c || cands.iter().any(|x| x.1 == ck) {
+                continue;
+            }
+            let s = mode::side_sign(side);
+            let tol = self.options.atol + self.options.rtol * (1.0 + position.abs());
+            let closed = mode::gap(el, q[ck]) <= tol;
+            // Approaching: Newton's law; in contact, or closed and separating (it joins
+            // only if the others' impulses would push it in): held, `v⁺ = 0`.
+            if *m == Mode::Contact || closed {
+                let approaching = *m != Mode::Contact && s * before[ck] > 0.0;
+                let target = if approaching { -ek * before[ck] } else { 0.0 };
+                cands.push((k, ck, s, target));
+                starts.push(approaching || *m == Mode::Contact);
+            }
+        }
+        let w = self.system.inverse_mass_matrix(q);
+        let mut active = starts;
+        let mut result: Option<(Vec<f64>, SVector<f64, N>)> = None;
+        for _ in 0..2 * cands.len() + 2 {
+            let idx: Vec<usize> = (0..cands.len()).filter(|&i| active[i]).collect();
+            let k = idx.len();
+            let wss = DMatrix::from_fn(k, k, |i, j| w[(cands[idx[i]].1, cands[idx[j]].1)]);
+            let rhs = DVector::from_fn(k, |i, _| {
+                let (_, ck, _, target) = cands[idx[i]];
+                before[ck] - target
+            });
+            let Some(p) = wss.lu().solve(&rhs) else {
+                break;
+            };
             // A stop's impulse removes velocity into it: it has the sign `side_sign`.
-            if let Some(i) = held.iter().position(|&(cc, s)| {
-                let j = coords
-                    .iter()
-                    .position(|&x| x == cc)
-                    .expect("held coordinate");
-                s * p[j] < 0.0
-            }) {
-                held.remove(i);
+            let pulling = (1..k)
+                .filter(|&i| cands[idx[i]].2 * p[i] < 0.0)
+                .min_by(|&a, &b| (cands[idx[a]].2 * p[a]).total_cmp(&(cands[idx[b]].2 * p[b])));
+            if let Some(i) = pulling {
+                active[idx[i]] = false;
                 continue;
             }
             let mut after = before;
-            for (i, &cc) in coords.iter().enumerate() {
-                after -= w.column(cc) * p[i];
+            for (i, &j) in idx.iter().enumerate() {
+                after -= w.column(cands[j].1) * p[i];
             }
-            after[c] = -restitution * before[c];
-            for &(cc, _) in &held {
-                after[cc] = 0.0;
+            for &j in &idx {
+                after[cands[j].1] = cands[j].3;
             }
-            *v = after;
-            return p[0];
+            let mut impulses = vec![0.0; cands.len()];
+            for (i, &j) in idx.iter().enumerate() {
+                impulses[j] = p[i];
+            }
+            result = Some((impulses, after));
+            // A stop left out that now moves into its surface joins.
+            match (0..cands.len()).find(|&j| !active[j] && cands[j].2 * after[cands[j].1] > 0.0) {
+                Some(j) => active[j] = true,
+                None => break,
+            }
         }
-        let p = (1.0 + restitution) * before[c] / w[(c, c)];
-        *v = before - w.column(c) * p;
-        v[c] = -restitution * before[c];
-        p
+        match result {
+            Some((impulses, after)) => {
+                *v = after;
+                let mut out = Vec::new();
+                for (j, &(k, ck, _, _)) in cands.iter().enumerate() {
+                    if active[j] {
+                        if let ElementKind::Stop { position, .. } = self.elements[k].kind {
+                            q[ck] = position;
+                        }
+                        if j == 0 || impulses[j] != 0.0 {
+                            out.push((k, impulses[j]));
+                        }
+                    }
+                }
+                out
+            }
+            None => {
+                let p = (1.0 + restitution) * before[c] / w[(c, c)];
+                *v = before - w.column(c) * p;
+                v[c] = -restitution * before[c];
+                vec![(element, p)]
+            }
+        }
     }
 
     /// Re-selects the modes of every element at rest on a switching surface
@@ -1112,7 +1160,7 @@ where
             }
         }
         let mut modes = Vec::with_capacity(self.elements.len());
-        for el in &self.elements {
+        for (e, el) in self.elements.iter().enumerate() {
             let c = el.coordinate;
             let g = mode::gap(el, q[c]);
             let m = match el.kind {
@@ -1127,7 +1175,7 @@ where
                     if g <= 0.0 {
                         q[c] = position;
                         if mode::side_sign(side) * v[c] > 0.0 {
-                            let _impulse = self.impact(&q, &mut v, c, restitution);
+                            let _impulses = self.impact(e, &mut q, &mut v, restitution);
                         }
                     }
                     Mode::Free

@@ -1,0 +1,311 @@
+//! Robots read from their URDF files (`robots/`): joints, expansion time, generated
+//! forward dynamics against the numeric reader of the same file, FD ns, and — when
+//! `bash peers/run.sh` has run — Pinocchio on the same URDF (its M, C v + g and ABA
+//! against ours at the exported states, and its ABA time).
+//!
+//! The states and our values are written to `target/report/urdf/<robot>.json` for
+//! `peers/urdf_pin.py`.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use filippov::nalgebra::{DVector, SVector, Vector3};
+use filippov::prelude::*;
+use filippov::runtime::UnitQuat;
+use filippov::runtime::numeric::{self, Model};
+
+use crate::Config;
+use crate::markdown::{Page, sci};
+use crate::timing::{median, ns_per_call};
+
+#[derive(Mechanism)]
+#[mechanism(
+    urdf = "robots/panda.urdf",
+    lock = [panda_finger_joint1, panda_finger_joint2],
+    gravity = [0.0, 0.0, -9.81]
+)]
+struct PandaUrdf;
+
+#[derive(Mechanism)]
+#[mechanism(urdf = "robots/ur5.urdf", gravity = [0.0, 0.0, -9.81])]
+struct Ur5;
+
+#[derive(Mechanism)]
+#[mechanism(urdf = "robots/solo12.urdf", base = free, gravity = [0.0, 0.0, -9.81])]
+struct Solo12;
+
+pub struct Section {
+    pub page: Page,
+    pub summary: Vec<String>,
+}
+
+/// A tiny deterministic generator (the states must be the same in every run).
+struct Lcg(u64);
+impl Lcg {
+    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
+    }
+}
+
+struct Robot {
+    name: &'static str,
+    file: &'static str,
+    lock: &'static [&'static str],
+    free_base: bool,
+    /// `#[mechanism(…)]` options for the expansion timing.
+    options: &'static str,
+}
+
+const ROBOTS: [Robot; 3] = [
+    Robot {
+        name: "panda",
+        file: "robots/panda.urdf",
+        lock: &["panda_finger_joint1", "panda_finger_joint2"],
+        free_base: false,
+        options: "lock = [panda_finger_joint1, panda_finger_joint2], ",
+    },
+    Robot {
+        name: "ur5",
+        file: "robots/ur5.urdf",
+        lock: &[],
+        free_base: false,
+        options: "",
+    },
+    Robot {
+        name: "solo12",
+        file: "robots/solo12.urdf",
+        lock: &[],
+        free_base: true,
+        options: "base = free, ",
+    },
+];
+
+/// One state with our values: `(q, v, tau, M row-major, C v + g, FD)`.
+type Sample = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
+
+fn samples<const N: usize, const NQ: usize>(
+    m: &dyn Fn(&SVector<f64, NQ>) -> Vec<f64>,
+    bias: &dyn Fn(&SVector<f64, NQ>, &SVector<f64, N>) -> Vec<f64>,
+    fd: &dyn Fn(&SVector<f64, NQ>, &SVector<f64, N>, &SVector<f64, N>) -> Vec<f64>,
+    rotations: &[(usize, usize)],
+) -> Vec<Sample> {
+    let mut rng = Lcg(2026);
+    (0..20)
+        .map(|_| {
+            let mut q = SVector::<f64, NQ>::from_fn(|_, _| rng.uniform(-2.0, 2.0));
+            for &(s, _) in rotations {
+                let r = UnitQuat::try_new(q[s], q[s + 1], q[s + 2], q[s + 3])
+                    .unwrap_or_default()
+                    .coords();
+                q.fixed_rows_mut::<4>(s).copy_from_slice(&r);
+            }
+            let v = SVector::<f64, N>::from_fn(|_, _| rng.uniform(-2.0, 2.0));
+            let tau = SVector::<f64, N>::from_fn(|_, _| rng.uniform(-5.0, 5.0));
+            (
+                q.as_slice().to_vec(),
+                v.as_slice().to_vec(),
+                tau.as_slice().to_vec(),
+                m(&q),
+                bias(&q, &v),
+                fd(&q, &v, &tau),
+            )
+        })
+        .collect()
+}
+
+fn rel(a: &[f64], b: &[f64]) -> f64 {
+    let scale = b.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+        / scale
+}
+
+/// Largest relative difference of our samples from the numeric reader's model.
+fn against_numeric(model: &Model, s: &[Sample]) -> f64 {
+    let d = |x: &[f64]| DVector::from_column_slice(x);
+    s.iter()
+        .map(|(q, v, tau, m, b, fd)| {
+            let (q, v, tau) = (d(q), d(v), d(tau));
+            let m_ref = numeric::crba(model, &q);
+            let n = v.len();
+            let m_rows: Vec<f64> = (0..n * n).map(|k| m_ref[(k / n, k % n)]).collect();
+            rel(m, &m_rows)
+                .max(rel(b, numeric::bias(model, &q, &v).as_slice()))
+                .max(rel(
+                    fd,
+                    numeric::forward_dynamics(model, &q, &v, &tau).as_slice(),
+                ))
+        })
+        .fold(0.0, f64::max)
+}
+
+fn json_array(x: &[f64]) -> String {
+    let items: Vec<String> = x.iter().map(|v| format!("{v:e}")).collect();
+    format!("[{}]", items.join(","))
+}
+
+fn export(dir: &Path, robot: &Robot, fd_ns: f64, s: &[Sample]) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut out = String::new();
+    let lock: Vec<String> = robot.lock.iter().map(|l| format!("{l:?}")).collect();
+    let _ = write!(
+        out,
+        "{{\"name\":{:?},\"urdf\":{:?},\"lock\":[{}],\"free_base\":{},\"fd_ns\":{fd_ns},\"states\":[",
+        robot.name,
+        root.join(robot.file).display().to_string(),
+        lock.join(","),
+        robot.free_base
+    );
+    for (i, (q, v, tau, m, b, fd)) in s.iter().enumerate() {
+        if i > 0 {
+            out.push(',');
+        }
+        let _ = write!(
+            out,
+            "{{\"q\":{},\"v\":{},\"tau\":{},\"m\":{},\"bias\":{},\"fd\":{}}}",
+            json_array(q),
+            json_array(v),
+            json_array(tau),
+            json_array(m),
+            json_array(b),
+            json_array(fd)
+        );
+    }
+    out.push_str("]}\n");
+    std::fs::write(dir.join(format!("{}.json", robot.name)), out)
+}
+
+/// Pinocchio's results from `peers/urdf_pin.py`, if present: per robot
+/// `(max rel M, max rel C v + g, max rel FD, ABA ns)`.
+fn pinocchio(dir: &Path) -> Vec<(String, [f64; 4])> {
+    let Ok(text) = std::fs::read_to_string(dir.join("urdf.tsv")) else {
+        return Vec::new();
+    };
+    text.lines()
+        .skip(1)
+        .filter_map(|l| {
+            let f: Vec<&str> = l.split('\t').collect();
+            let nums: Vec<f64> = f.get(1..5)?.iter().filter_map(|x| x.parse().ok()).collect();
+            (nums.len() == 4).then(|| (f[0].to_string(), [nums[0], nums[1], nums[2], nums[3]]))
+        })
+        .collect()
+}
+
+fn expansion_ms(config: &Config, robot: &Robot) -> (f64, usize) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(robot.file);
+    let src = format!(
+        "#[derive(Mechanism)] #[mechanism(urdf = {:?}, {}gravity = [0.0, 0.0, -9.81])] struct R;",
+        path.display().to_string(),
+        robot.options
+    );
+    let tokens: proc_macro2::TokenStream = src.parse().expect("tokens");
+    let (t, e) = median(config.repeats.min(5), || {
+        filippov_codegen::expand_with_stats(tokens.clone()).expect("expands")
+    });
+    (t * 1e3, e.functions.iter().map(|f| f.lets).sum())
+}
+
+pub fn urdf(config: &Config) -> Section {
+    let mut page = Page::empty();
+    let mut summary = Vec::new();
+    let dir = config.out_dir.join("urdf");
+    let g = Vector3::new(0.0, 0.0, -9.81);
+    let mut rows = Vec::new();
+    let pin = pinocchio(&config.out_dir.join("peers"));
+    for robot in &ROBOTS {
+        let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(robot.file))
+            .expect("the robot's URDF");
+        let model = Model::from_urdf(&text, g, robot.free_base, robot.lock).expect("reads");
+        let (exp_ms, lets) = expansion_ms(config, robot);
+        macro_rules! measure {
+            ($s:expr, $n:literal, $nq:literal, $rot:expr) => {{
+                let s = samples::<$n, $nq>(
+                    &|q| {
+                        let m = $s.mass_matrix(q);
+                        (0..$n * $n).map(|k| m[(k / $n, k % $n)]).collect()
+                    },
+                    &|q, v| {
+                        let z = SVector::<f64, $n>::zeros();
+                        let a = $s.forward_dynamics(q, v, &z);
+                        (-($s.mass_matrix(q) * a)).as_slice().to_vec()
+                    },
+                    &|q, v, t| $s.forward_dynamics(q, v, t).as_slice().to_vec(),
+                    $rot,
+                );
+                let (q, v, tau) = (
+                    SVector::<f64, $nq>::from_column_slice(&s[0].0),
+                    SVector::<f64, $n>::from_column_slice(&s[0].1),
+                    SVector::<f64, $n>::from_column_slice(&s[0].2),
+                );
+                let ns = ns_per_call(config.repeats, config.kernel_calls, || {
+                    $s.forward_dynamics(&q, &v, &tau)
+                });
+                (s, ns, $n)
+            }};
+        }
+        let (s, fd_ns, dof) = match robot.name {
+            "panda" => measure!(PandaUrdf, 7, 7, &[]),
+            "ur5" => measure!(Ur5, 6, 6, &[]),
+            _ => measure!(Solo12, 18, 19, Solo12::ROTATIONS),
+        };
+        let err = against_numeric(&model, &s);
+        if let Err(e) = export(&dir, robot, fd_ns, &s) {
+            eprintln!("report: could not export {}: {e}", robot.name);
+        }
+        let peer = pin.iter().find(|(n, _)| n == robot.name).map(|(_, p)| *p);
+        rows.push(vec![
+            format!("`{}`", robot.file),
+            format!("{dof}{}", if robot.free_base { " (free base)" } else { "" }),
+            format!("{exp_ms:.1}"),
+            lets.to_string(),
+            format!("{fd_ns:.0}"),
+            sci(err),
+            peer.map_or("—".into(), |p| sci(p[0].max(p[1]))),
+            peer.map_or("—".into(), |p| sci(p[2])),
+            peer.map_or("—".into(), |p| format!("{:.0}", p[3])),
+        ]);
+        summary.push(format!(
+            "URDF `{}` ({dof} dof): generated FD {fd_ns:.0} ns; against the numeric reader of the same file {}{}",
+            robot.file,
+            sci(err),
+            peer.map_or(String::from("; Pinocchio not run (bash peers/run.sh)"), |p| format!(
+                "; against Pinocchio M, C v + g {} and FD {} (ABA {:.0} ns through its Python bindings)",
+                sci(p[0].max(p[1])),
+                sci(p[2]),
+                p[3]
+            ))
+        ));
+    }
+    page.h2("Robots from URDF");
+    page.para(
+        "Each file in `robots/` read at compile time by `#[mechanism(urdf = …)]` (default kernels). Expansion: the \
+         engine (release build) on the attribute, median. FD ns: generated forward dynamics, median of batches. \
+         \"numeric\": the largest relative difference of M, C v + g and FD from `numeric::Model::from_urdf` (a \
+         second reader of the same file) at 20 random states. Pinocchio (columns filled after `bash peers/run.sh`, \
+         which loads the same URDFs with `buildModelFromUrdf`; Panda fingers locked, Solo12 with a free-flyer \
+         base, its velocities mapped to ours): the same differences at the same states, and ABA time through \
+         Pinocchio's Python bindings (call overhead included — not a like-for-like timing).",
+    );
+    page.table(
+        &[
+            "robot",
+            "dof",
+            "expansion ms",
+            "lets",
+            "FD ns",
+            "vs numeric",
+            "vs Pinocchio M, Cv+g",
+            "vs Pinocchio FD",
+            "Pinocchio ABA ns (Python)",
+        ],
+        &rows,
+    );
+    Section { page, summary }
+}

@@ -1,0 +1,112 @@
+"""Pinocchio on the URDF robots the report exported (target/report/urdf/<robot>.json):
+loads the same URDF file, computes M, C v + g (nonLinearEffects) and ABA at the exported
+states and compares them with filippov's values; times ABA through the Python bindings.
+
+Usage: urdf_pin.py <dir with the robots' JSON> <output .tsv>
+
+A free base (`base = free` in filippov) is Pinocchio's free-flyer joint. The two use
+different velocity coordinates for it: filippov's are the world-frame rate of the base
+position ṗ and the body angular velocity ω, Pinocchio's the body-frame linear velocity
+v_b = Rᵀ ṗ and ω. With T = diag(Rᵀ, I, I) (ours → Pinocchio): M_ours = Tᵀ M_pin T,
+τ_pin = diag(Rᵀ, I, I) τ_ours, and p̈ = R (v̇_b + ω × v_b). Configurations: filippov
+[p, w x y z, joints], Pinocchio [p, x y z w, joints].
+"""
+import glob
+import json
+import os
+import sys
+import time
+
+import numpy as np
+import pinocchio as pin
+
+
+def quat_matrix(w, x, y, z):
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+    ])
+
+
+def rel(a, b):
+    a, b = np.asarray(a, float).ravel(), np.asarray(b, float).ravel()
+    return float(np.max(np.abs(a - b)) / max(1.0, float(np.max(np.abs(b)))))
+
+
+def load(d):
+    if d["free_base"]:
+        model = pin.buildModelFromUrdf(d["urdf"], pin.JointModelFreeFlyer())
+    else:
+        model = pin.buildModelFromUrdf(d["urdf"])
+    if d["lock"]:
+        ids = [model.getJointId(n) for n in d["lock"]]
+        model = pin.buildReducedModel(model, ids, pin.neutral(model))
+    model.gravity.linear = np.array([0.0, 0.0, -9.81])
+    return model
+
+
+def robot(d):
+    model = load(d)
+    data = model.createData()
+    free = d["free_base"]
+    err_m = err_b = err_fd = 0.0
+    for s in d["states"]:
+        q, v, tau = (np.array(s[k]) for k in ("q", "v", "tau"))
+        n = len(v)
+        if free:
+            p, (w, x, y, z), joints = q[:3], q[3:7], q[7:]
+            R = quat_matrix(w, x, y, z)
+            q_pin = np.concatenate([p, [x, y, z, w], joints])
+            T = np.eye(n)
+            T[:3, :3] = R.T
+            v_pin = T @ v
+            tau_pin = T @ tau
+        else:
+            R = None
+            T = np.eye(n)
+            q_pin, v_pin, tau_pin = q, v, tau
+        M_pin = pin.crba(model, data, q_pin)
+        M_pin = np.triu(M_pin) + np.triu(M_pin, 1).T
+        M = T.T @ M_pin @ T
+
+        def ours_accel(a_pin):
+            a = np.array(a_pin)
+            if free:
+                vb, om = v_pin[:3], v_pin[3:6]
+                a[:3] = R @ (a_pin[:3] + np.cross(om, vb))
+            return a
+
+        fd = ours_accel(pin.aba(model, data, q_pin, v_pin, tau_pin))
+        bias = -M @ ours_accel(pin.aba(model, data, q_pin, v_pin, np.zeros(n)))
+        err_m = max(err_m, rel(np.array(s["m"]).reshape(n, n), M))
+        err_b = max(err_b, rel(s["bias"], bias))
+        err_fd = max(err_fd, rel(s["fd"], fd))
+    # ABA through the bindings, median of 5 batches.
+    s = d["states"][0]
+    q, v, tau = (np.array(s[k]) for k in ("q", "v", "tau"))
+    if free:
+        q = np.concatenate([q[:3], q[4:7], q[3:4], q[7:]])
+    calls, times = 20000, []
+    for _ in range(5):
+        t0 = time.perf_counter()
+        for _ in range(calls):
+            pin.aba(model, data, q, v, tau)
+        times.append((time.perf_counter() - t0) / calls * 1e9)
+    return err_m, err_b, err_fd, sorted(times)[2], model.nv
+
+
+def main():
+    src, out = sys.argv[1], sys.argv[2]
+    rows = ["robot\tM\tbias\tfd\taba_ns_python\tnv"]
+    for path in sorted(glob.glob(os.path.join(src, "*.json"))):
+        d = json.load(open(path))
+        m, b, fd, ns, nv = robot(d)
+        print(f"{d['name']}: nv {nv}, max rel difference M {m:.2e}, C v + g {b:.2e}, FD {fd:.2e}; ABA {ns:.0f} ns (Python)")
+        rows.append(f"{d['name']}\t{m:e}\t{b:e}\t{fd:e}\t{ns:.1f}\t{nv}")
+    os.makedirs(os.path.dirname(out), exist_ok=True)
+    open(out, "w").write("\n".join(rows) + "\n")
+
+
+if __name__ == "__main__":
+    main()

@@ -50,6 +50,15 @@ def robot(d):
     model = load(d)
     data = model.createData()
     free = d["free_base"]
+    # Pinocchio numbers joints depth-first with children in its own order; ours follow
+    # the file. P maps our velocity vector to Pinocchio's: v_pin = P v.
+    nv = model.nv
+    perm = list(range(6)) if free else []
+    for name in d["joints"]:
+        perm.append(model.joints[model.getJointId(name)].idx_v)
+    P = np.zeros((nv, nv))
+    for i, j in enumerate(perm):
+        P[j, i] = 1.0
     err_m = err_b = err_fd = 0.0
     for s in d["states"]:
         q, v, tau = (np.array(s[k]) for k in ("q", "v", "tau"))
@@ -57,21 +66,22 @@ def robot(d):
         if free:
             p, (w, x, y, z), joints = q[:3], q[3:7], q[7:]
             R = quat_matrix(w, x, y, z)
-            q_pin = np.concatenate([p, [x, y, z, w], joints])
+            q_pin = np.concatenate([p, [x, y, z, w], (P[6:, 6:] @ joints)])
             T = np.eye(n)
             T[:3, :3] = R.T
-            v_pin = T @ v
-            tau_pin = T @ tau
         else:
             R = None
             T = np.eye(n)
-            q_pin, v_pin, tau_pin = q, v, tau
+            q_pin = P @ q
+        T = P @ T
+        v_pin = T @ v
+        tau_pin = np.linalg.solve(T.T, tau)
         M_pin = pin.crba(model, data, q_pin)
         M_pin = np.triu(M_pin) + np.triu(M_pin, 1).T
         M = T.T @ M_pin @ T
 
         def ours_accel(a_pin):
-            a = np.array(a_pin)
+            a = P.T @ np.array(a_pin)
             if free:
                 vb, om = v_pin[:3], v_pin[3:6]
                 a[:3] = R @ (a_pin[:3] + np.cross(om, vb))

@@ -150,17 +150,24 @@ fn json_array(x: &[f64]) -> String {
     format!("[{}]", items.join(","))
 }
 
-fn export(dir: &Path, robot: &Robot, fd_ns: f64, s: &[Sample]) -> std::io::Result<()> {
+fn export(
+    dir: &Path,
+    robot: &Robot,
+    joints: &[&str],
+    fd_ns: f64,
+    s: &[Sample],
+) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut out = String::new();
     let lock: Vec<String> = robot.lock.iter().map(|l| format!("{l:?}")).collect();
     let _ = write!(
         out,
-        "{{\"name\":{:?},\"urdf\":{:?},\"lock\":[{}],\"free_base\":{},\"fd_ns\":{fd_ns},\"states\":[",
+        "{{\"name\":{:?},\"urdf\":{:?},\"lock\":[{}],\"joints\":[{}],\"free_base\":{},\"fd_ns\":{fd_ns},\"states\":[",
         robot.name,
         root.join(robot.file).display().to_string(),
         lock.join(","),
+        joints.iter().map(|j| format!("{j:?}")).collect::<Vec<_>>().join(","),
         robot.free_base
     );
     for (i, (q, v, tau, m, b, fd)) in s.iter().enumerate() {
@@ -250,13 +257,17 @@ pub fn urdf(config: &Config) -> Section {
                 (s, ns, $n)
             }};
         }
-        let (s, fd_ns, dof) = match robot.name {
-            "panda" => measure!(PandaUrdf, 7, 7, &[]),
-            "ur5" => measure!(Ur5, 6, 6, &[]),
-            _ => measure!(Solo12, 18, 19, Solo12::ROTATIONS),
+        let ((s, fd_ns, dof), joints): (_, Vec<&str>) = match robot.name {
+            "panda" => (measure!(PandaUrdf, 7, 7, &[]), PandaUrdf::JOINTS.to_vec()),
+            "ur5" => (measure!(Ur5, 6, 6, &[]), Ur5::JOINTS.to_vec()),
+            // The free base's six coordinates first, then one per joint.
+            _ => (
+                measure!(Solo12, 18, 19, Solo12::ROTATIONS),
+                Solo12::COORDINATES[6..].to_vec(),
+            ),
         };
         let err = against_numeric(&model, &s);
-        if let Err(e) = export(&dir, robot, fd_ns, &s) {
+        if let Err(e) = export(&dir, robot, &joints, fd_ns, &s) {
             eprintln!("report: could not export {}: {e}", robot.name);
         }
         let peer = pin.iter().find(|(n, _)| n == robot.name).map(|(_, p)| *p);

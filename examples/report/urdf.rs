@@ -167,7 +167,11 @@ fn export(
         robot.name,
         root.join(robot.file).display().to_string(),
         lock.join(","),
-        joints.iter().map(|j| format!("{j:?}")).collect::<Vec<_>>().join(","),
+        joints
+            .iter()
+            .map(|j| format!("{j:?}"))
+            .collect::<Vec<_>>()
+            .join(","),
         robot.free_base
     );
     for (i, (q, v, tau, m, b, fd)) in s.iter().enumerate() {

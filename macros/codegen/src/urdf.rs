@@ -42,9 +42,10 @@ pub struct UrdfOptions {
     lock: Vec<String>,
 }
 
-/// Takes `urdf = "…"` and its options off the mechanism attribute; `None` without
-/// `urdf`. Options given without `urdf` are reported.
-pub fn take_options(raw: &mut RawAttr, diag: &mut Diagnostics) -> Option<UrdfOptions> {
+/// Takes `urdf = "…"` and its options off the mechanism attribute: `Ok(None)` without
+/// `urdf` (options given without it are reported), `Err(())` when `urdf` is there but
+/// not a path (reported; the scene is the file, so nothing else can be checked).
+pub fn take_options(raw: &mut RawAttr, diag: &mut Diagnostics) -> Result<Option<UrdfOptions>, ()> {
     let urdf = raw.take("urdf", diag);
     let limits = raw.take("limits", diag);
     let friction = raw.take("joint_friction", diag);
@@ -61,7 +62,7 @@ pub fn take_options(raw: &mut RawAttr, diag: &mut Diagnostics) -> Option<UrdfOpt
                 format_args!("`{k}` is an option of a scene read from a URDF file; add `urdf = \"path/to/robot.urdf\"` or drop it"),
             );
         }
-        return None;
+        return Ok(None);
     };
     let path = match strip(&value) {
         Expr::Lit(syn::ExprLit {
@@ -73,7 +74,7 @@ pub fn take_options(raw: &mut RawAttr, diag: &mut Diagnostics) -> Option<UrdfOpt
                 &value,
                 "`urdf` takes the file's path as a string, relative to the crate's Cargo.toml, e.g. `urdf = \"robots/panda.urdf\"`",
             );
-            return None;
+            return Err(());
         }
     };
     let _ = key;
@@ -135,14 +136,14 @@ pub fn take_options(raw: &mut RawAttr, diag: &mut Diagnostics) -> Option<UrdfOpt
             }
         },
     };
-    Some(UrdfOptions {
+    Ok(Some(UrdfOptions {
         path,
         limits: limits.map(|(_, e)| e),
         friction,
         damping,
         free_base,
         lock,
-    })
+    }))
 }
 
 /// The absolute path of the file (relative paths from the user's crate root).
@@ -348,15 +349,16 @@ pub fn translate(text: &str, opts: &UrdfOptions) -> Result<String, Vec<String>> 
             )
         });
     }
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    // Not a reason to stop: the tree is sound, and the other options are checked too.
     for l in &opts.lock {
         if !robot.joints.iter().any(|j| &j.name == l) {
             errors.push(format!(
                 "`lock` names a joint `{l}` the file does not declare"
             ));
         }
-    }
-    if !errors.is_empty() {
-        return Err(errors);
     }
     let root = roots[0];
     let locked = |j: &urdf_rs::Joint| opts.lock.iter().any(|l| *l == j.name);

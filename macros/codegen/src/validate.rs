@@ -35,9 +35,14 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let mut raws = parse::read_attrs(&input.attrs, diag);
     // A URDF file's links and joints, as the attributes a user would write.
     let mut urdf_file = None;
-    if let Some(m) = raws.iter_mut().find(|r| r.family == Family::Mechanism)
-        && let Some(opts) = crate::urdf::take_options(m, diag)
-    {
+    let options = match raws.iter_mut().find(|r| r.family == Family::Mechanism) {
+        Some(m) => crate::urdf::take_options(m, diag),
+        None => Ok(None),
+    };
+    let Ok(options) = options else {
+        return None;
+    };
+    if let Some(opts) = options {
         urdf_file = Some(crate::urdf::resolve(&opts.path.value()));
         match crate::urdf::attributes(&opts, diag) {
             Some(more) => raws.extend(more),

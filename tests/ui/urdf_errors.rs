@@ -1,0 +1,27 @@
+use filippov::Mechanism;
+
+// Paths are relative to the crate's Cargo.toml; trybuild compiles this file in its own
+// crate under target/tests/trybuild/filippov, four levels below the repository.
+
+// A <mimic> joint, named, with the way out.
+#[derive(Mechanism)]
+#[mechanism(urdf = "../../../../tests/ui/urdf/mimic.urdf")]
+struct Gripper;
+
+// Unknown `limits` and a `lock` naming no joint of the file.
+#[derive(Mechanism)]
+#[mechanism(urdf = "../../../../tests/ui/urdf/mimic.urdf", lock = [finger_right, thumb], limits = walls)]
+struct Locked;
+
+// URDF options without a file, and a path that is not a string.
+#[derive(Mechanism)]
+#[mechanism(joint_friction = true, base = free)]
+#[body(link, mass = 1.0, com = [0.0, 0.0, 0.0], inertia = point)]
+#[joint(j: revolute(z), parent = world, child = link)]
+struct NoFile;
+
+#[derive(Mechanism)]
+#[mechanism(urdf = robots::panda)]
+struct NotAString;
+
+fn main() {}

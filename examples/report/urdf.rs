@@ -14,9 +14,9 @@ use filippov::prelude::*;
 use filippov::runtime::UnitQuat;
 use filippov::runtime::numeric::{self, Model};
 
-use crate::Config;
-use crate::markdown::{Page, sci};
-use crate::timing::{median, ns_per_call};
+use super::config::Config;
+use super::markdown::{Page, sci};
+use super::timing::{median, ns_per_call};
 
 #[derive(Mechanism)]
 #[mechanism(

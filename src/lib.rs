@@ -66,7 +66,8 @@
 //! - `#[mechanism(urdf = "robots/arm.urdf", lock = […], limits = stops(restitution = e),
 //!   joint_friction = true, joint_damping = true, base = free)]` (feature `urdf`) reads
 //!   the scene from a URDF file, relative to the crate's `Cargo.toml`, at compile time;
-//!   see the README's "Robots from URDF".
+//!   `#[urdf_param(link.mass = m, joint.friction = f, joint.upper = l)]` binds values to
+//!   fields. See the README's "Robots from URDF".
 //! - `#[mechanism(crate = fil)]` when the crate is a renamed dependency
 //!   (`fil = { package = "filippov", … }`).
 //!

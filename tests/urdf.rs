@@ -192,3 +192,68 @@ fn solo12_with_a_free_base_matches_the_numeric_reader() {
         );
     }
 }
+
+#[derive(Mechanism)]
+#[mechanism(
+    urdf = "robots/three_link_arm.urdf",
+    limits = stops(restitution = e),
+    joint_friction = true,
+    joint_damping = true,
+    gravity = [0.0, 0.0, -9.81]
+)]
+#[urdf_param(upper.mass = m_upper, elbow.friction = fc, shoulder.upper = lim)]
+struct ParamArm {
+    m_upper: f64,
+    fc: f64,
+    lim: f64,
+    e: f64,
+}
+
+/// Values bound to struct fields with `#[urdf_param]`: at the file's values the scene is
+/// the file's; another mass changes M as the numeric model with that mass says; the
+/// bound friction and limit are the elements' parameters.
+#[test]
+fn urdf_params_bind_struct_fields() {
+    use filippov::runtime::nonsmooth::{ElementKind, NonSmooth};
+    type V3 = SVector<f64, 3>;
+    let file = ParamArm {
+        m_upper: 2.0,
+        fc: 1.5,
+        lim: 0.6,
+        e: 0.3,
+    };
+    let q = V3::new(0.3, -0.4, 0.5);
+    assert_eq!(file.mass_matrix(&q), Arm.mass_matrix(&q));
+    assert_eq!(ParamArm::NON_SMOOTH_ELEMENTS, Arm::NON_SMOOTH_ELEMENTS);
+
+    let heavier = ParamArm {
+        m_upper: 3.5,
+        fc: 0.7,
+        lim: 0.4,
+        e: 0.3,
+    };
+    let text = include_str!("../robots/three_link_arm.urdf");
+    let mut model = Model::from_urdf(text, Vector3::new(0.0, 0.0, -9.81), false, &[]).unwrap();
+    let upper = model.links.iter().position(|l| l.name == "upper").unwrap();
+    model.links[upper].mass = 3.5;
+    let m_ref = numeric::crba(&model, &DVector::from_column_slice(q.as_slice()));
+    let m = heavier.mass_matrix(&q);
+    for i in 0..3 {
+        for j in 0..3 {
+            assert!(
+                (m[(i, j)] - m_ref[(i, j)]).abs() < 1e-12 * m_ref.amax(),
+                "M[{i}][{j}]"
+            );
+        }
+    }
+    let names = ParamArm::NON_SMOOTH_ELEMENTS;
+    let at = |n: &str| names.iter().position(|x| *x == n).unwrap();
+    match heavier.element(at("friction_elbow")).kind {
+        ElementKind::DashPot { f_crit, .. } => assert_eq!(f_crit, 0.7),
+        other => panic!("{other:?}"),
+    }
+    match heavier.element(at("stop_shoulder_max")).kind {
+        ElementKind::Stop { position, .. } => assert_eq!(position, 0.4),
+        other => panic!("{other:?}"),
+    }
+}

@@ -6,7 +6,9 @@ use proc_macro::TokenStream;
 /// `filippov` crate documentation for the attributes.
 #[proc_macro_derive(
     Mechanism,
-    attributes(mechanism, body, joint, spring, damper, friction, bingham, stop)
+    attributes(
+        mechanism, body, joint, spring, damper, friction, bingham, stop, urdf_param
+    )
 )]
 pub fn derive_mechanism(input: TokenStream) -> TokenStream {
     match filippov_codegen::expand(input.into()) {

@@ -24,4 +24,18 @@ struct NoFile;
 #[mechanism(urdf = robots::panda)]
 struct NotAString;
 
+// Bindings: an element the file does not have, a property that cannot be bound, a
+// limit bound without stops, a locked joint.
+#[derive(Mechanism)]
+#[mechanism(urdf = "../../../../tests/ui/urdf/mimic.urdf", lock = [finger_right])]
+#[urdf_param(thumb.mass = m, left.colour = m, finger_left.upper = m, finger_right.damping = m)]
+struct Bound { m: f64 }
+
+// A binding without a file.
+#[derive(Mechanism)]
+#[urdf_param(link.mass = m)]
+#[body(link, mass = m, com = [0.0, 0.0, 0.0], inertia = point)]
+#[joint(j: revolute(z), parent = world, child = link)]
+struct NotUrdf { m: f64 }
+
 fn main() {}

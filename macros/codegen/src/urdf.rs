@@ -20,7 +20,10 @@
 //!   `joint_damping = true` each `<dynamics damping>` into a viscous damper. Without
 //!   them, limits, friction and damping are not part of the dynamics.
 //!
-//! Every value becomes a literal, so structural zeros fold as in a hand-written scene.
+//! Every value becomes a literal, so structural zeros fold as in a hand-written scene,
+//! except those bound to struct fields by `#[urdf_param(link.mass = m, joint.friction =
+//! f, joint.lower = l, …)]`: the attribute text carries a placeholder there, replaced by
+//! the user's expression (with its spans) after parsing.
 //! Errors are spanned at the `urdf = …` value and name the file and the link or joint.
 
 use proc_macro2::{Span, TokenStream, TokenTree};
@@ -146,6 +149,64 @@ pub fn take_options(raw: &mut RawAttr, diag: &mut Diagnostics) -> Result<Option<
     }))
 }
 
+/// One `#[urdf_param(element.property = expression)]` binding: the value of a link's
+/// mass or a joint's friction, damping or limit taken from the struct's fields instead
+/// of the file, so that it can vary from run to run.
+pub struct Param {
+    pub element: syn::Ident,
+    pub property: syn::Ident,
+    pub value: Expr,
+}
+
+/// The properties `#[urdf_param]` can bind.
+pub const PROPERTIES: [&str; 5] = ["mass", "friction", "damping", "lower", "upper"];
+
+/// Reads every `#[urdf_param(a.b = e, …)]` attribute.
+pub fn read_params(attrs: &[syn::Attribute], diag: &mut Diagnostics) -> Vec<Param> {
+    use syn::punctuated::Punctuated;
+    let mut out = Vec::new();
+    for attr in attrs.iter().filter(|a| a.path().is_ident("urdf_param")) {
+        let items = match attr.parse_args_with(Punctuated::<Expr, syn::Token![,]>::parse_terminated)
+        {
+            Ok(items) => items,
+            Err(e) => {
+                diag.push(e);
+                continue;
+            }
+        };
+        for item in items {
+            let parsed = match &item {
+                Expr::Assign(a) => match strip(&a.left) {
+                    Expr::Field(f) => match (ident_of(&f.base), &f.member) {
+                        (Some(el), syn::Member::Named(prop)) => {
+                            Some((el.clone(), prop.clone(), (*a.right).clone()))
+                        }
+                        _ => None,
+                    },
+                    _ => None,
+                },
+                _ => None,
+            };
+            match parsed {
+                Some((element, property, value)) if PROPERTIES.contains(&property.to_string().as_str()) => {
+                    out.push(Param { element, property, value })
+                }
+                Some((_, property, _)) => diag.error_at(
+                    &property,
+                    format_args!(
+                        "`{property}` cannot be bound; `urdf_param` binds a link's `mass` or a joint's `friction`, `damping`, `lower` or `upper`"
+                    ),
+                ),
+                None => diag.error_at(
+                    &item,
+                    "`urdf_param` takes `element.property = value` pairs, e.g. `#[urdf_param(panda_link7.mass = m7, panda_joint1.friction = f1)]`",
+                ),
+            }
+        }
+    }
+    out
+}
+
 /// The absolute path of the file (relative paths from the user's crate root).
 pub fn resolve(path: &str) -> std::path::PathBuf {
     let p = std::path::Path::new(path);
@@ -159,7 +220,11 @@ pub fn resolve(path: &str) -> std::path::PathBuf {
 }
 
 /// The attributes the file describes, as if written by hand; `None` after an error.
-pub fn attributes(opts: &UrdfOptions, diag: &mut Diagnostics) -> Option<Vec<RawAttr>> {
+pub fn attributes(
+    opts: &UrdfOptions,
+    params: &[Param],
+    diag: &mut Diagnostics,
+) -> Option<Vec<RawAttr>> {
     let span = opts.path.span();
     let file = resolve(&opts.path.value());
     let shown = opts.path.value();
@@ -176,11 +241,16 @@ pub fn attributes(opts: &UrdfOptions, diag: &mut Diagnostics) -> Option<Vec<RawA
             return None;
         }
     };
-    let source = match translate(&text, opts) {
+    let source = match translate(&text, opts, params) {
         Ok(s) => s,
         Err(msgs) => {
-            for m in msgs {
-                diag.error_span(span, format_args!("URDF `{shown}`: {m}"));
+            for (m, at) in msgs {
+                match at {
+                    Some(k) => {
+                        diag.error_at(&params[k].element, format_args!("URDF `{shown}`: {m}"))
+                    }
+                    None => diag.error_span(span, format_args!("URDF `{shown}`: {m}")),
+                }
             }
             return None;
         }
@@ -188,7 +258,7 @@ pub fn attributes(opts: &UrdfOptions, diag: &mut Diagnostics) -> Option<Vec<RawA
     // Parse the attributes with every token spanned at the `urdf = "…"` value, so that
     // a later error (a realisability check, a massless leaf) points there.
     let tokens: TokenStream = match source.parse() {
-        Ok(t) => respan(t, span),
+        Ok(t) => respan(t, span, params),
         Err(e) => {
             diag.error_span(span, format_args!("URDF `{shown}`: {e}"));
             return None;
@@ -204,14 +274,26 @@ pub fn attributes(opts: &UrdfOptions, diag: &mut Diagnostics) -> Option<Vec<RawA
     Some(read_attrs(&item.attrs, diag))
 }
 
-fn respan(tokens: TokenStream, span: Span) -> TokenStream {
+/// Every token spanned at `span`, and each placeholder `__urdf_param_<k>` replaced by
+/// the bound expression (in parentheses, with the user's spans).
+fn respan(tokens: TokenStream, span: Span, params: &[Param]) -> TokenStream {
     tokens
         .into_iter()
         .map(|t| match t {
             TokenTree::Group(g) => {
-                let mut n = proc_macro2::Group::new(g.delimiter(), respan(g.stream(), span));
+                let mut n =
+                    proc_macro2::Group::new(g.delimiter(), respan(g.stream(), span, params));
                 n.set_span(span);
                 TokenTree::Group(n)
+            }
+            TokenTree::Ident(i) if i.to_string().starts_with(PLACEHOLDER) => {
+                let k: usize = i.to_string()[PLACEHOLDER.len()..].parse().expect("index");
+                let value = &params[k].value;
+                let g = proc_macro2::Group::new(
+                    proc_macro2::Delimiter::Parenthesis,
+                    quote::quote!(#value),
+                );
+                TokenTree::Group(g)
             }
             mut other => {
                 other.set_span(span);
@@ -220,6 +302,8 @@ fn respan(tokens: TokenStream, span: Span) -> TokenStream {
         })
         .collect()
 }
+
+const PLACEHOLDER: &str = "__urdf_param_";
 
 /// A URDF name as an identifier: other characters become `_`, a leading digit or a
 /// keyword gets a suffix. The joint's column names use this form.
@@ -298,15 +382,111 @@ pub fn rotate_inertia(i0: [[f64; 3]; 3], rpy: [f64; 3]) -> [[f64; 3]; 3] {
 
 /// Without the `urdf` feature there is no parser.
 #[cfg(not(feature = "urdf"))]
-pub fn translate(_: &str, _: &UrdfOptions) -> Result<String, Vec<String>> {
-    Err(vec![
+pub fn translate(
+    _: &str,
+    _: &UrdfOptions,
+    _: &[Param],
+) -> Result<String, Vec<(String, Option<usize>)>> {
+    Err(vec![(
         "reading URDF files needs filippov's `urdf` feature: `filippov = { version = \"0.1\", features = [\"urdf\"] }` in Cargo.toml".to_string(),
-    ])
+        None,
+    )])
 }
 
 /// The URDF as attribute source text, or every problem found.
 #[cfg(feature = "urdf")]
-pub fn translate(text: &str, opts: &UrdfOptions) -> Result<String, Vec<String>> {
+pub fn translate(
+    text: &str,
+    opts: &UrdfOptions,
+    params: &[Param],
+) -> Result<String, Vec<(String, Option<usize>)>> {
+    translate_file(text, opts, params)
+        .map_err(|e| e.into_iter().map(|m| (m, None)).collect())
+        .and_then(|out| check_params(text, opts, params).map(|()| out))
+}
+
+/// Every binding names an element of the file with that property.
+#[cfg(feature = "urdf")]
+fn check_params(
+    text: &str,
+    opts: &UrdfOptions,
+    params: &[Param],
+) -> Result<(), Vec<(String, Option<usize>)>> {
+    let robot =
+        urdf_rs::read_from_string(text).map_err(|e| vec![(format!("malformed: {e}"), None)])?;
+    let mut errors = Vec::new();
+    for (k, p) in params.iter().enumerate() {
+        let (el, prop) = (p.element.to_string(), p.property.to_string());
+        let is_link = robot.links.iter().any(|l| ident(&l.name) == el);
+        let is_joint = robot.joints.iter().any(|j| ident(&j.name) == el);
+        let ok = match prop.as_str() {
+            "mass" => is_link,
+            _ => is_joint,
+        };
+        if !ok {
+            let what = if prop == "mass" { "link" } else { "joint" };
+            errors.push((
+                format!("`urdf_param` binds `{el}.{prop}`, but the file has no {what} `{el}`"),
+                Some(k),
+            ));
+        }
+        let joint = robot.joints.iter().find(|j| ident(&j.name) == el);
+        if let Some(j) = joint
+            && prop != "mass"
+        {
+            let fixed =
+                j.joint_type == urdf_rs::JointType::Fixed || opts.lock.iter().any(|l| *l == j.name);
+            if fixed {
+                errors.push((
+                    format!(
+                        "`{el}.{prop}` is bound, but `{el}` is fixed or locked: it has no {prop}"
+                    ),
+                    Some(k),
+                ));
+            } else if matches!(prop.as_str(), "lower" | "upper") {
+                let law = opts.limits.as_ref().and_then(stop_law);
+                let other = if prop == "lower" { "upper" } else { "lower" };
+                if law.is_none() {
+                    errors.push((
+                        format!("`{el}.{prop}` is bound, but the limits are not stops: add `limits = stops(restitution = …)` or `limits = support(k = …)`"),
+                        Some(k),
+                    ));
+                } else if !(j.limit.lower.is_finite() && j.limit.upper.is_finite())
+                    && !params
+                        .iter()
+                        .any(|q| q.element == p.element && q.property == other)
+                {
+                    errors.push((
+                        format!("`{el}` has no limits in the file; bind `{el}.{other}` too"),
+                        Some(k),
+                    ));
+                }
+            }
+        }
+        if params[..k]
+            .iter()
+            .any(|q| q.element == p.element && q.property == p.property)
+        {
+            errors.push((format!("`{el}.{prop}` is bound twice; keep one"), Some(k)));
+        }
+    }
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(errors)
+    }
+}
+
+#[cfg(feature = "urdf")]
+fn translate_file(text: &str, opts: &UrdfOptions, params: &[Param]) -> Result<String, Vec<String>> {
+    // The placeholder standing for a bound value, replaced by its expression after
+    // parsing (see `respan`).
+    let bound = |el: &str, prop: &str| -> Option<String> {
+        params
+            .iter()
+            .position(|p| p.element == ident(el) && p.property == prop)
+            .map(|k| format!("{PLACEHOLDER}{k}"))
+    };
     let robot = urdf_rs::read_from_string(text).map_err(|e| vec![format!("malformed: {e}")])?;
     let mut errors = Vec::new();
     let links: std::collections::HashMap<&str, &urdf_rs::Link> =
@@ -417,7 +597,7 @@ pub fn translate(text: &str, opts: &UrdfOptions) -> Result<String, Vec<String>> 
         out.push_str(&format!(
             "#[body({}, mass = {}, com = {}, inertia = [{}])]\n",
             ident(name),
-            num(m),
+            bound(name, "mass").unwrap_or_else(|| num(m)),
             vec3(l.inertial.origin.xyz.0),
             rows.join(", ")
         ));
@@ -484,23 +664,35 @@ pub fn translate(text: &str, opts: &UrdfOptions) -> Result<String, Vec<String>> 
             && let Some(law) = stop_law(limits)
         {
             let (lo, hi) = (j.limit.lower, j.limit.upper);
-            if lo.is_finite() && hi.is_finite() && lo < hi {
+            let (blo, bhi) = (bound(&j.name, "lower"), bound(&j.name, "upper"));
+            if (lo.is_finite() && hi.is_finite() && lo < hi) || (blo.is_some() && bhi.is_some()) {
                 stops.push_str(&format!(
                     "#[stop({jn}, min = {}, max = {}, {law})]\n",
-                    num(lo),
-                    num(hi)
+                    blo.unwrap_or_else(|| num(lo)),
+                    bhi.unwrap_or_else(|| num(hi))
                 ));
             }
         }
-        if let Some(d) = &j.dynamics {
-            if opts.friction && d.friction > 0.0 && !fixed(j) {
-                stops.push_str(&format!(
-                    "#[friction({jn}, f_crit = {})]\n",
-                    num(d.friction)
-                ));
+        // A bound friction or damping is an element even where the file has none and
+        // without `joint_friction`/`joint_damping`: the binding says it is a parameter.
+        let (friction, damping) = j
+            .dynamics
+            .as_ref()
+            .map_or((0.0, 0.0), |d| (d.friction, d.damping));
+        if !fixed(j) {
+            match bound(&j.name, "friction") {
+                Some(b) => stops.push_str(&format!("#[friction({jn}, f_crit = {b})]\n")),
+                None if opts.friction && friction > 0.0 => {
+                    stops.push_str(&format!("#[friction({jn}, f_crit = {})]\n", num(friction)))
+                }
+                None => {}
             }
-            if opts.damping && d.damping > 0.0 && !fixed(j) {
-                stops.push_str(&format!("#[damper({jn}, c = {})]\n", num(d.damping)));
+            match bound(&j.name, "damping") {
+                Some(b) => stops.push_str(&format!("#[damper({jn}, c = {b})]\n")),
+                None if opts.damping && damping > 0.0 => {
+                    stops.push_str(&format!("#[damper({jn}, c = {})]\n", num(damping)))
+                }
+                None => {}
             }
         }
     }

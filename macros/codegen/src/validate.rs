@@ -42,9 +42,18 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let Ok(options) = options else {
         return None;
     };
+    let params = crate::urdf::read_params(&input.attrs, diag);
+    if options.is_none()
+        && let Some(p) = params.first()
+    {
+        diag.error_at(
+            &p.element,
+            "`urdf_param` binds values of a URDF file; add `urdf = \"path/to/robot.urdf\"` to `#[mechanism(…)]` or drop it",
+        );
+    }
     if let Some(opts) = options {
         urdf_file = Some(crate::urdf::resolve(&opts.path.value()));
-        match crate::urdf::attributes(&opts, diag) {
+        match crate::urdf::attributes(&opts, &params, diag) {
             Some(more) => raws.extend(more),
             // The file is the scene: without it every other message would mislead.
             None => return None,

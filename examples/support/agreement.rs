@@ -350,7 +350,9 @@ fn check<const N: usize, const E: usize>(d: Description) -> Verdict {
             Err(e) => return Verdict::Failed(format!("time-stepping at h = {h:e}: {e}")),
         };
         let best = distances.iter().map(|x| x.1).fold(f64::INFINITY, f64::min);
-        let contracts = distances.last().is_some_and(|&(_, prev)| d <= 0.6 * prev && d < best);
+        let contracts = distances
+            .last()
+            .is_some_and(|&(_, prev)| d <= 0.6 * prev && d < best);
         distances.push((h, d));
         if (distances.len() >= 2 && d <= 1e-4) || contracts {
             break true;

@@ -48,6 +48,8 @@ pub struct UrdfOptions {
 /// Takes `urdf = "…"` and its options off the mechanism attribute: `Ok(None)` without
 /// `urdf` (options given without it are reported), `Err(())` when `urdf` is there but
 /// not a path (reported; the scene is the file, so nothing else can be checked).
+// `Err(())`: the error is already in `diag`; the caller only needs to stop.
+#[allow(clippy::result_unit_err)]
 pub fn take_options(raw: &mut RawAttr, diag: &mut Diagnostics) -> Result<Option<UrdfOptions>, ()> {
     let urdf = raw.take("urdf", diag);
     let limits = raw.take("limits", diag);
@@ -434,8 +436,7 @@ fn check_params(
         if let Some(j) = joint
             && prop != "mass"
         {
-            let fixed =
-                j.joint_type == urdf_rs::JointType::Fixed || opts.lock.iter().any(|l| *l == j.name);
+            let fixed = j.joint_type == urdf_rs::JointType::Fixed || opts.lock.contains(&j.name);
             if fixed {
                 errors.push((
                     format!(
@@ -451,7 +452,7 @@ fn check_params(
                         format!("`{el}.{prop}` is bound, but the limits are not stops: add `limits = stops(restitution = …)` or `limits = support(k = …)`"),
                         Some(k),
                     ));
-                } else if !(j.limit.lower.is_finite() && j.limit.upper.is_finite())
+                } else if (!j.limit.lower.is_finite() || !j.limit.upper.is_finite())
                     && !params
                         .iter()
                         .any(|q| q.element == p.element && q.property == other)
@@ -541,7 +542,7 @@ fn translate_file(text: &str, opts: &UrdfOptions, params: &[Param]) -> Result<St
         }
     }
     let root = roots[0];
-    let locked = |j: &urdf_rs::Joint| opts.lock.iter().any(|l| *l == j.name);
+    let locked = |j: &urdf_rs::Joint| opts.lock.contains(&j.name);
     let fixed = |j: &urdf_rs::Joint| j.joint_type == urdf_rs::JointType::Fixed || locked(j);
     // Children lists, and a depth-first order from the root (which also finds cycles
     // not reachable from it: those links are never visited).
@@ -698,7 +699,7 @@ fn translate_file(text: &str, opts: &UrdfOptions, params: &[Param]) -> Result<St
     }
     if let Some(limits) = &opts.limits
         && stop_law(limits).is_none()
-        && !ident_of(limits).is_some_and(|i| i == "ignore")
+        && ident_of(limits).is_none_or(|i| i != "ignore")
     {
         errors.push(
             "`limits` is `stops(restitution = e)`, `support(k = k)` or `ignore` (the default)"

@@ -11,19 +11,12 @@
 #[path = "support/mod.rs"]
 mod support;
 
+#[path = "support/urdf_arm.rs"]
+mod urdf_arm;
 use filippov::nalgebra::SVector;
 use filippov::prelude::*;
 use filippov::runtime::{NonSmoothMethod, NonSmoothProblem, solve_nonsmooth};
-
-#[derive(Mechanism)]
-#[mechanism(
-    urdf = "robots/three_link_arm.urdf",
-    limits = stops(restitution = 0.3),
-    joint_friction = true,
-    joint_damping = true,
-    gravity = [0.0, 0.0, -9.81]
-)]
-struct Arm;
+use urdf_arm::Arm;
 
 type V3 = SVector<f64, 3>;
 

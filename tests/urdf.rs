@@ -4,9 +4,12 @@
 
 mod common;
 
+#[path = "../examples/support/urdf_arm.rs"]
+mod urdf_arm;
 use filippov::nalgebra::{DVector, SVector, Vector3};
 use filippov::prelude::*;
 use filippov::runtime::numeric::{self, Model};
+use urdf_arm::Arm;
 
 #[derive(Mechanism)]
 #[mechanism(
@@ -89,16 +92,6 @@ fn ur5_from_urdf_matches_the_numeric_reader() {
     against_numeric(&Ur5, &model, 21);
     common::check(&Ur5, 22);
 }
-
-#[derive(Mechanism)]
-#[mechanism(
-    urdf = "robots/three_link_arm.urdf",
-    limits = stops(restitution = 0.3),
-    joint_friction = true,
-    joint_damping = true,
-    gravity = [0.0, 0.0, -9.81]
-)]
-struct Arm;
 
 /// The arm of `examples/urdf_arm.rs`: its URDF limits as stops, its friction and
 /// damping as elements. Released under gravity, it falls onto the shoulder's upper

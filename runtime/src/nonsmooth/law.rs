@@ -888,60 +888,6 @@ pub(crate) mod test_systems {
         }
     }
 
-    impl<const N: usize, const E: usize> crate::kernels::Christoffel<N> for Chain<N, E> {
-        fn christoffel_symbols(&self, _q: &SVector<f64, N>) -> [SMatrix<f64, N, N>; N] {
-            [SMatrix::zeros(); N]
-        }
-    }
-
-    impl<const N: usize, const E: usize> crate::kernels::Coriolis<N> for Chain<N, E> {
-        fn coriolis_matrix(
-            &self,
-            _q: &SVector<f64, N>,
-            _v: &SVector<f64, N>,
-        ) -> SMatrix<f64, N, N> {
-            SMatrix::zeros()
-        }
-    }
-
-    impl<const N: usize, const E: usize> crate::kernels::Gravity<N> for Chain<N, E> {
-        fn gravity(&self, _q: &SVector<f64, N>) -> SVector<f64, N> {
-            SVector::zeros()
-        }
-    }
-
-    impl<const N: usize, const E: usize> crate::kernels::Bias<N> for Chain<N, E> {
-        fn bias(&self, _q: &SVector<f64, N>, _v: &SVector<f64, N>) -> SVector<f64, N> {
-            SVector::zeros()
-        }
-    }
-
-    impl<const N: usize, const E: usize> crate::kernels::PassiveForces<N> for Chain<N, E> {
-        fn passive_forces(&self, q: &SVector<f64, N>, _v: &SVector<f64, N>) -> SVector<f64, N> {
-            -self.k() * q
-        }
-    }
-
-    impl<const N: usize, const E: usize> crate::kernels::InverseDynamics<N> for Chain<N, E> {
-        fn inverse_dynamics(
-            &self,
-            q: &SVector<f64, N>,
-            _v: &SVector<f64, N>,
-            a: &SVector<f64, N>,
-        ) -> SVector<f64, N> {
-            self.m() * a + self.k() * q
-        }
-    }
-
-    impl<const N: usize, const E: usize> crate::kernels::Energy<N> for Chain<N, E> {
-        fn kinetic_energy(&self, _q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64 {
-            0.5 * v.dot(&(self.m() * v))
-        }
-        fn potential_energy(&self, q: &SVector<f64, N>) -> f64 {
-            0.5 * q.dot(&(self.k() * q))
-        }
-    }
-
     impl<const N: usize, const E: usize> NonSmooth<N> for Chain<N, E> {
         const ELEMENTS: usize = E;
         fn element(&self, e: usize) -> Element {

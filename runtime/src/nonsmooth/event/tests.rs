@@ -73,56 +73,6 @@ impl<const N: usize, const E: usize> Mechanism<N> for Lumped<N, E> {
     }
 }
 
-impl<const N: usize, const E: usize> crate::kernels::Christoffel<N> for Lumped<N, E> {
-    fn christoffel_symbols(&self, _q: &SVector<f64, N>) -> [SMatrix<f64, N, N>; N] {
-        [SMatrix::zeros(); N]
-    }
-}
-
-impl<const N: usize, const E: usize> crate::kernels::Coriolis<N> for Lumped<N, E> {
-    fn coriolis_matrix(&self, _q: &SVector<f64, N>, _v: &SVector<f64, N>) -> SMatrix<f64, N, N> {
-        SMatrix::zeros()
-    }
-}
-
-impl<const N: usize, const E: usize> crate::kernels::Gravity<N> for Lumped<N, E> {
-    fn gravity(&self, _q: &SVector<f64, N>) -> SVector<f64, N> {
-        SVector::zeros()
-    }
-}
-
-impl<const N: usize, const E: usize> crate::kernels::Bias<N> for Lumped<N, E> {
-    fn bias(&self, _q: &SVector<f64, N>, _v: &SVector<f64, N>) -> SVector<f64, N> {
-        SVector::zeros()
-    }
-}
-
-impl<const N: usize, const E: usize> crate::kernels::PassiveForces<N> for Lumped<N, E> {
-    fn passive_forces(&self, q: &SVector<f64, N>, _v: &SVector<f64, N>) -> SVector<f64, N> {
-        -self.k * q
-    }
-}
-
-impl<const N: usize, const E: usize> crate::kernels::InverseDynamics<N> for Lumped<N, E> {
-    fn inverse_dynamics(
-        &self,
-        q: &SVector<f64, N>,
-        _v: &SVector<f64, N>,
-        a: &SVector<f64, N>,
-    ) -> SVector<f64, N> {
-        self.mass_matrix(q) * a + self.k * q
-    }
-}
-
-impl<const N: usize, const E: usize> crate::kernels::Energy<N> for Lumped<N, E> {
-    fn kinetic_energy(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64 {
-        0.5 * v.dot(&(self.mass_matrix(q) * v))
-    }
-    fn potential_energy(&self, q: &SVector<f64, N>) -> f64 {
-        0.5 * q.dot(&(self.k * q))
-    }
-}
-
 impl<const N: usize, const E: usize> NonSmooth<N> for Lumped<N, E> {
     const ELEMENTS: usize = E;
     fn element(&self, e: usize) -> Element {

@@ -208,6 +208,56 @@ pub fn expansion(config: &Config) -> Section {
         ],
         &rows,
     );
+    // What a scene gets without asking: the bundled scenes declare `emit = all` (the
+    // tests compare every kernel); here the same sources without it.
+    let mut kept = Vec::new();
+    let lumped =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/src/lumped.rs"))
+            .expect("scene source");
+    for (_, src) in scene_sources().into_iter().chain([(String::new(), lumped)]) {
+        let plain = src
+            .replace("#[mechanism(emit = all)]", "")
+            .replace("emit = all, ", "");
+        for ((name, all), (_, default)) in structs(&src).into_iter().zip(structs(&plain)) {
+            let (Ok(all), Ok(default)) = (
+                filippov_codegen::expand_with_stats(all),
+                filippov_codegen::expand_with_stats(default),
+            ) else {
+                continue;
+            };
+            let lets = |e: &filippov_codegen::Expansion| -> usize {
+                e.functions.iter().map(|f| f.lets).sum()
+            };
+            let kernels: Vec<String> = default
+                .functions
+                .iter()
+                .map(|f| format!("{} ({} lets; {})", f.name, f.lets, f.ops))
+                .collect();
+            kept.push(vec![
+                name,
+                kernels.join("<br>"),
+                lets(&default).to_string(),
+                lets(&all).to_string(),
+            ]);
+        }
+    }
+    page.h3("Kernels emitted by default");
+    page.para(
+        "Without `emit = [...]` a scene gets what the integrators call: the mass matrix, forward dynamics and its \
+         Jacobian, and for non-smooth scenes `M⁻¹` and any user slip law. The table lists them per scene with \
+         their lets and operation counts (add, mul, div, neg, sin/cos, sqrt), and the lets with `emit = all` \
+         (every optional kernel: Christoffel symbols, Coriolis matrix, gravity, bias, passive forces, inverse \
+         dynamics, energies, DAE residuals, Delassus operator, switching functions) beside them.",
+    );
+    page.table(
+        &[
+            "scene",
+            "default kernels",
+            "lets (default)",
+            "lets (emit = all)",
+        ],
+        &kept,
+    );
     Section {
         page,
         summary: summary

@@ -14,6 +14,7 @@ use filippov::prelude::*;
 use filippov::runtime::UnitQuat;
 use filippov::runtime::numeric::{self, Model};
 
+use super::agreement_support::Rng;
 use super::config::Config;
 use super::markdown::{Page, sci};
 use super::timing::{median, ns_per_call};
@@ -37,18 +38,6 @@ struct Solo12;
 pub struct Section {
     pub page: Page,
     pub summary: Vec<String>,
-}
-
-/// A tiny deterministic generator (the states must be the same in every run).
-struct Lcg(u64);
-impl Lcg {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-    }
 }
 
 struct Robot {
@@ -93,7 +82,7 @@ fn samples<const N: usize, const NQ: usize>(
     fd: &dyn Fn(&SVector<f64, NQ>, &SVector<f64, N>, &SVector<f64, N>) -> Vec<f64>,
     rotations: &[(usize, usize)],
 ) -> Vec<Sample> {
-    let mut rng = Lcg(2026);
+    let mut rng = Rng::new(2026);
     (0..20)
         .map(|_| {
             let mut q = SVector::<f64, NQ>::from_fn(|_, _| rng.uniform(-2.0, 2.0));

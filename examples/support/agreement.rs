@@ -36,10 +36,13 @@ pub enum Verdict {
     Failed(String),
 }
 
-/// SplitMix64: a small seeded generator.
-struct Rng(u64);
+/// SplitMix64: a small seeded generator (also the report's, for the URDF states).
+pub struct Rng(u64);
 
 impl Rng {
+    pub fn new(seed: u64) -> Rng {
+        Rng(seed)
+    }
     fn next(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
@@ -47,7 +50,7 @@ impl Rng {
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)
     }
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
     }
     fn below(&mut self, n: u64) -> usize {
@@ -81,7 +84,7 @@ struct Description {
 }
 
 fn describe(seed: u64) -> Description {
-    let mut r = Rng(seed);
+    let mut r = Rng::new(seed);
     let n = 1 + r.below(5);
     let planar = r.below(2) == 0;
     let gravity = if r.below(3) == 0 {

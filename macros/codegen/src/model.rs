@@ -297,18 +297,11 @@ impl Emit {
     ];
 
     pub fn all() -> Emit {
-        Emit {
-            christoffel: true,
-            coriolis: true,
-            gravity: true,
-            bias: true,
-            passive_forces: true,
-            inverse_dynamics: true,
-            energy: true,
-            delassus: true,
-            dae_residuals: true,
-            switching_functions: true,
+        let mut e = Emit::default();
+        for (name, _) in Emit::NAMES {
+            e.set(name);
         }
+        e
     }
 
     /// Sets the flag of `name`; `false` for an unknown name.

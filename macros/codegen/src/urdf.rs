@@ -402,20 +402,27 @@ pub fn translate(
     opts: &UrdfOptions,
     params: &[Param],
 ) -> Result<String, Vec<(String, Option<usize>)>> {
-    translate_file(text, opts, params)
-        .map_err(|e| e.into_iter().map(|m| (m, None)).collect())
-        .and_then(|out| check_params(text, opts, params).map(|()| out))
+    let robot =
+        urdf_rs::read_from_string(text).map_err(|e| vec![(format!("malformed: {e}"), None)])?;
+    // The file's problems and the bindings' together.
+    let mut errors = check_params(&robot, opts, params);
+    match translate_file(&robot, opts, params) {
+        Ok(out) if errors.is_empty() => Ok(out),
+        Ok(_) => Err(errors),
+        Err(e) => {
+            errors.splice(0..0, e.into_iter().map(|m| (m, None)));
+            Err(errors)
+        }
+    }
 }
 
 /// Every binding names an element of the file with that property.
 #[cfg(feature = "urdf")]
 fn check_params(
-    text: &str,
+    robot: &urdf_rs::Robot,
     opts: &UrdfOptions,
     params: &[Param],
-) -> Result<(), Vec<(String, Option<usize>)>> {
-    let robot =
-        urdf_rs::read_from_string(text).map_err(|e| vec![(format!("malformed: {e}"), None)])?;
+) -> Vec<(String, Option<usize>)> {
     let mut errors = Vec::new();
     for (k, p) in params.iter().enumerate() {
         let (el, prop) = (p.element.to_string(), p.property.to_string());
@@ -471,15 +478,15 @@ fn check_params(
             errors.push((format!("`{el}.{prop}` is bound twice; keep one"), Some(k)));
         }
     }
-    if errors.is_empty() {
-        Ok(())
-    } else {
-        Err(errors)
-    }
+    errors
 }
 
 #[cfg(feature = "urdf")]
-fn translate_file(text: &str, opts: &UrdfOptions, params: &[Param]) -> Result<String, Vec<String>> {
+fn translate_file(
+    robot: &urdf_rs::Robot,
+    opts: &UrdfOptions,
+    params: &[Param],
+) -> Result<String, Vec<String>> {
     // The placeholder standing for a bound value, replaced by its expression after
     // parsing (see `respan`).
     let bound = |el: &str, prop: &str| -> Option<String> {
@@ -488,7 +495,6 @@ fn translate_file(text: &str, opts: &UrdfOptions, params: &[Param]) -> Result<St
             .position(|p| p.element == ident(el) && p.property == prop)
             .map(|k| format!("{PLACEHOLDER}{k}"))
     };
-    let robot = urdf_rs::read_from_string(text).map_err(|e| vec![format!("malformed: {e}")])?;
     let mut errors = Vec::new();
     let links: std::collections::HashMap<&str, &urdf_rs::Link> =
         robot.links.iter().map(|l| (l.name.as_str(), l)).collect();

@@ -965,15 +965,17 @@ where
             }
             let s = mode::side_sign(side);
             let tol = self.options.atol + self.options.rtol * (1.0 + position.abs());
-            let closed = mode::gap(el, q[ck]) <= tol;
-            // Approaching: Newton's law; in contact, or closed and separating (it joins
-            // only if the others' impulses would push it in): held, `v⁺ = 0`.
-            if *m == Mode::Contact || closed {
-                let approaching = *m != Mode::Contact && s * before[ck] > 0.0;
-                let target = if approaching { -ek * before[ck] } else { 0.0 };
-                cands.push((k, ck, s, target));
-                starts.push(approaching || *m == Mode::Contact);
+            // Only stops closed now take part: the mode alone can be stale (a hand-back
+            // from time-stepping re-initialises modes after the impacts it applies).
+            if mode::gap(el, q[ck]) > tol {
+                continue;
             }
+            // Approaching: Newton's law; in contact, or separating (it joins only if the
+            // others' impulses would push it in): held, `v⁺ = 0`.
+            let contact = *m == Mode::Contact;
+            let approaching = !contact && s * before[ck] > 0.0;
+            cands.push((k, ck, s, if approaching { -ek * before[ck] } else { 0.0 }));
+            starts.push(approaching || contact);
         }
         let w = self.system.inverse_mass_matrix(q);
         let mut active = starts;

@@ -9,8 +9,9 @@ use crate::numerics::{check_finite, error_norm, underflow};
 use crate::{ErrorKind, OdeSystem, Options};
 
 /// Adaptive Dormand–Prince 5(4) with local extrapolation (the fifth-order solution is
-/// propagated), a [`PiController`], and the fourth-order continuous extension as dense
-/// output.
+/// propagated), a [`PiController`], and as dense output the quintic Hermite through the
+/// last three points (the fourth-order continuous extension on the first step after a
+/// start or restart; see [`DenseStep`](crate::method::DenseStep)).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Dopri5 {
     pub options: Options,
@@ -144,14 +145,13 @@ impl Stepper for Dopri5Stepper {
                 for (i, r) in self.r5.iter_mut().enumerate() {
                     *r = h * (0..7).map(|j| DOPRI5_DENSE[j] * self.k[j][i]).sum::<f64>();
                 }
-                self.s
-                    .dense
-                    .set_dopri5(t, h, &self.s.y, &self.y1, &self.k[0], &self.k[6], &self.r5);
-                self.s.t = if last { t_end } else { t + h };
-                self.s.y.copy_from_slice(&self.y1);
+                let (y1, f1, r5) = (&self.y1, &self.k[6], &self.r5);
+                self.s.set_dense(h, y1, f1, |dense, y0, f0| {
+                    dense.set_dopri5(t, h, y0, y1, f0, f1, r5)
+                });
+                self.s.advance(if last { t_end } else { t + h }, y1, f1);
                 let (first, rest) = self.k.split_at_mut(6);
                 first[0].copy_from_slice(&rest[0]);
-                self.s.f.copy_from_slice(&rest[0]);
                 ev.stats.steps += 1;
                 self.s.h = h * self.controller.accept(err);
                 return Ok(());

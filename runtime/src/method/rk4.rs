@@ -7,8 +7,8 @@ use crate::{ErrorKind, OdeSystem, Options};
 
 /// Fixed-step classic Runge–Kutta (Kutta 1901; Hairer, Nørsett & Wanner, *Solving ODEs
 /// I*, §II.1). The last step before `t_end` is shortened to end exactly there; the
-/// dense output is cubic Hermite on each step (local error `O(h⁴)`, the order of the
-/// method's global error).
+/// dense output is the quintic Hermite through the last three points (cubic Hermite on
+/// the first step after a start or restart).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rk4 {
     /// Step size, positive.
@@ -95,6 +95,7 @@ impl Stepper for Rk4Stepper {
         y: &[f64],
         _span: f64,
     ) -> Result<(), ErrorKind> {
+        self.s.forget();
         self.s.t = t;
         self.s.y.copy_from_slice(y);
         self.plan = (f64::NAN, 0);
@@ -134,13 +135,12 @@ impl Stepper for Rk4Stepper {
         let t1 = if last { t_end } else { t + h };
         check_finite(t1, &self.stage)?;
         ev.rhs(t1, &self.stage, &mut self.f_next)?;
-        self.s
-            .dense
-            .set_hermite(t, h, &self.s.y, &self.k[0], &self.stage, &self.f_next);
-        self.s.t = t1;
-        self.s.y.copy_from_slice(&self.stage);
-        self.k[0].copy_from_slice(&self.f_next);
-        self.s.f.copy_from_slice(&self.f_next);
+        let (y1, f1) = (&self.stage, &self.f_next);
+        self.s.set_dense(h, y1, f1, |dense, y0, f0| {
+            dense.set_hermite(t, h, y0, f0, y1, f1)
+        });
+        self.s.advance(t1, y1, f1);
+        self.k[0].copy_from_slice(f1);
         ev.stats.steps += 1;
         Ok(())
     }

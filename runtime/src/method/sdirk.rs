@@ -10,8 +10,8 @@
 //! DIRK amplifies stage errors, see [`KAPPA`]). On failure the step is halved and, if
 //! the Jacobian was old, refreshed; after [`MAX_NEWTON_FAILURES`] consecutive failures
 //! the integration stops with [`ErrorKind::NewtonDivergence`].
-//! The dense output is cubic Hermite on the step's ends (local error `O(h⁴)`, the
-//! order of the global error).
+//! The dense output is the quintic Hermite through the last three points (local error
+//! `O(h⁶)`), cubic Hermite on the step's ends for the first step after a (re)start.
 
 use nalgebra::DVector;
 
@@ -205,12 +205,11 @@ impl Stepper for Sdirk4Stepper {
                         // f at the new point into `fz` first: the dense output needs
                         // both ends.
                         ev.rhs(t1, &self.y1, &mut self.fz)?;
-                        self.s
-                            .dense
-                            .set_hermite(t, h, &self.s.y, &self.s.f, &self.y1, &self.fz);
-                        self.s.t = t1;
-                        self.s.y.copy_from_slice(&self.y1);
-                        self.s.f.copy_from_slice(&self.fz);
+                        let (y1, f1) = (&self.y1, &self.fz);
+                        self.s.set_dense(h, y1, f1, |dense, y0, f0| {
+                            dense.set_hermite(t, h, y0, f0, y1, f1)
+                        });
+                        self.s.advance(t1, y1, f1);
                         ev.stats.steps += 1;
                         self.newton.jac_current = false;
                         self.newton.jac_needed = theta_max > THETA_REUSE_JACOBIAN;

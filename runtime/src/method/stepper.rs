@@ -46,6 +46,13 @@ pub struct StepState {
     /// The continuous extension over the last accepted step.
     pub dense: DenseStep,
     pub options: Options,
+    /// The accepted point before the current one, `(t, y, f)`, while the solution has
+    /// been smooth since then (no start or restart in between): with it a one-step method
+    /// writes the quintic two-step Hermite extension
+    /// ([`DenseStep::set_hermite5`]) instead of its own lower-degree one.
+    pub prev: Option<f64>,
+    pub prev_y: Vec<f64>,
+    pub prev_f: Vec<f64>,
 }
 
 impl StepState {
@@ -57,7 +64,53 @@ impl StepState {
             f: vec![0.0; dim],
             dense: DenseStep::new(dim),
             options,
+            prev: None,
+            prev_y: vec![0.0; dim],
+            prev_f: vec![0.0; dim],
         }
+    }
+
+    /// Writes the dense output of the step from the current point to `t + h`, where the
+    /// new point is `y1` with `f1 = f(t + h, y1)`: the quintic two-step Hermite
+    /// extension if the previous point is known, else `own` (the method's own extension,
+    /// given the state).
+    pub(crate) fn set_dense(
+        &mut self,
+        h: f64,
+        y1: &[f64],
+        f1: &[f64],
+        own: impl FnOnce(&mut DenseStep, &[f64], &[f64]),
+    ) {
+        match self.prev {
+            Some(tm) => self.dense.set_hermite5(
+                tm,
+                &self.prev_y,
+                &self.prev_f,
+                self.t,
+                h,
+                &self.y,
+                &self.f,
+                y1,
+                f1,
+            ),
+            None => own(&mut self.dense, &self.y, &self.f),
+        }
+    }
+
+    /// Moves to the accepted point `(t1, y1)` with `f1 = f(t1, y1)`; the current point
+    /// becomes the previous one.
+    pub(crate) fn advance(&mut self, t1: f64, y1: &[f64], f1: &[f64]) {
+        self.prev = Some(self.t);
+        std::mem::swap(&mut self.prev_y, &mut self.y);
+        std::mem::swap(&mut self.prev_f, &mut self.f);
+        self.t = t1;
+        self.y.copy_from_slice(y1);
+        self.f.copy_from_slice(f1);
+    }
+
+    /// Forgets the past: the next step starts a smooth stretch.
+    pub(crate) fn forget(&mut self) {
+        self.prev = None;
     }
 
     /// [`Stepper::start`] for a method of `order`: checks the options, evaluates `f` and
@@ -71,6 +124,7 @@ impl StepState {
         order: u32,
     ) -> Result<(), ErrorKind> {
         self.options.validate().map_err(ErrorKind::InvalidInput)?;
+        self.forget();
         self.t = t;
         self.y.copy_from_slice(y);
         ev.rhs(t, y, &mut self.f)?;
@@ -99,6 +153,7 @@ impl StepState {
         order: u32,
         h_kept: f64,
     ) -> Result<(), ErrorKind> {
+        self.forget();
         self.t = t;
         self.y.copy_from_slice(y);
         ev.rhs(t, y, &mut self.f)?;

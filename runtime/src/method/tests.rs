@@ -411,6 +411,71 @@ fn dense_output_has_the_order_of_its_method() {
     }
 }
 
+/// From the second step on, the one-step methods interpolate through the last three
+/// points (quintic Hermite, interpolation error `O(h⁶)`): the dense output's error on a
+/// step is then that of the points it joins, the method's local error `O(h^{p+1})`.
+/// Two equal steps from the exact state of `y'' = −y`, evaluated in the middle of the
+/// second: halving `h` must divide the error by `2^{p+1}` (`p` = 4 for RK4 and SDIRK4, 5
+/// for DOPRI5, whose own extension on a first step has only local order 5).
+#[test]
+fn dense_output_after_a_first_step_has_the_local_order_of_its_method() {
+    fn midstep_error<St: Stepper>(mut stepper: St, h: f64) -> f64 {
+        let sys = oscillator();
+        let mut stats = crate::Stats::default();
+        let mut ev = Eval::new(&sys, &mut stats);
+        let t0 = 0.3;
+        stepper
+            .start(&mut ev, t0, &[t0.cos(), -t0.sin()], 2.0 * h)
+            .unwrap();
+        stepper.step(&mut ev, t0 + 2.0 * h).unwrap();
+        stepper.step(&mut ev, t0 + 2.0 * h).unwrap();
+        assert!(
+            (stepper.t() - (t0 + 2.0 * h)).abs() < 1e-14,
+            "{}: two steps to the end",
+            stepper.name()
+        );
+        assert_eq!(stepper.dense().degree(), 5, "{}", stepper.name());
+        let mut y = [0.0; 2];
+        let tm = t0 + 1.5 * h;
+        stepper.dense().eval(tm, &mut y);
+        (y[0] - tm.cos()).abs().max((y[1] + tm.sin()).abs())
+    }
+    // Huge tolerances and h_max = h: every step is accepted with the same h.
+    let fixed = |h: f64| Options {
+        h0: Some(h),
+        h_max: h,
+        ..Options::tolerances(1e3, 1e3)
+    };
+    let orders = |f: &dyn Fn(f64) -> f64| {
+        let e: Vec<f64> = [0.2, 0.1, 0.05].iter().map(|&h| f(h)).collect();
+        [(e[0] / e[1]).log2(), (e[1] / e[2]).log2()]
+    };
+    for (name, expected, measured) in [
+        (
+            "RK4",
+            5.0,
+            orders(&|h| midstep_error(Rk4::new(h).stepper(2), h)),
+        ),
+        (
+            "DOPRI5",
+            6.0,
+            orders(&|h| midstep_error(Dopri5::new(fixed(h)).stepper(2), h)),
+        ),
+        (
+            "SDIRK4",
+            5.0,
+            orders(&|h| midstep_error(Sdirk4::new(fixed(h)).stepper(2), h)),
+        ),
+    ] {
+        for m in measured {
+            assert!(
+                (m - expected).abs() < 0.35,
+                "{name}: local dense error order {m:.2}, expected {expected}"
+            );
+        }
+    }
+}
+
 /// Between the steps the dense output is as accurate as the steps themselves: on the
 /// oscillator, the largest error on a fine grid is within 2× of the largest error at
 /// the accepted points, for every method and tolerance.

@@ -10,6 +10,7 @@
 //! | DOPRI5 | Dormand–Prince continuous extension ([`set_dopri5`](DenseStep::set_dopri5)) | 4 | `O(h⁵)` |
 //! | BDF of order k | the interpolating polynomial through its `k + 1` last points | k | `O(h^{k+1})` |
 //! | RK4, SDIRK4 | cubic Hermite on the step's ends ([`set_hermite`](DenseStep::set_hermite)) | 3 | `O(h⁴)` |
+//! | DOPRI5, RK4, SDIRK4 after their first step since a (re)start | quintic Hermite through the last three points ([`set_hermite5`](DenseStep::set_hermite5)) | 5 | `O(h⁶)` |
 //!
 //! The monomial form is well conditioned on `[0, 1]` for these degrees (≤ 5) and is
 //! evaluated by Horner's rule without allocation.
@@ -94,6 +95,61 @@ impl DenseStep {
             c[n + i] = a;
             c[2 * n + i] = 3.0 * d - 2.0 * a - b;
             c[3 * n + i] = -2.0 * d + a + b;
+        }
+    }
+
+    /// Quintic Hermite interpolation over two steps: the polynomial of degree 5 through
+    /// `y, f` at the previous point `tm`, at `t0` and at `t0 + h`, kept on
+    /// `[t0, t0 + h]`. Its interpolation error is
+    /// `y⁽⁶⁾(ξ)/6! · (t − tm)²(t − t0)²(t − t0 − h)² = O(h⁶)`, one order above the
+    /// local error of every one-step method here, so reading a solution between its steps
+    /// costs no accuracy. It needs a smooth solution over `[tm, t0 + h]`: the steppers use
+    /// it only when no restart (a discontinuity) lies between `tm` and `t0`.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn set_hermite5(
+        &mut self,
+        tm: f64,
+        ym: &[f64],
+        fm: &[f64],
+        t0: f64,
+        h: f64,
+        y0: &[f64],
+        f0: &[f64],
+        y1: &[f64],
+        f1: &[f64],
+    ) {
+        let n = self.dim;
+        // Nodes in θ = (t − t0)/h, each twice: value and derivative (dy/dθ = h f).
+        let rho = (t0 - tm) / h;
+        let z = [0.0, 0.0, 1.0, 1.0, -rho, -rho];
+        let c = self.reset(t0, h, 5);
+        for i in 0..n {
+            // Confluent divided differences, column by column in place: after column k,
+            // d[j] = p[z_{j−k} … z_j] for j ≥ k.
+            let (v, dv) = ([y0[i], y1[i], ym[i]], [h * f0[i], h * f1[i], h * fm[i]]);
+            let mut d = [v[0], v[0], v[1], v[1], v[2], v[2]];
+            for k in 1..6 {
+                for j in (k..6).rev() {
+                    let dz = z[j] - z[j - k];
+                    d[j] = if dz == 0.0 {
+                        dv[j / 2]
+                    } else {
+                        (d[j] - d[j - 1]) / dz
+                    };
+                }
+            }
+            // Newton form to powers of θ: a ← a (θ − z_k) + d_k, from k = 4 down.
+            let mut a = [0.0; 6];
+            a[0] = d[5];
+            for k in (0..5).rev() {
+                for m in (1..6).rev() {
+                    a[m] = a[m - 1] - z[k] * a[m];
+                }
+                a[0] = d[k] - z[k] * a[0];
+            }
+            for (k, ak) in a.iter().enumerate() {
+                c[k * n + i] = *ak;
+            }
         }
     }
 
@@ -205,6 +261,71 @@ mod tests {
             assert!((out[0] - y(t)).abs() < 1e-13, "{t}");
             d.eval_derivative(t, &mut out);
             assert!((out[0] - dy(t)).abs() < 1e-12, "{t}");
+        }
+    }
+
+    #[test]
+    fn two_step_hermite_reproduces_quintics_for_any_step_ratio() {
+        let y = |t: f64| 0.3 * t.powi(5) - t.powi(4) + 2.0 * t.powi(3) - t + 0.5;
+        let dy = |t: f64| 1.5 * t.powi(4) - 4.0 * t.powi(3) + 6.0 * t * t - 1.0;
+        // Previous step 0.1×, 1× and 5× the current one.
+        for hm in [0.07, 0.7, 3.5] {
+            let (t0, h) = (0.4, 0.7);
+            let tm = t0 - hm;
+            let mut d = DenseStep::new(1);
+            d.set_hermite5(
+                tm,
+                &[y(tm)],
+                &[dy(tm)],
+                t0,
+                h,
+                &[y(t0)],
+                &[dy(t0)],
+                &[y(t0 + h)],
+                &[dy(t0 + h)],
+            );
+            assert_eq!(d.degree(), 5);
+            let mut out = [0.0];
+            for theta in [0.0, 0.2, 0.5, 0.9, 1.0] {
+                let t = t0 + theta * h;
+                d.eval(t, &mut out);
+                assert!((out[0] - y(t)).abs() < 1e-12, "hm = {hm}, θ = {theta}");
+                d.eval_derivative(t, &mut out);
+                assert!((out[0] - dy(t)).abs() < 1e-11, "hm = {hm}, θ = {theta}");
+            }
+        }
+    }
+
+    /// The interpolation error is `O(h⁶)`: halving both steps divides it by 64.
+    #[test]
+    fn two_step_hermite_has_interpolation_order_six() {
+        let error = |h: f64| {
+            let (t0, tm) = (1.0, 1.0 - 0.8 * h);
+            let mut d = DenseStep::new(1);
+            d.set_hermite5(
+                tm,
+                &[tm.exp().sin()],
+                &[tm.exp() * tm.exp().cos()],
+                t0,
+                h,
+                &[t0.exp().sin()],
+                &[t0.exp() * t0.exp().cos()],
+                &[(t0 + h).exp().sin()],
+                &[(t0 + h).exp() * (t0 + h).exp().cos()],
+            );
+            let mut out = [0.0];
+            (1..20)
+                .map(|k| {
+                    let t = t0 + h * k as f64 / 20.0;
+                    d.eval(t, &mut out);
+                    (out[0] - t.exp().sin()).abs()
+                })
+                .fold(0.0, f64::max)
+        };
+        let e: Vec<f64> = [0.1, 0.05, 0.025].iter().map(|&h| error(h)).collect();
+        for w in e.windows(2) {
+            let order = (w[0] / w[1]).log2();
+            assert!((order - 6.0).abs() < 0.3, "interpolation order {order:.2}");
         }
     }
 

@@ -1,12 +1,30 @@
 //! What the report runs: default, `--long` or `--tiny`; `--no-compile` skips the
-//! compile-time measurements, `--no-peers` the diffsol peer package.
+//! compile-time measurements, `--no-peers` the diffsol peer package, and
+//! `--only KEY[,KEY…]` runs only the named sections ([`SECTIONS`]).
 
 use std::path::PathBuf;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
+/// The sections' keys for `--only`, in the report's order.
+pub const SECTIONS: [&str; 11] = [
+    "smooth",
+    "nonsmooth",
+    "dense",
+    "agreement",
+    "s9",
+    "lie",
+    "kernels",
+    "expansion",
+    "compile",
+    "chains",
+    "urdf",
+];
+
 pub struct Config {
     pub name: &'static str,
+    /// The sections to run (`None`: all); the peers' comparison runs with `kernels`.
+    pub only: Option<Vec<String>>,
     /// Timed repetitions per measurement (after one warm-up).
     pub repeats: usize,
     /// Tolerances of the adaptive sweeps.
@@ -30,6 +48,7 @@ impl Config {
     pub fn default_run() -> Config {
         Config {
             name: "default",
+            only: None,
             repeats: 5,
             tolerances: vec![1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10],
             rk4_steps: vec![100, 200, 400, 800, 1600, 3200, 6400],
@@ -61,6 +80,7 @@ impl Config {
     pub fn tiny(out_dir: PathBuf) -> Config {
         Config {
             name: "tiny",
+            only: None,
             repeats: 1,
             tolerances: vec![1e-4, 1e-6],
             rk4_steps: vec![50, 100],
@@ -76,24 +96,58 @@ impl Config {
     pub fn from_args(args: impl Iterator<Item = String>) -> Config {
         let mut config = Config::default_run();
         let (mut no_compile, mut no_peers) = (false, false);
-        for a in args {
+        let mut only: Option<Vec<String>> = None;
+        let mut args = args.peekable();
+        while let Some(a) = args.next() {
             match a.as_str() {
+                "--only" => {
+                    let keys: Vec<String> = args
+                        .next()
+                        .unwrap_or_default()
+                        .split(',')
+                        .map(|k| k.trim().to_string())
+                        .filter(|k| !k.is_empty())
+                        .collect();
+                    if let Some(bad) = keys.iter().find(|k| !SECTIONS.contains(&k.as_str())) {
+                        eprintln!(
+                            "unknown section `{bad}` after --only; the sections are {}",
+                            SECTIONS.join(", ")
+                        );
+                        std::process::exit(2);
+                    }
+                    if keys.is_empty() {
+                        eprintln!(
+                            "--only needs sections, e.g. `--only dense,s9`; the sections are {}",
+                            SECTIONS.join(", ")
+                        );
+                        std::process::exit(2);
+                    }
+                    only = Some(keys);
+                }
                 "--long" => config = Config::long(),
                 "--tiny" => config = Config::tiny(config.out_dir.clone()),
                 "--no-compile" => no_compile = true,
                 "--no-peers" => no_peers = true,
                 other => {
                     eprintln!(
-                        "unknown argument `{other}`; use --long, --tiny, --no-compile or --no-peers"
+                        "unknown argument `{other}`; use --long, --tiny, --no-compile, --no-peers or --only SECTION[,SECTION…]"
                     );
                     std::process::exit(2);
                 }
             }
         }
         // The switches apply whatever their order relative to --long / --tiny.
+        config.only = only;
         config.compile &= !no_compile;
         config.peers &= !no_peers;
         config
+    }
+
+    /// Whether the section `key` (one of [`SECTIONS`]) runs.
+    pub fn runs(&self, key: &str) -> bool {
+        self.only
+            .as_ref()
+            .is_none_or(|keys| keys.iter().any(|k| k == key))
     }
 
     pub fn progress(&self, sections: u64) -> ProgressBar {

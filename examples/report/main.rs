@@ -4,7 +4,8 @@
 //!
 //! Run: `cargo run --release --example report` (a few minutes); `-- --long` for longer
 //! sweeps and more repetitions; `-- --tiny` runs every code path on a tiny configuration
-//! (what the tests do).
+//! (what the tests do); `-- --only dense,s9` runs only those sections (keys in
+//! `config::SECTIONS`).
 #![allow(dead_code)]
 
 #[path = "../support/mod.rs"]
@@ -32,8 +33,12 @@ mod long_runs;
 mod markdown;
 #[path = "nonsmooth.rs"]
 mod nonsmooth;
+#[path = "../support/panda_limits.rs"]
+mod panda_limits;
 #[path = "peers.rs"]
 mod peers;
+#[path = "../support/resting_arm.rs"]
+mod resting_arm;
 #[path = "s9.rs"]
 mod s9;
 #[path = "../support/s9.rs"]
@@ -59,40 +64,94 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
         timing::machine(),
         config.repeats
     ));
-    progress.set_message("work-precision, smooth scenes");
-    let wp = workprecision::smooth_scenes(config, &progress);
+    // A section not asked for by `--only` is left out (empty page, no summary).
+    macro_rules! section {
+        ($key:literal, $msg:literal, $ty:ident, $run:expr) => {{
+            let s = if config.runs($key) {
+                progress.set_message($msg);
+                $run
+            } else {
+                $ty {
+                    page: markdown::Page::empty(),
+                    summary: Vec::new(),
+                }
+            };
+            progress.inc(1);
+            s
+        }};
+    }
+    use workprecision::Section;
+    let wp = section!(
+        "smooth",
+        "work-precision, smooth scenes",
+        Section,
+        workprecision::smooth_scenes(config, &progress)
+    );
+    let ns = section!(
+        "nonsmooth",
+        "non-smooth scenes and the stiff/extreme suite",
+        Section,
+        nonsmooth::nonsmooth(config, &progress)
+    );
+    let dense = section!(
+        "dense",
+        "non-smooth scenes read back on an output grid",
+        Section,
+        dense::dense_output(config)
+    );
+    let agree = section!(
+        "agreement",
+        "randomized agreement suite (1,000 random scenes)",
+        Section,
+        agreement::agreement(config)
+    );
+    let arm = section!(
+        "s9",
+        "S9: arm with joint friction and stops",
+        Section,
+        s9::s9(config)
+    );
+    let lg = section!("lie", "Lie-group scenes (S10)", Section, lie::lie(config));
+    let k = if config.runs("kernels") {
+        progress.set_message("kernels");
+        kernels::kernels(config)
+    } else {
+        kernels::Kernels {
+            page: markdown::Page::empty(),
+            summary: Vec::new(),
+            forward_ns: Vec::new(),
+        }
+    };
     progress.inc(1);
-    progress.set_message("non-smooth scenes and the stiff/extreme suite");
-    let ns = nonsmooth::nonsmooth(config, &progress);
-    progress.inc(1);
-    progress.set_message("non-smooth scenes read back on an output grid");
-    let dense = dense::dense_output(config);
-    progress.inc(1);
-    progress.set_message("randomized agreement suite (1,000 random scenes)");
-    let agree = agreement::agreement(config);
-    progress.inc(1);
-    progress.set_message("S9: arm with joint friction and stops");
-    let arm = s9::s9(config);
-    progress.inc(1);
-    progress.set_message("Lie-group scenes (S10)");
-    let lg = lie::lie(config);
-    progress.inc(1);
-    progress.set_message("kernels");
-    let k = kernels::kernels(config);
-    progress.inc(1);
-    progress.set_message("expansion and compile time");
-    let e = kernels::expansion(config);
-    progress.inc(1);
-    let c = kernels::compile_times(config);
-    progress.inc(1);
-    progress.set_message("planar chains against SymPy");
-    let ch = chains::chains(config);
-    progress.inc(1);
-    progress.set_message("robots from URDF");
-    let u = urdf::urdf(config);
-    progress.inc(1);
-    peers::export_models(config)?;
-    let p = peers::peers(config, &k.forward_ns);
+    let e = section!(
+        "expansion",
+        "expansion time",
+        Section,
+        kernels::expansion(config)
+    );
+    let c = section!(
+        "compile",
+        "compile time",
+        Section,
+        kernels::compile_times(config)
+    );
+    let ch = section!(
+        "chains",
+        "planar chains against SymPy",
+        Section,
+        chains::chains(config)
+    );
+    use urdf::Section as UrdfSection;
+    let u = section!("urdf", "robots from URDF", UrdfSection, urdf::urdf(config));
+    let p = if config.runs("kernels") {
+        peers::export_models(config)?;
+        peers::peers(config, &k.forward_ns)
+    } else {
+        Section {
+            page: markdown::Page::empty(),
+            summary: Vec::new(),
+        }
+    };
     progress.finish_with_message("done");
 
     page.h2("Summary");

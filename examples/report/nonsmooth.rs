@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
-    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, solve_nonsmooth,
+    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, SwitchKind, solve_nonsmooth,
 };
 use filippov_scenes::{
     BilinearOscillator, BinghamOscillator, BouncingBall, CoulombOscillator, SupportedStop,
@@ -770,8 +770,10 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
         let check = move |t: &Solution| {
             let y = t.last().map_or(vec![f64::NAN; 3], |r| r.1.to_vec());
             format!(
-                "accumulation at {t_acc:.3}; at tf: x = {:.2e}, v = {:.2e}",
-                y[0], y[1]
+                "accumulation at {t_acc:.6} (closed form); {}; at tf: x = {:.2e}, v = {:.2e}",
+                settled(t, t_acc),
+                y[0],
+                y[1]
             )
         };
         for (name, m) in [("event-driven", ed), ("time-stepping h = 1e-3", ts)] {
@@ -783,6 +785,7 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
             );
         }
     }
+    rows.extend(resting_on_limits(config, short));
     let (cycles, horizon) = match config.name {
         "tiny" => (20, 20.0),
         "long" => (1_000_000, 10_000.0),
@@ -798,4 +801,144 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
         .count();
     summary.push(format!("Stiff and extreme suite: {} of {} cases completed, {errors} ended with a typed error (none panicked)", rows.len() - errors, rows.len()));
     Section { page, summary }
+}
+
+/// Where a run's bounces settled: the time of its first `Settled` switch (event-driven),
+/// against the closed-form accumulation time `t_acc` when there is one.
+fn settled(sol: &Solution, t_acc: f64) -> String {
+    match sol.switches.iter().find(|s| s.kind == SwitchKind::Settled) {
+        Some(s) if t_acc.is_finite() => {
+            format!("settled at {:.6} (error {:.1e})", s.t, (s.t - t_acc).abs())
+        }
+        Some(s) => format!("settled at {:.6}", s.t),
+        None => "no settle event".into(),
+    }
+}
+
+/// Resting on joint limits, the state a robot arm is most often in: the two-link arm
+/// falling onto its shoulder limit with friction on the elbow (restitution 0.3, 0.9,
+/// 0.99), and the Panda from its URDF with every limit a stop, folding onto several.
+/// Event-driven (default method and tolerance) beside time-stepping at h = 1e-3, each
+/// timed (median), with the ratio of their times on the event-driven row.
+fn resting_on_limits(config: &Config, short: f64) -> Vec<Vec<String>> {
+    use super::panda_limits::{PandaOnLimits, V7, release_pose};
+    use super::resting_arm::{RestingArm, V2, zero};
+    let ed = NonSmoothMethod::default();
+    let ts = NonSmoothMethod::TimeStepping {
+        h: 1e-3,
+        theta: 1.0,
+    };
+    let mut rows = Vec::new();
+    let mut pair =
+        |case: String,
+         run: &dyn Fn(&NonSmoothMethod) -> Result<Solution, filippov::runtime::SolveError>,
+         describe: &dyn Fn(&Solution) -> String| {
+            let mut times = [0.0; 2];
+            let mut out = Vec::new();
+            for (i, (name, m)) in [
+                ("event-driven (default)", &ed),
+                ("time-stepping h = 1e-3", &ts),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let (time, r) = median(config.repeats.min(5), || run(m));
+                times[i] = time;
+                let (status, detail) = match r {
+                    Ok(sol) => (
+                        "completed".to_string(),
+                        format!(
+                            "{}; {} steps, {} events, {} Zeno handovers",
+                            describe(&sol),
+                            sol.stats.steps,
+                            sol.stats.events,
+                            sol.stats.zeno_handovers
+                        ),
+                    ),
+                    Err(e) => (
+                        format!("typed error: {}", e.kind),
+                        format!("{} rows kept", e.solution.len()),
+                    ),
+                };
+                out.push(vec![
+                    case.clone(),
+                    name.to_string(),
+                    status,
+                    detail,
+                    format!("{:.2}", time * 1e3),
+                ]);
+            }
+            out[0][3] += &format!("; time {:.2}× time-stepping's", times[0] / times[1]);
+            rows.extend(out);
+        };
+    let horizon = short.min(5.0);
+    for e in [0.3, 0.9, 0.99] {
+        let arm = RestingArm {
+            m1: 1.0,
+            l1: 1.0,
+            m2: 0.5,
+            l2: 0.7,
+            fc: 20.0,
+            lim: -1.0,
+            e,
+        };
+        let p = NonSmoothProblem::new(0.0, horizon, V2::new(0.2, -0.5), V2::zeros());
+        pair(
+            format!("2-link arm onto its shoulder limit, e = {e}, elbow friction, {horizon} s"),
+            &|m| solve_nonsmooth(&arm, &zero, &p, m),
+            &|sol| {
+                let y = sol.last().map_or(vec![f64::NAN; 4], |r| r.1.to_vec());
+                format!(
+                    "{}; at tf: q = ({:.6}, {:.6}) (limit −1), v = ({:.1e}, {:.1e})",
+                    settled(sol, f64::NAN),
+                    y[0],
+                    y[1],
+                    y[2],
+                    y[3]
+                )
+            },
+        );
+    }
+    let panda = PandaOnLimits { e: 0.5, fc: 5.0 };
+    let p = NonSmoothProblem::new(0.0, horizon.min(3.0), release_pose(), V7::zeros());
+    let input = |_t: f64, _q: &V7, _v: &V7| V7::zeros();
+    pair(
+        format!(
+            "Panda (URDF), stops at all 14 limits, e = 0.5, released under gravity, {} s",
+            horizon.min(3.0)
+        ),
+        &|m| solve_nonsmooth(&panda, &input, &p, m),
+        &|sol| {
+            let y = sol.last().map_or(vec![f64::NAN; 14], |r| r.1.to_vec());
+            let impacts = sol
+                .switches
+                .iter()
+                .filter(|s| s.kind == SwitchKind::Impact)
+                .count();
+            let limits = [
+                (-2.8973, 2.8973),
+                (-1.7628, 1.7628),
+                (-2.8973, 2.8973),
+                (-3.0718, -0.0698),
+                (-2.8973, 2.8973),
+                (-0.0175, 3.7525),
+                (-2.8973, 2.8973),
+            ];
+            let on: Vec<String> = (0..7)
+                .filter(|&j| (y[j] - limits[j].0).abs() < 1e-3 || (y[j] - limits[j].1).abs() < 1e-3)
+                .map(|j| format!("j{}", j + 1))
+                .collect();
+            let vmax = y[7..14].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            format!(
+                "{impacts} impacts; {}; at tf within 1e-3 rad of a limit: {}; max |v| = {vmax:.1e}",
+                settled(sol, f64::NAN),
+                if on.is_empty() {
+                    "none".to_string()
+                } else {
+                    on.join(", ")
+                }
+            )
+        },
+    );
+    rows
 }

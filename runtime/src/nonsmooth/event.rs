@@ -58,10 +58,11 @@
 //! (safeguarded Newton inside the branch's force interval, bracketed by the folds;
 //! clamped to the fold force just past the branch's end, so the right-hand side stays
 //! continuous for the root finder). The switching function is the distance of `|v_c|`
-//! to the nearer end of the branch's velocity range (with a relative slack
-//! [`BRANCH_END_SLACK`](mode::BRANCH_END_SLACK) at ends `≠ 0`: a branch entered at its
-//! end, as when leaving a plateau, departs from it only quadratically in time and must
-//! not switch back on round-off; the event state is set to the end exactly).
+//! to the nearer end of the branch's velocity range (with a slack of the integrator's
+//! accuracy in that speed, [`end_slack`](mode::end_slack), at ends `≠ 0`: a branch
+//! entered at its end, as when leaving a plateau, departs from it only quadratically in
+//! time and must not switch back on the integrator's error; the event state is set to
+//! the end exactly).
 //!
 //! * Approach 1 ([`Selection::NoVelocityJumps`]): at a fold's velocity the force jumps
 //!   to the next branch at the same velocity (hysteresis: inner → outer at `v_max`,
@@ -639,7 +640,15 @@ where
                         },
                         _ => ev.f[e],
                     };
-                    mode::switching(el, &self.branches[e], self.modes[e], q[c], v[c], f)
+                    mode::switching(
+                        el,
+                        &self.branches[e],
+                        self.modes[e],
+                        q[c],
+                        v[c],
+                        f,
+                        (self.options.atol, self.options.rtol),
+                    )
                 })
                 .collect(),
             None => vec![f64::NAN; self.elements.len()],

@@ -332,6 +332,7 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
         .collect();
     let mut best = [f64::INFINITY; METHODS.len()];
     let runs = sweep_runs(config);
+    let (mut worst_ratio, mut mismatches) = (0.0f64, 0);
     for (kind, setting, m) in runs {
         let reference = if kind == 0 { &ref_sdirk } else { &ref_dopri };
         let (time, result) = median(config.repeats, || solve_nonsmooth(sys, &input, problem, &m));
@@ -340,6 +341,28 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
             Ok(traj) => {
                 let (grid, fin) = grid_errors(&traj, reference, tf);
                 let s = &traj.stats;
+                let switches = match m {
+                    NonSmoothMethod::EventDriven { options, .. } => {
+                        let c = compare_switches(&traj, reference, options.rtol);
+                        match c {
+                            Some(ratio) => worst_ratio = worst_ratio.max(ratio),
+                            None => mismatches += 1,
+                        }
+                        match c {
+                            Some(ratio) => format!(
+                                "{} as the reference; max Δt = {:.0}·rtol",
+                                traj.switches.len(),
+                                ratio
+                            ),
+                            None => format!(
+                                "**{} against the reference's {}**",
+                                traj.switches.len(),
+                                reference.switches.len()
+                            ),
+                        }
+                    }
+                    _ => "—".into(),
+                };
                 rows.push(vec![
                     label,
                     setting,
@@ -350,6 +373,7 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
                         "{} steps, {} evals, {} events",
                         s.steps, s.rhs_evaluations, s.events
                     ),
+                    switches,
                 ]);
                 curves[kind].points.push((time * 1e3, grid));
                 if grid <= 1e-3 {
@@ -363,9 +387,11 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
                 String::new(),
                 String::new(),
                 String::new(),
+                String::new(),
             ]),
         }
     }
+    page.para("Switches: the run's switch log against its reference's — the same elements entering the same modes in the same order, and the largest difference of their times in units of the run's rtol (the references themselves agree to the time given above).");
     page.table(
         &[
             "method",
@@ -374,9 +400,15 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
             "final error",
             "time [ms]",
             "work",
+            "switches",
         ],
         &rows,
     );
+    summary.push(format!(
+        "{name}: event-driven switch logs equal to the reference's in {} of {} runs; largest switch-time error {worst_ratio:.0}·rtol",
+        rows.iter().filter(|r| !r[6].is_empty() && r[6] != "—").count() - mismatches,
+        rows.iter().filter(|r| !r[6].is_empty() && r[6] != "—").count(),
+    ));
     if name == "S5" {
         // diffsol on the regularised law (peers/diffsol), same metric.
         curves.extend(super::peers::diffsol_series(config, "S5", false));
@@ -941,4 +973,22 @@ fn resting_on_limits(config: &Config, short: f64) -> Vec<Vec<String>> {
         },
     );
     rows
+}
+
+/// The largest switch-time difference to `reference` in units of `rtol`, if the two
+/// switch logs name the same elements entering the same modes in the same order.
+fn compare_switches(sol: &Solution, reference: &Solution, rtol: f64) -> Option<f64> {
+    let same = sol.switches.len() == reference.switches.len()
+        && sol
+            .switches
+            .iter()
+            .zip(&reference.switches)
+            .all(|(a, b)| a.element == b.element && a.to == b.to && a.kind == b.kind);
+    same.then(|| {
+        sol.switches
+            .iter()
+            .zip(&reference.switches)
+            .map(|(a, b)| (a.t - b.t).abs() / rtol)
+            .fold(0.0, f64::max)
+    })
 }

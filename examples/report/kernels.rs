@@ -76,6 +76,7 @@ fn row<S: Mechanism<N> + Coriolis<N> + Gravity<N>, const N: usize>(
 }
 
 /// The kernels section, with our forward-dynamics ns per call by model file name.
+#[derive(Default)]
 pub struct Kernels {
     pub page: Page,
     pub summary: Vec<String>,

@@ -66,91 +66,57 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     ));
     // A section not asked for by `--only` is left out (empty page, no summary).
     macro_rules! section {
-        ($key:literal, $msg:literal, $ty:ident, $run:expr) => {{
+        ($key:literal, $msg:literal, $run:expr) => {{
             let s = if config.runs($key) {
                 progress.set_message($msg);
                 $run
             } else {
-                $ty {
-                    page: markdown::Page::empty(),
-                    summary: Vec::new(),
-                }
+                Default::default()
             };
             progress.inc(1);
             s
         }};
     }
-    use workprecision::Section;
-    let wp = section!(
+    let wp: workprecision::Section = section!(
         "smooth",
         "work-precision, smooth scenes",
-        Section,
         workprecision::smooth_scenes(config, &progress)
     );
     let ns = section!(
         "nonsmooth",
         "non-smooth scenes and the stiff/extreme suite",
-        Section,
         nonsmooth::nonsmooth(config, &progress)
     );
     let dense = section!(
         "dense",
         "non-smooth scenes read back on an output grid",
-        Section,
         dense::dense_output(config)
     );
     let agree = section!(
         "agreement",
         "randomized agreement suite (1,000 random scenes)",
-        Section,
         agreement::agreement(config)
     );
     let arm = section!(
         "s9",
         "S9: arm with joint friction and stops",
-        Section,
         s9::s9(config)
     );
-    let lg = section!("lie", "Lie-group scenes (S10)", Section, lie::lie(config));
-    let k = if config.runs("kernels") {
-        progress.set_message("kernels");
-        kernels::kernels(config)
-    } else {
-        kernels::Kernels {
-            page: markdown::Page::empty(),
-            summary: Vec::new(),
-            forward_ns: Vec::new(),
-        }
-    };
-    progress.inc(1);
-    let e = section!(
-        "expansion",
-        "expansion time",
-        Section,
-        kernels::expansion(config)
-    );
-    let c = section!(
-        "compile",
-        "compile time",
-        Section,
-        kernels::compile_times(config)
-    );
+    let lg = section!("lie", "Lie-group scenes (S10)", lie::lie(config));
+    let k = section!("kernels", "kernels", kernels::kernels(config));
+    let e = section!("expansion", "expansion time", kernels::expansion(config));
+    let c = section!("compile", "compile time", kernels::compile_times(config));
     let ch = section!(
         "chains",
         "planar chains against SymPy",
-        Section,
         chains::chains(config)
     );
-    use urdf::Section as UrdfSection;
-    let u = section!("urdf", "robots from URDF", UrdfSection, urdf::urdf(config));
+    let u = section!("urdf", "robots from URDF", urdf::urdf(config));
     let p = if config.runs("kernels") {
         peers::export_models(config)?;
         peers::peers(config, &k.forward_ns)
     } else {
-        Section {
-            page: markdown::Page::empty(),
-            summary: Vec::new(),
-        }
+        Default::default()
     };
     progress.finish_with_message("done");
 

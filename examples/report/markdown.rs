@@ -1,5 +1,6 @@
 //! A small Markdown page builder.
 
+#[derive(Default)]
 pub struct Page {
     text: String,
 }

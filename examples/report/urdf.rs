@@ -35,6 +35,7 @@ struct Ur5;
 #[mechanism(urdf = "robots/solo12.urdf", base = free, gravity = [0.0, 0.0, -9.81])]
 struct Solo12;
 
+#[derive(Default)]
 pub struct Section {
     pub page: Page,
     pub summary: Vec<String>,

@@ -16,6 +16,7 @@ use super::markdown::{Page, sci};
 use super::support::{Scale, Series, line_plot};
 use super::timing::median;
 
+#[derive(Default)]
 pub struct Section {
     pub page: Page,
     pub summary: Vec<String>,

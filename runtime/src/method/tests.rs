@@ -332,6 +332,21 @@ fn sdirk4_global_error_is_proportional_to_the_tolerance() {
     assert!((3.6..=4.6).contains(&order), "observed order {order}");
 }
 
+/// Observed orders of an error `f(h)` at h = 0.2, 0.1, 0.05 (two halvings).
+fn observed_orders(f: &dyn Fn(f64) -> f64) -> [f64; 2] {
+    let e: Vec<f64> = [0.2, 0.1, 0.05].iter().map(|&h| f(h)).collect();
+    [(e[0] / e[1]).log2(), (e[1] / e[2]).log2()]
+}
+
+fn assert_order(name: &str, expected: f64, measured: [f64; 2], tol: f64) {
+    for m in measured {
+        assert!(
+            (m - expected).abs() < tol,
+            "{name}: local dense error order {m:.2}, expected {expected}"
+        );
+    }
+}
+
 /// The dense output of one step from the exact state of `y'' = −y`, evaluated mid-step:
 /// its error is the local error of the continuous extension, `O(h^{p+1})` for an
 /// extension of order `p` — 4 for DOPRI5's (degree 4), 3 for cubic Hermite (RK4,
@@ -363,20 +378,16 @@ fn dense_output_has_the_order_of_its_method() {
         h0: Some(1.0),
         ..Options::tolerances(1e3, 1e3)
     };
-    let orders = |f: &dyn Fn(f64) -> f64| {
-        let e: Vec<f64> = [0.2, 0.1, 0.05].iter().map(|&h| f(h)).collect();
-        [(e[0] / e[1]).log2(), (e[1] / e[2]).log2()]
-    };
     for (name, expected, measured) in [
         (
             "RK4",
             4.0,
-            orders(&|h| midstep_error(Rk4::new(h).stepper(2), h)),
+            observed_orders(&|h| midstep_error(Rk4::new(h).stepper(2), h)),
         ),
         (
             "DOPRI5",
             5.0,
-            orders(&|h| {
+            observed_orders(&|h| {
                 midstep_error(
                     Dopri5::new(Options {
                         h0: Some(h),
@@ -390,7 +401,7 @@ fn dense_output_has_the_order_of_its_method() {
         (
             "SDIRK4",
             4.0,
-            orders(&|h| {
+            observed_orders(&|h| {
                 midstep_error(
                     Sdirk4::new(Options {
                         h0: Some(h),
@@ -402,12 +413,7 @@ fn dense_output_has_the_order_of_its_method() {
             }),
         ),
     ] {
-        for m in measured {
-            assert!(
-                (m - expected).abs() < 0.3,
-                "{name}: local dense error order {m:.2}, expected {expected}"
-            );
-        }
+        assert_order(name, expected, measured, 0.3);
     }
 }
 
@@ -446,33 +452,24 @@ fn dense_output_after_a_first_step_has_the_local_order_of_its_method() {
         h_max: h,
         ..Options::tolerances(1e3, 1e3)
     };
-    let orders = |f: &dyn Fn(f64) -> f64| {
-        let e: Vec<f64> = [0.2, 0.1, 0.05].iter().map(|&h| f(h)).collect();
-        [(e[0] / e[1]).log2(), (e[1] / e[2]).log2()]
-    };
     for (name, expected, measured) in [
         (
             "RK4",
             5.0,
-            orders(&|h| midstep_error(Rk4::new(h).stepper(2), h)),
+            observed_orders(&|h| midstep_error(Rk4::new(h).stepper(2), h)),
         ),
         (
             "DOPRI5",
             6.0,
-            orders(&|h| midstep_error(Dopri5::new(fixed(h)).stepper(2), h)),
+            observed_orders(&|h| midstep_error(Dopri5::new(fixed(h)).stepper(2), h)),
         ),
         (
             "SDIRK4",
             5.0,
-            orders(&|h| midstep_error(Sdirk4::new(fixed(h)).stepper(2), h)),
+            observed_orders(&|h| midstep_error(Sdirk4::new(fixed(h)).stepper(2), h)),
         ),
     ] {
-        for m in measured {
-            assert!(
-                (m - expected).abs() < 0.35,
-                "{name}: local dense error order {m:.2}, expected {expected}"
-            );
-        }
+        assert_order(name, expected, measured, 0.35);
     }
 }
 

@@ -93,11 +93,10 @@ impl Config {
         }
     }
 
-    pub fn from_args(args: impl Iterator<Item = String>) -> Config {
+    pub fn from_args(mut args: impl Iterator<Item = String>) -> Config {
         let mut config = Config::default_run();
         let (mut no_compile, mut no_peers) = (false, false);
         let mut only: Option<Vec<String>> = None;
-        let mut args = args.peekable();
         while let Some(a) = args.next() {
             match a.as_str() {
                 "--only" => {

@@ -647,22 +647,7 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
                       run: &dyn Fn() -> Result<Solution, filippov::runtime::SolveError>,
                       check: &dyn Fn(&Solution) -> String| {
         let (time, r) = median(config.repeats.min(3), run);
-        let (status, detail) = match r {
-            Ok(traj) => (
-                "completed".to_string(),
-                format!(
-                    "{}; {} steps, {} events, {} Zeno handovers",
-                    check(&traj),
-                    traj.stats.steps,
-                    traj.stats.events,
-                    traj.stats.zeno_handovers
-                ),
-            ),
-            Err(e) => (
-                format!("typed error: {}", e.kind),
-                format!("{} rows kept", e.solution.len()),
-            ),
-        };
+        let (status, detail) = outcome(r, check);
         rows.push(vec![
             case,
             method.into(),
@@ -835,6 +820,30 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
     Section { page, summary }
 }
 
+/// A case's outcome for the extreme suite's table: `(status, detail)` — completed with
+/// what `describe` says and the work, or the typed error and the rows kept.
+fn outcome(
+    r: Result<Solution, filippov::runtime::SolveError>,
+    describe: &dyn Fn(&Solution) -> String,
+) -> (String, String) {
+    match r {
+        Ok(sol) => (
+            "completed".to_string(),
+            format!(
+                "{}; {} steps, {} events, {} Zeno handovers",
+                describe(&sol),
+                sol.stats.steps,
+                sol.stats.events,
+                sol.stats.zeno_handovers
+            ),
+        ),
+        Err(e) => (
+            format!("typed error: {}", e.kind),
+            format!("{} rows kept", e.solution.len()),
+        ),
+    }
+}
+
 /// Where a run's bounces settled: the time of its first `Settled` switch (event-driven),
 /// against the closed-form accumulation time `t_acc` when there is one.
 fn settled(sol: &Solution, t_acc: f64) -> String {
@@ -855,6 +864,8 @@ fn settled(sol: &Solution, t_acc: f64) -> String {
 fn resting_on_limits(config: &Config, short: f64) -> Vec<Vec<String>> {
     use super::panda_limits::{PandaOnLimits, V7, release_pose};
     use super::resting_arm::{RestingArm, V2, zero};
+    use filippov::runtime::NonSmooth;
+    use filippov::runtime::nonsmooth::{Element, ElementKind};
     let ed = NonSmoothMethod::default();
     let ts = NonSmoothMethod::TimeStepping {
         h: 1e-3,
@@ -876,22 +887,7 @@ fn resting_on_limits(config: &Config, short: f64) -> Vec<Vec<String>> {
             {
                 let (time, r) = median(config.repeats.min(5), || run(m));
                 times[i] = time;
-                let (status, detail) = match r {
-                    Ok(sol) => (
-                        "completed".to_string(),
-                        format!(
-                            "{}; {} steps, {} events, {} Zeno handovers",
-                            describe(&sol),
-                            sol.stats.steps,
-                            sol.stats.events,
-                            sol.stats.zeno_handovers
-                        ),
-                    ),
-                    Err(e) => (
-                        format!("typed error: {}", e.kind),
-                        format!("{} rows kept", e.solution.len()),
-                    ),
-                };
+                let (status, detail) = outcome(r, describe);
                 out.push(vec![
                     case.clone(),
                     name.to_string(),
@@ -947,18 +943,17 @@ fn resting_on_limits(config: &Config, short: f64) -> Vec<Vec<String>> {
                 .iter()
                 .filter(|s| s.kind == SwitchKind::Impact)
                 .count();
-            let limits = [
-                (-2.8973, 2.8973),
-                (-1.7628, 1.7628),
-                (-2.8973, 2.8973),
-                (-3.0718, -0.0698),
-                (-2.8973, 2.8973),
-                (-0.0175, 3.7525),
-                (-2.8973, 2.8973),
-            ];
-            let on: Vec<String> = (0..7)
-                .filter(|&j| (y[j] - limits[j].0).abs() < 1e-3 || (y[j] - limits[j].1).abs() < 1e-3)
-                .map(|j| format!("j{}", j + 1))
+            // The stops as the derive read them from the URDF file.
+            let on: Vec<String> = (0..PandaOnLimits::ELEMENTS)
+                .filter_map(|e| match NonSmooth::element(&panda, e) {
+                    Element {
+                        coordinate,
+                        kind: ElementKind::Stop { position, .. },
+                        name,
+                    } if (y[coordinate] - position).abs() < 1e-3 => Some(name),
+                    _ => None,
+                })
+                .map(|name| name.trim_start_matches("stop_").to_string())
                 .collect();
             let vmax = y[7..14].iter().fold(0.0f64, |a, v| a.max(v.abs()));
             format!(

@@ -5,9 +5,9 @@
 //!
 //! | method | kind | dense output | use |
 //! |---|---|---|---|
-//! | [`Rk4`] | explicit, fixed step, order 4 | cubic Hermite | convergence studies, baselines |
-//! | [`Dopri5`] | explicit, adaptive 5(4), FSAL | Dormand–Prince, degree 4 | non-stiff problems |
-//! | [`Sdirk4`] | L-stable SDIRK, adaptive 4(3), simplified Newton | cubic Hermite | stiff problems, frequent restarts |
+//! | [`Rk4`] | explicit, fixed step, order 4 | quintic Hermite through the last three points (cubic Hermite on a first step) | convergence studies, baselines |
+//! | [`Dopri5`] | explicit, adaptive 5(4), FSAL | quintic Hermite through the last three points (Dormand–Prince, degree 4, on a first step) | non-stiff problems |
+//! | [`Sdirk4`] | L-stable SDIRK, adaptive 4(3), simplified Newton | quintic Hermite through the last three points (cubic Hermite on a first step) | stiff problems, frequent restarts |
 //! | [`Bdf`] | variable-order (1–5) variable-step BDF, simplified Newton | its interpolating polynomial | smooth stiff problems |
 //!
 //! Shared rules: options are validated first ([`ErrorKind::InvalidInput`](crate::ErrorKind),

@@ -46,12 +46,14 @@ pub struct StepState {
     /// The continuous extension over the last accepted step.
     pub dense: DenseStep,
     pub options: Options,
-    /// The accepted point before the current one, `(t, y, f)`, while the solution has
+    /// The time of the accepted point before the current one, while the solution has
     /// been smooth since then (no start or restart in between): with it a one-step method
     /// writes the quintic two-step Hermite extension
     /// ([`DenseStep::set_hermite5`]) instead of its own lower-degree one.
     pub prev: Option<f64>,
+    /// `y` at the previous point (meaningful while `prev` is `Some`).
     pub prev_y: Vec<f64>,
+    /// `f` at the previous point (meaningful while `prev` is `Some`).
     pub prev_f: Vec<f64>,
 }
 

@@ -7,9 +7,9 @@
 //!
 //! | method | extension | degree | local error |
 //! |---|---|---|---|
-//! | DOPRI5 | Dormand–Prince continuous extension ([`set_dopri5`](DenseStep::set_dopri5)) | 4 | `O(h⁵)` |
+//! | DOPRI5, first step after a (re)start | Dormand–Prince continuous extension ([`set_dopri5`](DenseStep::set_dopri5)) | 4 | `O(h⁵)` |
 //! | BDF of order k | the interpolating polynomial through its `k + 1` last points | k | `O(h^{k+1})` |
-//! | RK4, SDIRK4 | cubic Hermite on the step's ends ([`set_hermite`](DenseStep::set_hermite)) | 3 | `O(h⁴)` |
+//! | RK4, SDIRK4, first step after a (re)start | cubic Hermite on the step's ends ([`set_hermite`](DenseStep::set_hermite)) | 3 | `O(h⁴)` |
 //! | DOPRI5, RK4, SDIRK4 after their first step since a (re)start | quintic Hermite through the last three points ([`set_hermite5`](DenseStep::set_hermite5)) | 5 | `O(h⁶)` |
 //!
 //! The monomial form is well conditioned on `[0, 1]` for these degrees (≤ 5) and is
@@ -122,6 +122,15 @@ impl DenseStep {
         // Nodes in θ = (t − t0)/h, each twice: value and derivative (dy/dθ = h f).
         let rho = (t0 - tm) / h;
         let z = [0.0, 0.0, 1.0, 1.0, -rho, -rho];
+        // 1/(z_j − z_{j−k}) for every column k ≥ 1 of the divided-difference table, the
+        // same for all components (0 marks a repeated node, where the derivative enters).
+        let mut inv = [[0.0; 6]; 6];
+        for k in 1..6 {
+            for j in k..6 {
+                let dz = z[j] - z[j - k];
+                inv[k][j] = if dz == 0.0 { 0.0 } else { 1.0 / dz };
+            }
+        }
         let c = self.reset(t0, h, 5);
         for i in 0..n {
             // Confluent divided differences, column by column in place: after column k,
@@ -130,11 +139,10 @@ impl DenseStep {
             let mut d = [v[0], v[0], v[1], v[1], v[2], v[2]];
             for k in 1..6 {
                 for j in (k..6).rev() {
-                    let dz = z[j] - z[j - k];
-                    d[j] = if dz == 0.0 {
+                    d[j] = if inv[k][j] == 0.0 {
                         dv[j / 2]
                     } else {
-                        (d[j] - d[j - 1]) / dz
+                        (d[j] - d[j - 1]) * inv[k][j]
                     };
                 }
             }
@@ -264,6 +272,31 @@ mod tests {
         }
     }
 
+    /// The two-step Hermite extension of the scalar `y` (derivative `dy`) through
+    /// `tm`, `t0` and `t0 + h`.
+    fn hermite5_of(
+        y: &dyn Fn(f64) -> f64,
+        dy: &dyn Fn(f64) -> f64,
+        tm: f64,
+        t0: f64,
+        h: f64,
+    ) -> DenseStep {
+        let mut d = DenseStep::new(1);
+        let t1 = t0 + h;
+        d.set_hermite5(
+            tm,
+            &[y(tm)],
+            &[dy(tm)],
+            t0,
+            h,
+            &[y(t0)],
+            &[dy(t0)],
+            &[y(t1)],
+            &[dy(t1)],
+        );
+        d
+    }
+
     #[test]
     fn two_step_hermite_reproduces_quintics_for_any_step_ratio() {
         let y = |t: f64| 0.3 * t.powi(5) - t.powi(4) + 2.0 * t.powi(3) - t + 0.5;
@@ -271,19 +304,7 @@ mod tests {
         // Previous step 0.1×, 1× and 5× the current one.
         for hm in [0.07, 0.7, 3.5] {
             let (t0, h) = (0.4, 0.7);
-            let tm = t0 - hm;
-            let mut d = DenseStep::new(1);
-            d.set_hermite5(
-                tm,
-                &[y(tm)],
-                &[dy(tm)],
-                t0,
-                h,
-                &[y(t0)],
-                &[dy(t0)],
-                &[y(t0 + h)],
-                &[dy(t0 + h)],
-            );
+            let d = hermite5_of(&y, &dy, t0 - hm, t0, h);
             assert_eq!(d.degree(), 5);
             let mut out = [0.0];
             for theta in [0.0, 0.2, 0.5, 0.9, 1.0] {
@@ -300,18 +321,13 @@ mod tests {
     #[test]
     fn two_step_hermite_has_interpolation_order_six() {
         let error = |h: f64| {
-            let (t0, tm) = (1.0, 1.0 - 0.8 * h);
-            let mut d = DenseStep::new(1);
-            d.set_hermite5(
-                tm,
-                &[tm.exp().sin()],
-                &[tm.exp() * tm.exp().cos()],
+            let t0 = 1.0;
+            let d = hermite5_of(
+                &|t: f64| t.exp().sin(),
+                &|t: f64| t.exp() * t.exp().cos(),
+                t0 - 0.8 * h,
                 t0,
                 h,
-                &[t0.exp().sin()],
-                &[t0.exp() * t0.exp().cos()],
-                &[(t0 + h).exp().sin()],
-                &[(t0 + h).exp() * (t0 + h).exp().cos()],
             );
             let mut out = [0.0];
             (1..20)

@@ -35,8 +35,8 @@
 //!   all optional; no gravity code without gravity; `inputs` names the actuated joints
 //!   and adds `INPUTS` and `input_forces(u)` (the map `τ = B u`); `emit` lists the
 //!   optional kernels — `christoffel`, `coriolis`, `gravity`, `bias`, `passive_forces`,
-//!   `inverse_dynamics`, `energy`, `delassus`, `dae_residuals`, `switching_functions` —
-//!   or says `emit = all`. Each is a trait of [`runtime::kernels`] (in the [`prelude`]);
+//!   `inverse_dynamics`, `energy`, `delassus`, `dae_residuals`, `switching_functions`,
+//!   `kinematics` (poses and Jacobians of every body and frame) — or says `emit = all`. Each is a trait of [`runtime::kernels`] (in the [`prelude`]);
 //!   calling one the scene did not ask for is a compile error naming the option.
 //! - `#[body(name, mass = m, com = [x, y, z], inertia = …)]` — inertia about the centre
 //!   of mass in the link frame: `rod(m, l)` (along x), `cylinder(m, r, h)` (along z),
@@ -49,6 +49,10 @@
 //!   [`runtime::liegroup::LieMechanism`] instead of [`Mechanism`]: quaternion
 //!   configurations, body angular velocities (see that trait for the layout). A body of
 //!   mass `0.0` is an intermediate frame and must carry other bodies.
+//! - `#[frame(name, parent = body | frame | world, origin = [x, y, z], rpy = [r, p, y])]`
+//!   — a frame fixed to a body (a tool point, a sensor); declaring one emits the
+//!   [`Kinematics`] kernel: `frame_pose` (an `Isometry3`) and `frame_jacobian` (`6 × N`,
+//!   `ṗ` then `ω` in world axes) of every body and frame, by [`FrameId`].
 //! - `#[spring(joint, k = …, rest = …)]` or `#[spring(joint, potential = U(x))]` (a
 //!   non-linear spring by its energy in the coordinate `x`; force `−dU/dx` derived
 //!   symbolically), `#[damper(joint, c = …)]` on joint coordinates.
@@ -82,7 +86,8 @@
 pub use filippov_macros::Mechanism;
 pub use filippov_runtime as runtime;
 pub use filippov_runtime::kernels::{
-    Bias, Christoffel, Coriolis, Energy, Gravity, InverseDynamics, PassiveForces,
+    Bias, Christoffel, Coriolis, Energy, FrameId, Gravity, InverseDynamics, Kinematics,
+    PassiveForces,
 };
 pub use filippov_runtime::liegroup::LieMechanism;
 pub use filippov_runtime::system::{ForwardJacobian, Mechanism};
@@ -93,8 +98,8 @@ pub use nalgebra;
 /// fixed-size vectors.
 pub mod prelude {
     pub use crate::{
-        Bias, Christoffel, Coriolis, Energy, ForwardJacobian, Gravity, InverseDynamics,
-        LieMechanism, Mechanism, PassiveForces,
+        Bias, Christoffel, Coriolis, Energy, ForwardJacobian, FrameId, Gravity, InverseDynamics,
+        Kinematics, LieMechanism, Mechanism, PassiveForces,
     };
     pub use nalgebra::{SMatrix, SVector};
 }

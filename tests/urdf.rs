@@ -82,6 +82,21 @@ fn panda_from_urdf_matches_the_numeric_reader() {
     );
     against_numeric(&PandaUrdf, &model, 11);
     common::check(&PandaUrdf, 12);
+    // The file's massless tool frame is left out of the dynamics but, with kinematics
+    // asked for, is a frame: 0.1034 along the hand's z.
+    let (hand, tcp) = (
+        PandaUrdf::frame("panda_hand").expect("a body"),
+        PandaUrdf::frame("panda_hand_tcp").expect("the URDF's tool frame"),
+    );
+    let mut rng = common::Rng::new(13);
+    for _ in 0..5 {
+        let q: SVector<f64, 7> = rng.vector(2.0);
+        let expected = PandaUrdf.frame_pose(hand, &q)
+            * filippov::nalgebra::Translation3::new(0.0, 0.0, 0.1034);
+        let got = PandaUrdf.frame_pose(tcp, &q);
+        assert!((got.translation.vector - expected.translation.vector).norm() < 1e-14);
+        assert!(got.rotation.angle_to(&expected.rotation) < 1e-14);
+    }
 }
 
 #[test]
@@ -172,6 +187,7 @@ fn solo12_with_a_free_base_matches_the_numeric_reader() {
             rel(b.as_slice(), numeric::bias(&model, &qd, &vd).as_slice()) < 1e-12,
             "C v + g"
         );
+        common::check_kinematics_lie(&Solo12, &model, &q, &v);
         let fd = Solo12.forward_dynamics(&q, &v, &tau);
         let fd_ref = numeric::forward_dynamics(
             &model,

@@ -7,7 +7,7 @@ use proc_macro::TokenStream;
 #[proc_macro_derive(
     Mechanism,
     attributes(
-        mechanism, body, joint, spring, damper, friction, bingham, stop, urdf_param
+        mechanism, body, joint, spring, damper, friction, bingham, stop, frame, urdf_param
     )
 )]
 pub fn derive_mechanism(input: TokenStream) -> TokenStream {

@@ -19,12 +19,17 @@
 //! | `delassus` | inherent | `delassus` (scenes with non-smooth elements) |
 //! | `dae_residuals` | inherent | `momentum_residual`, `constitutive_residual` |
 //! | `switching_functions` | inherent | `switching_functions` |
+//! | `kinematics` (or any `#[frame]`) | [`Kinematics`] | `frame_pose`, `frame_jacobian`, `frame_velocity` |
 //!
 //! The traits take the number of velocity coordinates `N` and of configuration slots
 //! `NQ` (equal to `N` unless the scene has spherical or free joints, whose quaternions
 //! take four slots for three velocities).
 
-use nalgebra::{SMatrix, SVector};
+use std::marker::PhantomData;
+
+use nalgebra::{
+    Isometry3, Matrix3, Rotation3, SMatrix, SVector, Translation3, UnitQuaternion, Vector3,
+};
 
 /// Christoffel symbols of the first kind, `#[mechanism(emit = [christoffel])]`.
 #[diagnostic::on_unimplemented(
@@ -113,4 +118,122 @@ pub trait Energy<const N: usize, const NQ: usize = N> {
     fn total_energy(&self, q: &SVector<f64, NQ>, v: &SVector<f64, N>) -> f64 {
         self.kinetic_energy(q, v) + self.potential_energy(q)
     }
+}
+
+/// A frame of scene `M`: one of its bodies or a frame it declares with `#[frame(…)]`.
+/// Obtained from [`Kinematics::frame`] (by name) or [`Kinematics::frame_at`] (by
+/// index), so it is always valid for `M`; look it up once and keep it.
+pub struct FrameId<M: ?Sized> {
+    index: usize,
+    scene: PhantomData<fn() -> M>,
+}
+
+impl<M: ?Sized> FrameId<M> {
+    /// The frame's position in [`Kinematics::FRAMES`].
+    pub fn index(self) -> usize {
+        self.index
+    }
+}
+
+impl<M: ?Sized> Clone for FrameId<M> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<M: ?Sized> Copy for FrameId<M> {}
+impl<M: ?Sized> PartialEq for FrameId<M> {
+    fn eq(&self, o: &Self) -> bool {
+        self.index == o.index
+    }
+}
+impl<M: ?Sized> Eq for FrameId<M> {}
+impl<M: ?Sized> std::hash::Hash for FrameId<M> {
+    fn hash<H: std::hash::Hasher>(&self, h: &mut H) {
+        self.index.hash(h)
+    }
+}
+impl<M: ?Sized> std::fmt::Debug for FrameId<M> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "FrameId({})", self.index)
+    }
+}
+
+/// Forward kinematics, `#[mechanism(emit = [kinematics])]` or any `#[frame(…)]`: the
+/// world pose and the Jacobian of every body and declared frame, generated per frame
+/// as straight-line code (one `sin`/`cos` per joint on the frame's path, nothing for
+/// joints off it).
+///
+/// ```ignore
+/// let tool = Arm::frame("tool").expect("declared with #[frame(tool, …)]");
+/// let pose = arm.frame_pose(tool, &q);          // nalgebra::Isometry3<f64>
+/// let j = arm.frame_jacobian(tool, &q);         // 6 × N: ṗ then ω, world axes
+/// let (p_dot, omega) = arm.frame_velocity(tool, &q, &v);
+/// ```
+///
+/// The Jacobian follows Pinocchio's `LOCAL_WORLD_ALIGNED` convention: rows 0–2 map the
+/// velocity coordinates `v` to the velocity of the frame's origin, rows 3–5 to its
+/// angular velocity, both in world axes. For spherical and free joints `v` holds their
+/// body angular velocities (and, for a free joint, the world velocity of its origin),
+/// as everywhere in the runtime.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` has no forward kinematics: it is emitted only on request",
+    label = "needs `frame_pose` / `frame_jacobian`",
+    note = "add `emit = [kinematics]` (or `emit = all`) to the scene's `#[mechanism(...)]`, or declare a frame with `#[frame(name, parent = <body>, origin = [x, y, z])]`"
+)]
+pub trait Kinematics<const N: usize, const NQ: usize = N>: Sized {
+    /// Frame names: the bodies in the scene's tree order, then the declared frames.
+    const FRAMES: &'static [&'static str];
+
+    /// The frame called `name` (a body or a declared frame), or `None`.
+    fn frame(name: &str) -> Option<FrameId<Self>> {
+        Self::FRAMES
+            .iter()
+            .position(|f| *f == name)
+            .map(|index| FrameId {
+                index,
+                scene: PhantomData,
+            })
+    }
+
+    /// The frame at `index` in [`FRAMES`](Self::FRAMES), or `None` past its end.
+    fn frame_at(index: usize) -> Option<FrameId<Self>> {
+        (index < Self::FRAMES.len()).then_some(FrameId {
+            index,
+            scene: PhantomData,
+        })
+    }
+
+    /// The frame's pose in the world: `p_world = pose * p_frame`.
+    fn frame_pose(&self, frame: FrameId<Self>, q: &SVector<f64, NQ>) -> Isometry3<f64>;
+
+    /// `J(q)` with `(ṗ, ω) = J v`: rows 0–2 the velocity of the frame's origin, rows
+    /// 3–5 its angular velocity, world axes (columns of joints off the frame's path are
+    /// zero).
+    fn frame_jacobian(&self, frame: FrameId<Self>, q: &SVector<f64, NQ>) -> SMatrix<f64, 6, N>;
+
+    /// `(ṗ, ω)`: the world velocity of the frame's origin and its angular velocity.
+    fn frame_velocity(
+        &self,
+        frame: FrameId<Self>,
+        q: &SVector<f64, NQ>,
+        v: &SVector<f64, N>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let t = self.frame_jacobian(frame, q) * v;
+        (
+            t.fixed_rows::<3>(0).into_owned(),
+            t.fixed_rows::<3>(3).into_owned(),
+        )
+    }
+}
+
+/// The pose of a generated rotation (row-major) and origin; used by the generated
+/// `frame_pose`.
+#[doc(hidden)]
+#[inline]
+pub fn isometry(r: [f64; 9], p: [f64; 3]) -> Isometry3<f64> {
+    let m = Matrix3::new(r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8]);
+    Isometry3::from_parts(
+        Translation3::new(p[0], p[1], p[2]),
+        UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(m)),
+    )
 }

@@ -74,6 +74,7 @@ pub trait AllKernels<const N: usize>:
     + PassiveForces<N>
     + InverseDynamics<N>
     + Energy<N>
+    + Kinematics<N>
 {
 }
 impl<S, const N: usize> AllKernels<N> for S where
@@ -85,6 +86,7 @@ impl<S, const N: usize> AllKernels<N> for S where
         + PassiveForces<N>
         + InverseDynamics<N>
         + Energy<N>
+        + Kinematics<N>
 {
 }
 
@@ -258,6 +260,8 @@ pub fn check<S: AllKernels<N>, const N: usize>(sys: &S, seed: u64) {
             "∂v̇/∂v vs finite differences",
         );
 
+        check_kinematics(sys, &model, &q, &v, |s| q + v * s);
+
         // Power balance: d(T + U)/dt = vᵀ (τ + τ_damping), by central differences along
         // the flow (q̇ = v, v̇ = FD).
         let energy = |q: &SVector<f64, N>, v: &SVector<f64, N>| {
@@ -277,4 +281,102 @@ pub fn check<S: AllKernels<N>, const N: usize>(sys: &S, seed: u64) {
             "dE/dt = {de}, power = {power}"
         );
     }
+}
+
+/// Forward kinematics of every frame at `q`: the bodies' poses against the numeric
+/// model's `link_poses`, and every frame's Jacobian against central differences of its
+/// generated pose along the flow of `v` (ṗ from the origins, ω from
+/// `R(q + h v) R(q − h v)ᵀ`); `flow(s)` is the configuration reached from `q` moving
+/// with velocity `v` for time `s`.
+pub fn check_kinematics<S: Kinematics<N, NQ>, const N: usize, const NQ: usize>(
+    sys: &S,
+    model: &numeric::Model,
+    q: &SVector<f64, NQ>,
+    v: &SVector<f64, N>,
+    flow: impl Fn(f64) -> SVector<f64, NQ>,
+) {
+    let poses = numeric::link_poses(model, &DVector::from_column_slice(q.as_slice()));
+    let mut bodies = 0;
+    for (i, name) in S::FRAMES.iter().enumerate() {
+        let f = S::frame_at(i).expect("in range");
+        assert_eq!(S::frame(name), Some(f), "frame `{name}` by name");
+        let pose = sys.frame_pose(f, q);
+        if let Some(li) = model.links.iter().position(|l| l.name == *name) {
+            bodies += 1;
+            let r = pose.rotation.to_rotation_matrix().into_inner();
+            assert_close(
+                r.as_slice(),
+                poses[li].rotation.as_slice(),
+                1e-13,
+                1.0,
+                &format!("rotation of `{name}` vs numeric"),
+            );
+            assert_close(
+                pose.translation.vector.as_slice(),
+                poses[li].translation.as_slice(),
+                1e-13,
+                1.0,
+                &format!("origin of `{name}` vs numeric"),
+            );
+        }
+        let h = 1e-6;
+        let (pp, pm) = (sys.frame_pose(f, &flow(h)), sys.frame_pose(f, &flow(-h)));
+        let pdot = (pp.translation.vector - pm.translation.vector) / (2.0 * h);
+        let omega = (pp.rotation * pm.rotation.inverse()).scaled_axis() / (2.0 * h);
+        let j = sys.frame_jacobian(f, q);
+        let twist = j * v;
+        let fd: Vec<f64> = pdot.iter().chain(omega.iter()).copied().collect();
+        assert_close(
+            twist.as_slice(),
+            &fd,
+            1e-7,
+            1.0,
+            &format!("J v of `{name}` vs central differences of its pose"),
+        );
+        let (lin, ang) = sys.frame_velocity(f, q, v);
+        assert_eq!(lin.as_slice(), &twist.as_slice()[..3]);
+        assert_eq!(ang.as_slice(), &twist.as_slice()[3..]);
+    }
+    assert_eq!(S::frame("no such frame"), None);
+    assert_eq!(S::frame_at(S::FRAMES.len()), None);
+    // The translation half of a free joint is a massless link of its own, internal.
+    let numeric_bodies = model
+        .links
+        .iter()
+        .filter(|l| !matches!(l.joint, numeric::JointKind::Translation))
+        .count();
+    assert_eq!(
+        bodies, numeric_bodies,
+        "every body of the numeric model is a frame"
+    );
+}
+
+/// [`check_kinematics`] for a scene with spherical or free joints: the flow turns each
+/// quaternion by its body angular velocity (`q ⊗ exp(s ω)`) and moves every other slot
+/// by its velocity.
+pub fn check_kinematics_lie<S, const N: usize, const NQ: usize>(
+    sys: &S,
+    model: &numeric::Model,
+    q: &SVector<f64, NQ>,
+    v: &SVector<f64, N>,
+) where
+    S: Kinematics<N, NQ> + LieMechanism<N, NQ>,
+{
+    use filippov::nalgebra::Vector3;
+    use filippov::runtime::UnitQuat;
+    let flow = |s: f64| {
+        let mut x = *q;
+        for &(slot, c) in S::ROTATIONS {
+            let r =
+                UnitQuat::try_new(q[slot], q[slot + 1], q[slot + 2], q[slot + 3]).expect("unit");
+            let w = Vector3::new(v[c], v[c + 1], v[c + 2]) * s;
+            let turned = (r * UnitQuat::exp(&w)).coords();
+            x.fixed_rows_mut::<4>(slot).copy_from_slice(&turned);
+        }
+        for &(slot, c) in S::EUCLID {
+            x[slot] = q[slot] + s * v[c];
+        }
+        x
+    };
+    check_kinematics(sys, model, q, v, flow);
 }

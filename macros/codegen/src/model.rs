@@ -249,6 +249,20 @@ pub struct Model {
     /// The URDF file the scene was read from (absolute), so that the expansion can make
     /// cargo rebuild when it changes.
     pub urdf_file: Option<std::path::PathBuf>,
+    /// Frames declared with `#[frame(…)]` (tool points, sensors), each fixed to a link.
+    pub frames: Vec<Frame>,
+}
+
+/// A frame fixed to a link: `link · Trans(origin) · Rot(rpy)` (URDF convention), a
+/// frame declared on another frame already composed onto that frame's link.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    pub name: String,
+    /// The link it is fixed to; `None`: the world.
+    pub link: Option<usize>,
+    /// Offsets from the link frame outwards, applied in order (one per frame in the
+    /// chain from the link to this frame).
+    pub offsets: Vec<(Vec3, Vec3)>,
 }
 
 /// Kernels the integrators do not call, emitted only when the scene asks for them by
@@ -267,11 +281,12 @@ pub struct Emit {
     pub delassus: bool,
     pub dae_residuals: bool,
     pub switching_functions: bool,
+    pub kinematics: bool,
 }
 
 impl Emit {
     /// Every name `emit = [...]` accepts, with what it adds.
-    pub const NAMES: [(&'static str, &'static str); 10] = [
+    pub const NAMES: [(&'static str, &'static str); 11] = [
         ("christoffel", "`christoffel_symbols` (trait `Christoffel`)"),
         ("coriolis", "`coriolis_matrix` (trait `Coriolis`)"),
         ("gravity", "`gravity` (trait `Gravity`)"),
@@ -293,6 +308,10 @@ impl Emit {
         (
             "switching_functions",
             "`switching_functions` (scenes with non-smooth elements)",
+        ),
+        (
+            "kinematics",
+            "`frame_pose` and `frame_jacobian` of every body and `#[frame]` (trait `Kinematics`)",
         ),
     ];
 
@@ -317,6 +336,7 @@ impl Emit {
             "delassus" => &mut self.delassus,
             "dae_residuals" => &mut self.dae_residuals,
             "switching_functions" => &mut self.switching_functions,
+            "kinematics" => &mut self.kinematics,
             _ => return false,
         };
         *flag = true;

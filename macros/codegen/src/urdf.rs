@@ -12,7 +12,9 @@
 //! - `<inertial>`: mass, centre of mass and the inertia about it, rotated from the
 //!   inertial frame into the link frame (`I = R I₀ Rᵀ`); a link without `<inertial>`
 //!   has no mass (an intermediate frame); a massless leaf on a fixed joint (a tool or
-//!   sensor frame) carries nothing and is left out;
+//!   sensor frame) carries nothing and is left out of the dynamics — with
+//!   `emit = [kinematics]` (or `all`) it becomes a `#[frame]`, so its pose and Jacobian
+//!   are there;
 //! - `lock = [joint, …]` holds joints at zero (fixed): a gripper's fingers, a `<mimic>`;
 //! - `limits = stops(restitution = e)` or `limits = support(k = k)` turns each
 //!   `<limit lower upper>` of a revolute or prismatic joint into a two-sided stop;
@@ -43,6 +45,9 @@ pub struct UrdfOptions {
     /// Joints held at zero (made fixed), by their URDF names: a gripper's fingers, or a
     /// `<mimic>` joint.
     lock: Vec<String>,
+    /// Whether the scene asks for forward kinematics (`emit = [kinematics]` or `all`):
+    /// then the massless leaves (tool and sensor frames) become `#[frame]`s.
+    frames: bool,
 }
 
 /// Takes `urdf = "…"` and its options off the mechanism attribute: `Ok(None)` without
@@ -141,6 +146,17 @@ pub fn take_options(raw: &mut RawAttr, diag: &mut Diagnostics) -> Result<Option<
             }
         },
     };
+    // `emit` itself is read (and checked) with the other `#[mechanism]` options.
+    let frames = raw.args.iter().any(|(k, e)| {
+        k == "emit"
+            && match strip(e) {
+                Expr::Array(a) => a
+                    .elems
+                    .iter()
+                    .any(|x| ident_of(x).is_some_and(|i| i == "kinematics")),
+                other => ident_of(other).is_some_and(|i| i == "all"),
+            }
+    });
     Ok(Some(UrdfOptions {
         path,
         limits: limits.map(|(_, e)| e),
@@ -148,6 +164,7 @@ pub fn take_options(raw: &mut RawAttr, diag: &mut Diagnostics) -> Result<Option<
         damping,
         free_base,
         lock,
+        frames,
     }))
 }
 
@@ -622,6 +639,20 @@ fn translate_file(
     for j in &order {
         let child = j.child.link.as_str();
         if !carries[child] {
+            // A tool or sensor frame: kept as a frame when kinematics is asked for.
+            if opts.frames {
+                let parent = if j.parent.link == world_body && !opts.free_base {
+                    "world".to_string()
+                } else {
+                    ident(&j.parent.link)
+                };
+                out.push_str(&format!(
+                    "#[frame({}, parent = {parent}, origin = {}, rpy = {})]\n",
+                    ident(child),
+                    vec3(j.origin.xyz.0),
+                    vec3(j.origin.rpy.0)
+                ));
+            }
             continue;
         }
         let jn = ident(&j.name);

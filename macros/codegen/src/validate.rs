@@ -75,6 +75,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let mut joints = Vec::new();
     let mut element_attrs = Vec::new();
     let mut nonsmooth_attrs = Vec::new();
+    let mut frame_attrs = Vec::new();
     let mut claimed: Vec<Ident> = Vec::new();
     for mut raw in raws {
         match raw.family {
@@ -145,6 +146,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
             }
             Family::Spring | Family::Damper => element_attrs.push(raw),
             Family::Friction | Family::Bingham | Family::Stop => nonsmooth_attrs.push(raw),
+            Family::Frame => frame_attrs.push(raw),
         }
     }
     check_unique(bodies.iter().map(|b| &b.name), "body", diag);
@@ -170,6 +172,9 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         }
     }
     let elements = crate::nonsmooth::read(nonsmooth_attrs, &links, &names, diag);
+    let frames = read_frames(frame_attrs, &links, &names, diag);
+    // Declaring a frame is asking for its pose.
+    emit.kinematics |= !frames.is_empty();
     let inputs = match &inputs_expr {
         Some(e) => read_inputs(e, &links, diag),
         None => Vec::new(),
@@ -212,7 +217,158 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         krate,
         emit,
         urdf_file,
+        frames,
     })
+}
+
+/// `#[frame(tool, parent = hand, origin = [x, y, z], rpy = [r, p, y])]`: frames fixed to
+/// a body (or to another frame, or the world), whose poses and Jacobians the
+/// `Kinematics` kernel gives. Names must differ from the bodies' (bodies are frames too).
+fn read_frames(
+    raws: Vec<RawAttr>,
+    links: &[Link],
+    names: &[String],
+    diag: &mut Diagnostics,
+) -> Vec<crate::model::Frame> {
+    struct Raw {
+        name: Ident,
+        parent: Ident,
+        origin: Vec3,
+        rpy: Vec3,
+    }
+    let bodies: Vec<&str> = links
+        .iter()
+        .filter(|l| l.kind != JointKind::Translation)
+        .map(|l| l.name.as_str())
+        .collect();
+    let mut read: Vec<Raw> = Vec::new();
+    for mut raw in raws {
+        let Some(name) = raw.name.clone() else {
+            continue;
+        };
+        let mut ok = true;
+        if let Some(h) = &raw.head {
+            diag.error_at(
+                h,
+                format_args!("a frame takes no `: kind`; write `#[frame({name}, parent = <body>, origin = [x, y, z])]`"),
+            );
+            ok = false;
+        }
+        if name == "world" {
+            diag.error_at(
+                &name,
+                "`world` is the fixed frame and is always there; name the frame differently",
+            );
+            ok = false;
+        } else if bodies.iter().any(|b| name == b) {
+            diag.error_at(
+                &name,
+                format_args!("`{name}` is a body, and every body is already a frame; give the frame its own name"),
+            );
+            ok = false;
+        } else if read.iter().any(|r| r.name == name) {
+            diag.error_at(
+                &name,
+                format_args!(
+                    "a frame named `{name}` is already declared; give each frame its own name"
+                ),
+            );
+            ok = false;
+        }
+        let parent = match raw.take("parent", diag) {
+            Some((_, e)) => match ident_of(&e) {
+                Some(i) => Some(i.clone()),
+                None => {
+                    diag.error_at(&e, "`parent` must be a body name, a frame name or `world`");
+                    None
+                }
+            },
+            None => {
+                diag.error_at(
+                    &name,
+                    format_args!(
+                        "frame `{name}` has no parent; add `parent = <body>` (or `world`)"
+                    ),
+                );
+                None
+            }
+        };
+        let origin = raw
+            .take("origin", diag)
+            .and_then(|(_, e)| vec3(&e, "origin", names, diag))
+            .unwrap_or_else(zero3);
+        let rpy = raw
+            .take("rpy", diag)
+            .and_then(|(_, e)| vec3(&e, "rpy", names, diag))
+            .unwrap_or_else(zero3);
+        raw.reject_rest(&["parent", "origin", "rpy"], diag);
+        if let (true, Some(parent)) = (ok, parent) {
+            read.push(Raw {
+                name,
+                parent,
+                origin,
+                rpy,
+            });
+        }
+    }
+    // Resolve parents: a body, the world, or a frame (followed to its body).
+    let mut out = Vec::new();
+    'frames: for r in &read {
+        let mut offsets = vec![(r.origin.clone(), r.rpy.clone())];
+        let mut at = &r.parent;
+        for _ in 0..=read.len() {
+            if at == "world" {
+                offsets.reverse();
+                out.push(crate::model::Frame {
+                    name: r.name.to_string(),
+                    link: None,
+                    offsets,
+                });
+                continue 'frames;
+            }
+            if let Some(li) = links
+                .iter()
+                .position(|l| l.kind != JointKind::Translation && *at == l.name)
+            {
+                offsets.reverse();
+                out.push(crate::model::Frame {
+                    name: r.name.to_string(),
+                    link: Some(li),
+                    offsets,
+                });
+                continue 'frames;
+            }
+            match read.iter().find(|f| f.name == *at) {
+                Some(f) => {
+                    offsets.push((f.origin.clone(), f.rpy.clone()));
+                    at = &f.parent;
+                }
+                None => {
+                    let frames: Vec<String> =
+                        read.iter().map(|f| format!("`{}`", f.name)).collect();
+                    let bodies: Vec<String> = bodies.iter().map(|b| format!("`{b}`")).collect();
+                    diag.error_at(
+                        &r.parent,
+                        format_args!(
+                            "no body or frame named `{at}`; a frame hangs from `world`, a body ({}){}",
+                            bodies.join(", "),
+                            if frames.is_empty() {
+                                String::new()
+                            } else {
+                                format!(" or a frame ({})", frames.join(", "))
+                            }
+                        ),
+                    );
+                    continue 'frames;
+                }
+            }
+        }
+        diag.error_at(
+            &r.parent,
+            format_args!("frame `{}` hangs from a loop of frames; one of them must hang from a body or `world`", r.name),
+        );
+    }
+    out
 }
 
 /// `emit = [coriolis, energy, …]` or `emit = all`: the optional kernels to emit.

@@ -235,6 +235,12 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         kernel("Energy", body);
     }
 
+    if !k.frames.is_empty() {
+        let (body, frame_helpers) = frames_impl(model, k, &mut stats);
+        helpers.extend(frame_helpers);
+        kernel("Kinematics", body);
+    }
+
     let names: Vec<Literal> = model
         .joint_names()
         .iter()
@@ -310,6 +316,115 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         }
     };
     (code, stats)
+}
+
+/// The `Kinematics` kernel: one private method per frame for its pose and one for its
+/// Jacobian (each straight-line code for that frame alone), and the trait methods that
+/// dispatch on the frame id.
+fn frames_impl(model: &Model, k: &Kernels, stats: &mut Vec<FnStats>) -> (TokenStream, TokenStream) {
+    let (n, nq) = (k.dof, model.config_dim());
+    let g = &k.graph;
+    let mut helpers = TokenStream::new();
+    let mut pose_arms = Vec::new();
+    let mut jac_arms = Vec::new();
+    let (mut pose_lets, mut jac_lets) = (0, 0);
+    let last = k.frames.len() - 1;
+    for (i, f) in k.frames.iter().enumerate() {
+        let doc = format!(" World pose of frame `{}`.", f.name);
+        let sig = Signature {
+            vis: quote!(),
+            elements: 0,
+            name: format_ident!("__filippov_frame_pose_{}", i),
+            inputs: vec![InputKind::Q],
+            ret: quote!(::filippov::nalgebra::Isometry3<f64>),
+            doc,
+        };
+        let e = emit(g, &model.params, (n, nq), &sig, &f.pose, &|o: Vec<
+            TokenStream,
+        >| {
+            let (r, p) = o.split_at(9);
+            quote!(::filippov::runtime::kernels::isometry([#(#r),*], [#(#p),*]))
+        });
+        pose_lets += e.lets;
+        helpers.extend(e.method);
+        helpers.extend(e.helpers);
+        let doc = format!(
+            " Jacobian of frame `{}`: rows `ṗ` then `ω`, world axes.",
+            f.name
+        );
+        let sig = Signature {
+            vis: quote!(),
+            elements: 0,
+            name: format_ident!("__filippov_frame_jacobian_{}", i),
+            inputs: vec![InputKind::Q],
+            ret: quote!(::filippov::nalgebra::SMatrix<f64, 6, #n>),
+            doc,
+        };
+        let e = emit(g, &model.params, (n, nq), &sig, &f.jacobian, &|o: Vec<
+            TokenStream,
+        >| {
+            let cols: Vec<TokenStream> = (0..n)
+                .map(|j| {
+                    let col = (0..6).map(|r| &o[r * n + j]);
+                    quote!([#(#col),*])
+                })
+                .collect();
+            quote!(::filippov::nalgebra::SMatrix::<f64, 6, #n>::from([#(#cols),*]))
+        });
+        jac_lets += e.lets;
+        helpers.extend(e.method);
+        helpers.extend(e.helpers);
+        let (pose, jac) = (
+            format_ident!("__filippov_frame_pose_{}", i),
+            format_ident!("__filippov_frame_jacobian_{}", i),
+        );
+        // The last frame takes every other index too: ids come only from `frame` and
+        // `frame_at`, which check the range, so no arm can panic.
+        let pat = if i == last { quote!(_) } else { quote!(#i) };
+        pose_arms.push(quote!(#pat => self.#pose(q)));
+        jac_arms.push(quote!(#pat => self.#jac(q)));
+    }
+    let poses: Vec<Id> = k
+        .frames
+        .iter()
+        .flat_map(|f| f.pose.iter().copied())
+        .collect();
+    let jacs: Vec<Id> = k
+        .frames
+        .iter()
+        .flat_map(|f| f.jacobian.iter().copied())
+        .collect();
+    stats.push(FnStats {
+        name: "frame_pose",
+        ops: g.count_ops(&poses),
+        lets: pose_lets,
+    });
+    stats.push(FnStats {
+        name: "frame_jacobian",
+        ops: g.count_ops(&jacs),
+        lets: jac_lets,
+    });
+    let names = k.frames.iter().map(|f| f.name.as_str());
+    let body = quote! {
+        const FRAMES: &'static [&'static str] = &[#(#names),*];
+        #[inline]
+        fn frame_pose(
+            &self,
+            frame: ::filippov::runtime::kernels::FrameId<Self>,
+            q: &::filippov::nalgebra::SVector<f64, #nq>,
+        ) -> ::filippov::nalgebra::Isometry3<f64> {
+            match frame.index() { #(#pose_arms,)* }
+        }
+        #[inline]
+        fn frame_jacobian(
+            &self,
+            frame: ::filippov::runtime::kernels::FrameId<Self>,
+            q: &::filippov::nalgebra::SVector<f64, #nq>,
+        ) -> ::filippov::nalgebra::SMatrix<f64, 6, #n> {
+            match frame.index() { #(#jac_arms,)* }
+        }
+    };
+    (body, helpers)
 }
 
 /// The actuated coordinates and the map `u ↦ τ` (zero on passive joints); nothing when

@@ -21,12 +21,12 @@ pub struct Kinematics {
     pub subspace: Vec<Vec<Motion>>,
 }
 
-fn lower3(g: &mut Graph, v: &[PExpr; 3]) -> V3 {
+pub fn lower3(g: &mut Graph, v: &[PExpr; 3]) -> V3 {
     [v[0].lower(g), v[1].lower(g), v[2].lower(g)]
 }
 
 /// `Rz(yaw) Ry(pitch) Rx(roll)`.
-fn rpy_rotation(g: &mut Graph, rpy: &[PExpr; 3]) -> M3 {
+pub fn rpy_rotation(g: &mut Graph, rpy: &[PExpr; 3]) -> M3 {
     let mut r = identity(g);
     for (k, axis) in [
         (2, [0.0, 0.0, 1.0]),

@@ -8,11 +8,13 @@
 //! - Christoffel symbols and the Coriolis matrix: [`christoffel`] (derivatives of `M`
 //!   along the local exponential coordinates of [`chart`]);
 //! - forward dynamics: [`ltdl`] (sparse `LᵀDL` of `M`) applied to `τ + τ_p − bias`;
-//! - its Jacobian: `∂v̇/∂x = −M⁻¹ ∂ID/∂x` at `a = v̇` ([`Kernels::build`]).
+//! - its Jacobian: `∂v̇/∂x = −M⁻¹ ∂ID/∂x` at `a = v̇` ([`Kernels::build`]);
+//! - world poses and Jacobians of bodies and `#[frame]`s: [`frames`].
 
 pub mod chart;
 pub mod christoffel;
 pub mod crba;
+pub mod frames;
 pub mod gravity;
 pub mod kinematics;
 pub mod ltdl;
@@ -49,6 +51,9 @@ pub struct Kernels {
     pub inverse_mass: Option<Vec<Vec<Id>>>,
     /// For scenes with non-smooth elements: see [`ElementKernels`].
     pub elements: Option<ElementKernels>,
+    /// Poses and Jacobians of every body and declared frame; built only when the
+    /// scene asks for `kinematics` (or declares a frame).
+    pub frames: Vec<frames::FrameKernel>,
 }
 
 /// What the derive emits for non-smooth elements besides their parameters.
@@ -255,6 +260,13 @@ impl Kernels {
             }
         });
 
+        // Last, so that the other kernels' code reads the same with or without frames.
+        let frames = if model.emit.kinematics {
+            frames::frames(&mut g, model, &kin)
+        } else {
+            Vec::new()
+        };
+
         Kernels {
             graph: g,
             dof: n,
@@ -271,6 +283,7 @@ impl Kernels {
             energy,
             inverse_mass,
             elements,
+            frames,
         }
     }
 }

@@ -25,10 +25,11 @@ pub enum Family {
     Friction,
     Bingham,
     Stop,
+    Frame,
 }
 
 impl Family {
-    pub const ALL: [(&'static str, Family); 8] = [
+    pub const ALL: [(&'static str, Family); 9] = [
         ("mechanism", Family::Mechanism),
         ("body", Family::Body),
         ("joint", Family::Joint),
@@ -37,6 +38,7 @@ impl Family {
         ("friction", Family::Friction),
         ("bingham", Family::Bingham),
         ("stop", Family::Stop),
+        ("frame", Family::Frame),
     ];
 
     fn of(path: &syn::Path) -> Option<Family> {

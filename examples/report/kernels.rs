@@ -13,7 +13,7 @@ use filippov_scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
 
 use super::config::Config;
 use super::markdown::{Page, sci};
-use super::timing::{median, ns_per_call};
+use super::timing::{Timing, median, ns_timed};
 use super::workprecision::Section;
 
 fn row<S: Mechanism<N> + Coriolis<N> + Gravity<N>, const N: usize>(
@@ -34,29 +34,39 @@ fn row<S: Mechanism<N> + Coriolis<N> + Gravity<N>, const N: usize>(
     );
     let (r, c) = (config.repeats.max(3), config.kernel_calls);
     let m = (
-        ns_per_call(r, c, || s.mass_matrix(bb(&q))),
-        ns_per_call(r, c / 10, || numeric::crba(&model, bb(&qd))),
+        ns_timed(r, c, || s.mass_matrix(bb(&q))),
+        ns_timed(r, c / 10, || numeric::crba(&model, bb(&qd))),
     );
     let cor = (
-        ns_per_call(r, c, || s.coriolis_matrix(bb(&q), bb(&v))),
-        ns_per_call(r, c / 50, || {
+        ns_timed(r, c, || s.coriolis_matrix(bb(&q), bb(&v))),
+        ns_timed(r, c / 50, || {
             numeric::coriolis_matrix(&model, bb(&qd), bb(&vd))
         }),
     );
     let g = (
-        ns_per_call(r, c, || s.gravity(bb(&q))),
-        ns_per_call(r, c / 10, || numeric::gravity(&model, bb(&qd))),
+        ns_timed(r, c, || s.gravity(bb(&q))),
+        ns_timed(r, c / 10, || numeric::gravity(&model, bb(&qd))),
     );
     let fd = (
-        ns_per_call(r, c, || s.forward_dynamics(bb(&q), bb(&v), bb(&tau))),
-        ns_per_call(r, c / 10, || {
+        ns_timed(r, c, || s.forward_dynamics(bb(&q), bb(&v), bb(&tau))),
+        ns_timed(r, c / 10, || {
             numeric::forward_dynamics(&model, bb(&qd), bb(&vd), bb(&td))
         }),
     );
-    let jac = ns_per_call(r, c / 4, || {
+    let jac = ns_timed(r, c / 4, || {
         s.forward_dynamics_jacobian(bb(&q), bb(&v), bb(&tau))
     });
-    let cell = |(a, b): (f64, f64)| format!("{a:.1} / {b:.1} ({:.1}×)", b / a);
+    // The ratio's range: slowest over fastest batch and the other way round.
+    let ratio = |(a, b): (Timing, Timing)| {
+        format!(
+            "{:.1}× ({:.1}–{:.1})",
+            b.median / a.median,
+            b.min / a.max,
+            b.max / a.min
+        )
+    };
+    let cell =
+        |(a, b): (Timing, Timing)| format!("{} / {} ({})", a.show(1), b.show(0), ratio((a, b)));
     rows.push(vec![
         name.into(),
         N.to_string(),
@@ -64,15 +74,24 @@ fn row<S: Mechanism<N> + Coriolis<N> + Gravity<N>, const N: usize>(
         cell(cor),
         cell(g),
         cell(fd),
-        format!("{jac:.1}"),
+        jac.show(1),
     ]);
     summary.push(format!(
         "{name}: generated forward dynamics {:.1} ns vs numeric {:.1} ns per call ({:.1}× faster)",
-        fd.0,
-        fd.1,
-        fd.1 / fd.0
+        fd.0.median,
+        fd.1.median,
+        fd.1.median / fd.0.median
     ));
-    fd.0
+    if name == "Panda" {
+        super::markdown::headline(
+            "Generated forward dynamics is faster than the numeric RNEA/CRBA (Panda, 7 dof)",
+            format!("{} ns", fd.0.show(1)),
+            format!("{} ns (numeric `runtime::numeric`)", fd.1.show(0)),
+            ratio(fd),
+            format!("ns per call, median (min–max) of {r} batches; same state"),
+        );
+    }
+    fd.0.median
 }
 
 /// The kernels section, with our forward-dynamics ns per call by model file name.
@@ -105,7 +124,7 @@ pub fn kernels(config: &Config) -> Kernels {
     ];
     page.h2("Kernels: generated against the numeric implementation");
     page.para(&format!(
-        "ns per call, generated / numeric (speed-up), median of batches of up to {} calls. The numeric implementation \
+        "ns per call, generated / numeric (speed-up), median (min–max) of batches of up to {} calls; the speed-up's range pairs the slowest batch of one with the fastest of the other. The numeric implementation \
          (`runtime::numeric`) is plain RNEA/CRBA over a runtime model with dynamic sizes; its Coriolis matrix uses exact \
          ∂M/∂q. The same comparison with divan: `cargo bench --bench kernels`.",
         config.kernel_calls

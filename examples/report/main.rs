@@ -56,9 +56,12 @@ pub use config::Config;
 pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     std::fs::create_dir_all(&config.out_dir)?;
     let progress = config.progress(11);
+    let load_before = timing::load();
+    let started = std::time::Instant::now();
     let mut page = markdown::Page::new("filippov report");
     page.para(&format!(
-        "Measured on this machine in one run ({} configuration; {}). Times are medians of {} runs after a warm-up. \
+        "Measured on this machine in one run ({} configuration; {}). Times are medians of {} runs after a warm-up; \
+         where a table shows `median (min–max)` the range is over those runs. \
          Every figure below comes from this run; rerun `cargo run --release --example report` to reproduce.",
         config.name,
         timing::machine(),
@@ -119,6 +122,31 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
         Default::default()
     };
     progress.finish_with_message("done");
+
+    let load_after = timing::load();
+    page.para(&format!(
+        "Machine load (1/5/15-minute averages) at the start {} and at the end {}; the run took {:.0} s. {}",
+        load_before.as_deref().unwrap_or("unknown"),
+        load_after.as_deref().unwrap_or("unknown"),
+        started.elapsed().as_secs_f64(),
+        timing::spread_note()
+    ));
+    let heads = markdown::headlines();
+    if !heads.is_empty() {
+        page.h2("Headline");
+        page.para(
+            "The claims this report measures, ours beside the peer or reference, with the ratio and what the figures rest on. \
+             Details and every run behind them follow.",
+        );
+        let body: Vec<Vec<String>> = heads
+            .into_iter()
+            .map(|h| vec![h.claim, h.ours, h.peer, h.ratio, h.basis])
+            .collect();
+        page.table(
+            &["claim", "ours", "peer / reference", "ratio", "basis"],
+            &body,
+        );
+    }
 
     page.h2("Summary");
     let mut summary = Vec::new();

@@ -85,3 +85,41 @@ pub fn sci(x: f64) -> String {
         format!("{x:.3}")
     }
 }
+
+/// One row of the report's headline table: a claim, our figure, the peer's or
+/// reference's, their ratio, and where the figures come from.
+#[derive(Clone, Debug)]
+pub struct Headline {
+    pub claim: String,
+    pub ours: String,
+    pub peer: String,
+    pub ratio: String,
+    pub basis: String,
+}
+
+static HEADLINES: std::sync::Mutex<Vec<Headline>> = std::sync::Mutex::new(Vec::new());
+
+/// Adds a row to the headline table (sections call this where they measure a claim).
+pub fn headline(
+    claim: impl Into<String>,
+    ours: impl Into<String>,
+    peer: impl Into<String>,
+    ratio: impl Into<String>,
+    basis: impl Into<String>,
+) {
+    HEADLINES
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push(Headline {
+            claim: claim.into(),
+            ours: ours.into(),
+            peer: peer.into(),
+            ratio: ratio.into(),
+            basis: basis.into(),
+        });
+}
+
+/// The headline rows recorded so far, in the order the sections ran.
+pub fn headlines() -> Vec<Headline> {
+    HEADLINES.lock().unwrap_or_else(|e| e.into_inner()).clone()
+}

@@ -477,6 +477,35 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
                 .filter(|r| r.solver.starts_with(prefix) && r.max_grid_error <= 1e-2)
                 .min_by(|a, b| a.time_ms.total_cmp(&b.time_ms))
         };
+        if let (Some(f), Some(g)) = (best("filippov"), best("diffsol")) {
+            super::markdown::headline(
+                format!("{scene}: fastest to a max grid error ≤ 1e-2, filippov against diffsol"),
+                format!(
+                    "{} at {}: {:.3} ms",
+                    f.solver.trim_start_matches("filippov "),
+                    f.setting,
+                    f.time_ms
+                ),
+                format!(
+                    "diffsol {} at {}: {:.3} ms",
+                    g.solver.trim_start_matches("diffsol "),
+                    g.setting,
+                    g.time_ms
+                ),
+                format!(
+                    "{:.2}× ({})",
+                    g.time_ms / f.time_ms,
+                    if f.time_ms <= g.time_ms {
+                        "filippov faster"
+                    } else {
+                        "diffsol faster"
+                    }
+                ),
+                format!(
+                    "same problem and harness in the peer program ({when}), medians of 5 runs; error against filippov DOPRI5 at rtol 1e-13"
+                ),
+            );
+        }
         match (best("filippov"), best("diffsol")) {
             (Some(f), Some(g)) => summary.push(format!(
                 "{scene}: fastest to a max grid error ≤ 1e-2 — filippov {} at {} ({:.3} ms) vs diffsol {} at {} ({:.3} ms): {:.1}× {}",
@@ -504,6 +533,35 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
                     })
                     .min_by(|a, b| a.time_ms.total_cmp(&b.time_ms))
             };
+            if let (Some(f), Some(g)) = (best("filippov"), best("diffsol")) {
+                super::markdown::headline(
+                    format!(
+                        "{scene}: stiff solvers, fastest to a max grid error ≤ {threshold:.0e}"
+                    ),
+                    format!(
+                        "{} at {}: {:.3} ms",
+                        f.solver.trim_start_matches("filippov "),
+                        f.setting,
+                        f.time_ms
+                    ),
+                    format!(
+                        "diffsol {} at {}: {:.3} ms",
+                        g.solver.trim_start_matches("diffsol "),
+                        g.setting,
+                        g.time_ms
+                    ),
+                    format!(
+                        "{:.2}× ({})",
+                        g.time_ms / f.time_ms,
+                        if f.time_ms <= g.time_ms {
+                            "filippov faster"
+                        } else {
+                            "diffsol faster"
+                        }
+                    ),
+                    format!("same problem and harness ({when}), medians of 5 runs"),
+                );
+            }
             match (best("filippov"), best("diffsol")) {
                 (Some(f), Some(g)) => summary.push(format!(
                     "{scene}, stiff solvers, fastest to a max grid error ≤ {threshold:.0e}: filippov {} at {} ({:.3} ms) vs diffsol {} at {} ({:.3} ms): {:.1}× faster ({})",

@@ -1,10 +1,54 @@
-//! Medians of repeated timings, after a warm-up.
+//! Medians of repeated timings, after a warm-up, with their spread; the machine and its
+//! load.
+//!
+//! Every timing taken through [`timed`] (and so [`median`] and [`ns_per_call`]) is also
+//! recorded, so that the report can say how much the repetitions of this run spread
+//! ([`spread_note`]): on a shared machine that is the honest error bar of every time.
 
+use std::sync::Mutex;
 use std::time::Instant;
 
-/// Median wall time in seconds of `f` over `repeats` runs after one warm-up run; also
-/// returns the last result.
-pub fn median<T>(repeats: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+/// The median of repeated runs and the fastest and slowest of them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timing {
+    pub median: f64,
+    pub min: f64,
+    pub max: f64,
+}
+
+impl Timing {
+    /// `(max − min) / median`.
+    pub fn spread(&self) -> f64 {
+        (self.max - self.min) / self.median
+    }
+
+    /// Scaled by `k` (units).
+    pub fn scaled(&self, k: f64) -> Timing {
+        Timing {
+            median: self.median * k,
+            min: self.min * k,
+            max: self.max * k,
+        }
+    }
+
+    /// `median (min–max)` with `digits` decimals, in the timing's units.
+    pub fn show(&self, digits: usize) -> String {
+        format!(
+            "{:.d$} ({:.d$}–{:.d$})",
+            self.median,
+            self.min,
+            self.max,
+            d = digits
+        )
+    }
+}
+
+/// Relative spreads of every timing of this run.
+static SPREADS: Mutex<Vec<f64>> = Mutex::new(Vec::new());
+
+/// Wall time in seconds of `f` over `repeats` runs after one warm-up run (median, min,
+/// max); also returns the last result.
+pub fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (Timing, T) {
     let mut out = f();
     let mut times = Vec::with_capacity(repeats);
     for _ in 0..repeats.max(1) {
@@ -13,18 +57,67 @@ pub fn median<T>(repeats: usize, mut f: impl FnMut() -> T) -> (f64, T) {
         times.push(t.elapsed().as_secs_f64());
     }
     times.sort_by(f64::total_cmp);
-    (times[times.len() / 2], out)
+    let timing = Timing {
+        median: times[times.len() / 2],
+        min: times[0],
+        max: times[times.len() - 1],
+    };
+    if times.len() >= 3 && timing.median > 0.0 {
+        SPREADS
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(timing.spread());
+    }
+    (timing, out)
 }
 
-/// Median ns per call of `f` over batches of `calls` calls.
-pub fn ns_per_call<T>(repeats: usize, calls: usize, mut f: impl FnMut() -> T) -> f64 {
+/// Median wall time in seconds of `f` over `repeats` runs after one warm-up run; also
+/// returns the last result. The spread is recorded (see [`spread_note`]).
+pub fn median<T>(repeats: usize, f: impl FnMut() -> T) -> (f64, T) {
+    let (t, out) = timed(repeats, f);
+    (t.median, out)
+}
+
+/// ns per call of `f` over batches of `calls` calls: median, min and max over batches.
+pub fn ns_timed<T>(repeats: usize, calls: usize, mut f: impl FnMut() -> T) -> Timing {
     let calls = calls.max(1);
-    let (t, _) = median(repeats, || {
+    let (t, _) = timed(repeats, || {
         for _ in 0..calls {
             std::hint::black_box(f());
         }
     });
-    t * 1e9 / calls as f64
+    t.scaled(1e9 / calls as f64)
+}
+
+/// Median ns per call of `f` over batches of `calls` calls.
+pub fn ns_per_call<T>(repeats: usize, calls: usize, f: impl FnMut() -> T) -> f64 {
+    ns_timed(repeats, calls, f).median
+}
+
+/// How much the repetitions of this run's timings spread: `(max − min) / median` over
+/// every timing with at least three repetitions.
+pub fn spread_note() -> String {
+    let mut s = SPREADS.lock().unwrap_or_else(|e| e.into_inner()).clone();
+    if s.is_empty() {
+        return "No timing of this run had three or more repetitions.".into();
+    }
+    s.sort_by(f64::total_cmp);
+    let q = |p: f64| s[((s.len() - 1) as f64 * p).round() as usize] * 100.0;
+    format!(
+        "Spread of the repetitions, (max − min)/median over the {} timings of this run: median {:.0} %, 90th percentile {:.0} %, largest {:.0} %. \
+         A ratio between two times differs from 1 meaningfully only beyond that.",
+        s.len(),
+        q(0.5),
+        q(0.9),
+        q(1.0)
+    )
+}
+
+/// The 1-, 5- and 15-minute load averages (Linux), or `None`.
+pub fn load() -> Option<String> {
+    let s = std::fs::read_to_string("/proc/loadavg").ok()?;
+    let v: Vec<&str> = s.split_whitespace().take(3).collect();
+    (v.len() == 3).then(|| format!("{} / {} / {}", v[0], v[1], v[2]))
 }
 
 /// A short description of the machine.

@@ -78,6 +78,7 @@ pub fn line_plot(
     };
     let (x0, x1) = pad(x0, x1, xs);
     let (y0, y1) = pad(y0, y1, ys);
+    let legend_corner = legend_corner(&all, (x0, x1, xs), (y0, y1, ys), series.len());
     let root = SVGBackend::new(path, (900, 560)).into_drawing_area();
     root.fill(&WHITE).expect("fill");
     macro_rules! body {
@@ -103,6 +104,7 @@ pub fn line_plot(
             }
             chart
                 .configure_series_labels()
+                .position(legend_corner)
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
                 .draw()
@@ -140,12 +142,60 @@ pub fn line_plot(
     root.present().expect("write plot");
 }
 
-/// A short tick label: `1e-6` rather than `9.999999999999999e-7`.
+/// The corner where the legend hides the fewest points: the legend box is taken as
+/// 40 % of the width and 6 % of the height per series (in the axes' own scale).
+fn legend_corner(
+    points: &[(f64, f64)],
+    (x0, x1, xs): (f64, f64, Scale),
+    (y0, y1, ys): (f64, f64, Scale),
+    n: usize,
+) -> SeriesLabelPosition {
+    let unit = |v: f64, a: f64, b: f64, s: Scale| match s {
+        Scale::Linear => (v - a) / (b - a),
+        Scale::Log => (v.ln() - a.ln()) / (b.ln() - a.ln()),
+    };
+    let (w, h) = (0.4, (0.06 * n as f64 + 0.04).min(0.9));
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let hidden = |right: bool, upper: bool| {
+        points
+            .iter()
+            .filter(|&&(x, y)| {
+                let (u, v) = (unit(x, x0, x1, xs), unit(y, y0, y1, ys));
+                (if right { u >= 1.0 - w } else { u <= w })
+                    && (if upper { v >= 1.0 - h } else { v <= h })
+            })
+            .count()
+    };
+    corners
+        .into_iter()
+        .min_by_key(|&(_, r, u)| hidden(r, u))
+        .map(|(p, _, _)| p)
+        .unwrap_or(SeriesLabelPosition::UpperRight)
+}
+
+/// A short tick label that tells neighbouring ticks apart: `1e-6` rather than
+/// `9.999999999999999e-7`, `1.5e4` beside `2e4` (not both `2e4`).
 fn tick(v: f64) -> String {
     if v == 0.0 {
         "0".into()
     } else if v.abs() < 1e-2 || v.abs() >= 1e4 {
-        format!("{v:.0e}")
+        let s = format!("{v:.2e}");
+        match s.split_once('e') {
+            Some((m, e)) => {
+                let m = if m.contains('.') {
+                    m.trim_end_matches('0').trim_end_matches('.')
+                } else {
+                    m
+                };
+                format!("{m}e{e}")
+            }
+            None => s,
+        }
     } else {
         let s = format!("{v:.3}");
         s.trim_end_matches('0').trim_end_matches('.').to_string()

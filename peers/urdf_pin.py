@@ -2,6 +2,11 @@
 loads the same URDF file, computes M, C v + g (nonLinearEffects) and ABA at the exported
 states and compares them with filippov's values; times ABA through the Python bindings.
 
+Frames: for every frame the report exported (the bodies and the file's tool frames of
+the generated forward kinematics), Pinocchio's framesForwardKinematics placement and
+computeFrameJacobian(LOCAL_WORLD_ALIGNED) on the frame of the same name, the Jacobian
+mapped to our velocity coordinates (J_ours = J_pin T).
+
 Usage: urdf_pin.py <dir with the robots' JSON> <output .tsv>
 
 A free base (`base = free` in filippov) is Pinocchio's free-flyer joint. The two use
@@ -59,7 +64,11 @@ def robot(d):
     P = np.zeros((nv, nv))
     for i, j in enumerate(perm):
         P[j, i] = 1.0
-    err_m = err_b = err_fd = 0.0
+    err_m = err_b = err_fd = err_pose = err_jac = 0.0
+    frame_ids = [model.getFrameId(f) for f in d.get("frames", [])]
+    missing = [f for f, i in zip(d.get("frames", []), frame_ids) if i >= model.nframes]
+    if missing:
+        print(f"{d['name']}: frames not in Pinocchio's model: {missing}")
     for s in d["states"]:
         q, v, tau = (np.array(s[k]) for k in ("q", "v", "tau"))
         n = len(v)
@@ -92,6 +101,18 @@ def robot(d):
         err_m = max(err_m, rel(np.array(s["m"]).reshape(n, n), M))
         err_b = max(err_b, rel(s["bias"], bias))
         err_fd = max(err_fd, rel(s["fd"], fd))
+        if frame_ids:
+            pin.framesForwardKinematics(model, data, q_pin)
+            pin.computeJointJacobians(model, data, q_pin)
+            for fid, ours in zip(frame_ids, s["fk"]):
+                if fid >= model.nframes:
+                    continue
+                ours = np.array(ours)
+                o = data.oMf[fid]
+                err_pose = max(err_pose, float(np.max(np.abs(ours[:9] - o.rotation.ravel()))),
+                               float(np.max(np.abs(ours[9:12] - o.translation))))
+                J = pin.getFrameJacobian(model, data, fid, pin.LOCAL_WORLD_ALIGNED) @ T
+                err_jac = max(err_jac, rel(ours[12:].reshape(6, n), J))
     # ABA through the bindings, median of 5 batches.
     s = d["states"][0]
     q, v, tau = (np.array(s[k]) for k in ("q", "v", "tau"))
@@ -103,17 +124,18 @@ def robot(d):
         for _ in range(calls):
             pin.aba(model, data, q, v, tau)
         times.append((time.perf_counter() - t0) / calls * 1e9)
-    return err_m, err_b, err_fd, sorted(times)[2], model.nv
+    return err_m, err_b, err_fd, sorted(times)[2], model.nv, err_pose, err_jac
 
 
 def main():
     src, out = sys.argv[1], sys.argv[2]
-    rows = ["robot\tM\tbias\tfd\taba_ns_python\tnv"]
+    rows = ["robot\tM\tbias\tfd\taba_ns_python\tnv\tframe_pose\tframe_jacobian"]
     for path in sorted(glob.glob(os.path.join(src, "*.json"))):
         d = json.load(open(path))
-        m, b, fd, ns, nv = robot(d)
-        print(f"{d['name']}: nv {nv}, max rel difference M {m:.2e}, C v + g {b:.2e}, FD {fd:.2e}; ABA {ns:.0f} ns (Python)")
-        rows.append(f"{d['name']}\t{m:e}\t{b:e}\t{fd:e}\t{ns:.1f}\t{nv}")
+        m, b, fd, ns, nv, fp, fj = robot(d)
+        print(f"{d['name']}: nv {nv}, max rel difference M {m:.2e}, C v + g {b:.2e}, FD {fd:.2e}; "
+              f"{len(d.get('frames', []))} frames: pose {fp:.2e}, Jacobian {fj:.2e}; ABA {ns:.0f} ns (Python)")
+        rows.append(f"{d['name']}\t{m:e}\t{b:e}\t{fd:e}\t{ns:.1f}\t{nv}\t{fp:e}\t{fj:e}")
     os.makedirs(os.path.dirname(out), exist_ok=True)
     open(out, "w").write("\n".join(rows) + "\n")
 

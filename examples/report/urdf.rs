@@ -23,16 +23,22 @@ use super::timing::{median, ns_per_call};
 #[mechanism(
     urdf = "robots/panda.urdf",
     lock = [panda_finger_joint1, panda_finger_joint2],
-    gravity = [0.0, 0.0, -9.81]
+    gravity = [0.0, 0.0, -9.81],
+    emit = [kinematics]
 )]
 struct PandaUrdf;
 
 #[derive(Mechanism)]
-#[mechanism(urdf = "robots/ur5.urdf", gravity = [0.0, 0.0, -9.81])]
+#[mechanism(urdf = "robots/ur5.urdf", gravity = [0.0, 0.0, -9.81], emit = [kinematics])]
 struct Ur5;
 
 #[derive(Mechanism)]
-#[mechanism(urdf = "robots/solo12.urdf", base = free, gravity = [0.0, 0.0, -9.81])]
+#[mechanism(
+    urdf = "robots/solo12.urdf",
+    base = free,
+    gravity = [0.0, 0.0, -9.81],
+    emit = [kinematics]
+)]
 struct Solo12;
 
 #[derive(Default)]
@@ -74,13 +80,43 @@ const ROBOTS: [Robot; 3] = [
     },
 ];
 
-/// One state with our values: `(q, v, tau, M row-major, C v + g, FD)`.
-type Sample = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
+/// One state with our values: `(q, v, tau, M row-major, C v + g, FD, frames)`, `frames`
+/// per frame its rotation (row-major), origin and Jacobian (row-major, `6 × N`).
+type Sample = (
+    Vec<f64>,
+    Vec<f64>,
+    Vec<f64>,
+    Vec<f64>,
+    Vec<f64>,
+    Vec<f64>,
+    Vec<Vec<f64>>,
+);
 
+/// Every frame's pose and Jacobian at `q`, flattened as in [`Sample`].
+fn frames<S: Kinematics<N, NQ>, const N: usize, const NQ: usize>(
+    s: &S,
+    q: &SVector<f64, NQ>,
+) -> Vec<Vec<f64>> {
+    (0..S::FRAMES.len())
+        .filter_map(S::frame_at)
+        .map(|f| {
+            let pose = s.frame_pose(f, q);
+            let r = pose.rotation.to_rotation_matrix().into_inner();
+            let j = s.frame_jacobian(f, q);
+            let mut out: Vec<f64> = (0..9).map(|k| r[(k / 3, k % 3)]).collect();
+            out.extend(pose.translation.vector.iter());
+            out.extend((0..6 * N).map(|k| j[(k / N, k % N)]));
+            out
+        })
+        .collect()
+}
+
+#[allow(clippy::type_complexity)]
 fn samples<const N: usize, const NQ: usize>(
     m: &dyn Fn(&SVector<f64, NQ>) -> Vec<f64>,
     bias: &dyn Fn(&SVector<f64, NQ>, &SVector<f64, N>) -> Vec<f64>,
     fd: &dyn Fn(&SVector<f64, NQ>, &SVector<f64, N>, &SVector<f64, N>) -> Vec<f64>,
+    fk: &dyn Fn(&SVector<f64, NQ>) -> Vec<Vec<f64>>,
     rotations: &[(usize, usize)],
 ) -> Vec<Sample> {
     let mut rng = Rng::new(2026);
@@ -102,6 +138,7 @@ fn samples<const N: usize, const NQ: usize>(
                 m(&q),
                 bias(&q, &v),
                 fd(&q, &v, &tau),
+                fk(&q),
             )
         })
         .collect()
@@ -120,7 +157,7 @@ fn rel(a: &[f64], b: &[f64]) -> f64 {
 fn against_numeric(model: &Model, s: &[Sample]) -> f64 {
     let d = |x: &[f64]| DVector::from_column_slice(x);
     s.iter()
-        .map(|(q, v, tau, m, b, fd)| {
+        .map(|(q, v, tau, m, b, fd, _)| {
             let (q, v, tau) = (d(q), d(v), d(tau));
             let m_ref = numeric::crba(model, &q);
             let n = v.len();
@@ -144,6 +181,7 @@ fn export(
     dir: &Path,
     robot: &Robot,
     joints: &[&str],
+    frame_names: &[&str],
     fd_ns: f64,
     s: &[Sample],
 ) -> std::io::Result<()> {
@@ -153,7 +191,7 @@ fn export(
     let lock: Vec<String> = robot.lock.iter().map(|l| format!("{l:?}")).collect();
     let _ = write!(
         out,
-        "{{\"name\":{:?},\"urdf\":{:?},\"lock\":[{}],\"joints\":[{}],\"free_base\":{},\"fd_ns\":{fd_ns},\"states\":[",
+        "{{\"name\":{:?},\"urdf\":{:?},\"lock\":[{}],\"joints\":[{}],\"frames\":[{}],\"free_base\":{},\"fd_ns\":{fd_ns},\"states\":[",
         robot.name,
         root.join(robot.file).display().to_string(),
         lock.join(","),
@@ -162,21 +200,30 @@ fn export(
             .map(|j| format!("{j:?}"))
             .collect::<Vec<_>>()
             .join(","),
+        frame_names
+            .iter()
+            .map(|j| format!("{j:?}"))
+            .collect::<Vec<_>>()
+            .join(","),
         robot.free_base
     );
-    for (i, (q, v, tau, m, b, fd)) in s.iter().enumerate() {
+    for (i, (q, v, tau, m, b, fd, fk)) in s.iter().enumerate() {
         if i > 0 {
             out.push(',');
         }
         let _ = write!(
             out,
-            "{{\"q\":{},\"v\":{},\"tau\":{},\"m\":{},\"bias\":{},\"fd\":{}}}",
+            "{{\"q\":{},\"v\":{},\"tau\":{},\"m\":{},\"bias\":{},\"fd\":{},\"fk\":[{}]}}",
             json_array(q),
             json_array(v),
             json_array(tau),
             json_array(m),
             json_array(b),
-            json_array(fd)
+            json_array(fd),
+            fk.iter()
+                .map(|f| json_array(f))
+                .collect::<Vec<_>>()
+                .join(",")
         );
     }
     out.push_str("]}\n");
@@ -184,8 +231,9 @@ fn export(
 }
 
 /// Pinocchio's results from `peers/urdf_pin.py`, if present: per robot
-/// `(max rel M, max rel C v + g, max rel FD, ABA ns)`.
-fn pinocchio(dir: &Path) -> Vec<(String, [f64; 4])> {
+/// `(max rel M, max rel C v + g, max rel FD, ABA ns, max frame pose difference, max rel
+/// frame Jacobian)` (the last two NaN from an older script).
+fn pinocchio(dir: &Path) -> Vec<(String, [f64; 6])> {
     let Ok(text) = std::fs::read_to_string(dir.join("urdf.tsv")) else {
         return Vec::new();
     };
@@ -194,7 +242,13 @@ fn pinocchio(dir: &Path) -> Vec<(String, [f64; 4])> {
         .filter_map(|l| {
             let f: Vec<&str> = l.split('\t').collect();
             let nums: Vec<f64> = f.get(1..5)?.iter().filter_map(|x| x.parse().ok()).collect();
-            (nums.len() == 4).then(|| (f[0].to_string(), [nums[0], nums[1], nums[2], nums[3]]))
+            let fk = |k: usize| f.get(k).and_then(|x| x.parse().ok()).unwrap_or(f64::NAN);
+            (nums.len() == 4).then(|| {
+                (
+                    f[0].to_string(),
+                    [nums[0], nums[1], nums[2], nums[3], fk(6), fk(7)],
+                )
+            })
         })
         .collect()
 }
@@ -220,6 +274,8 @@ pub fn urdf(config: &Config) -> Section {
     let g = Vector3::new(0.0, 0.0, -9.81);
     let mut rows = Vec::new();
     let pin = pinocchio(&config.out_dir.join("peers"));
+    // Largest differences from Pinocchio over the robots: dynamics, frame kinematics.
+    let (mut pin_dyn, mut pin_fk, mut pin_robots) = (0.0f64, 0.0f64, 0);
     for robot in &ROBOTS {
         let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(robot.file))
             .expect("the robot's URDF");
@@ -238,6 +294,7 @@ pub fn urdf(config: &Config) -> Section {
                         (-($s.mass_matrix(q) * a)).as_slice().to_vec()
                     },
                     &|q, v, t| $s.forward_dynamics(q, v, t).as_slice().to_vec(),
+                    &|q| frames(&$s, q),
                     $rot,
                 );
                 let (q, v, tau) = (
@@ -251,20 +308,30 @@ pub fn urdf(config: &Config) -> Section {
                 (s, ns, $n)
             }};
         }
-        let ((s, fd_ns, dof), joints): (_, Vec<&str>) = match robot.name {
-            "panda" => (measure!(PandaUrdf, 7, 7, &[]), PandaUrdf::JOINTS.to_vec()),
-            "ur5" => (measure!(Ur5, 6, 6, &[]), Ur5::JOINTS.to_vec()),
+        let ((s, fd_ns, dof), joints, frame_names): (_, Vec<&str>, &[&str]) = match robot.name {
+            "panda" => (
+                measure!(PandaUrdf, 7, 7, &[]),
+                PandaUrdf::JOINTS.to_vec(),
+                PandaUrdf::FRAMES,
+            ),
+            "ur5" => (measure!(Ur5, 6, 6, &[]), Ur5::JOINTS.to_vec(), Ur5::FRAMES),
             // The free base's six coordinates first, then one per joint.
             _ => (
                 measure!(Solo12, 18, 19, Solo12::ROTATIONS),
                 Solo12::COORDINATES[6..].to_vec(),
+                Solo12::FRAMES,
             ),
         };
         let err = against_numeric(&model, &s);
-        if let Err(e) = export(&dir, robot, &joints, fd_ns, &s) {
+        if let Err(e) = export(&dir, robot, &joints, frame_names, fd_ns, &s) {
             eprintln!("report: could not export {}: {e}", robot.name);
         }
         let peer = pin.iter().find(|(n, _)| n == robot.name).map(|(_, p)| *p);
+        if let Some(p) = peer {
+            pin_robots += 1;
+            pin_dyn = pin_dyn.max(p[0]).max(p[1]).max(p[2]);
+            pin_fk = pin_fk.max(p[4]).max(p[5]);
+        }
         rows.push(vec![
             format!("`{}`", robot.file),
             format!("{dof}{}", if robot.free_base { " (free base)" } else { "" }),
@@ -275,6 +342,14 @@ pub fn urdf(config: &Config) -> Section {
             peer.map_or("—".into(), |p| sci(p[0].max(p[1]))),
             peer.map_or("—".into(), |p| sci(p[2])),
             peer.map_or("—".into(), |p| format!("{:.0}", p[3])),
+            format!("{}", frame_names.len()),
+            peer.map_or("—".into(), |p| {
+                if p[4].is_nan() {
+                    "—".into()
+                } else {
+                    format!("{} / {}", sci(p[4]), sci(p[5]))
+                }
+            }),
         ]);
         summary.push(format!(
             "URDF `{}` ({dof} dof): generated FD {fd_ns:.0} ns; against the numeric reader of the same file {}{}",
@@ -288,6 +363,21 @@ pub fn urdf(config: &Config) -> Section {
             ))
         ));
     }
+    if pin_robots > 0 {
+        super::markdown::headline(
+            format!(
+                "Generated dynamics and forward kinematics equal Pinocchio's on the same URDF files ({pin_robots} robots, 20 random states)"
+            ),
+            format!(
+                "M, C v + g, FD within {} relative; frame poses and Jacobians within {}",
+                sci(pin_dyn),
+                sci(pin_fk)
+            ),
+            "Pinocchio `buildModelFromUrdf` (peers/urdf_pin.py)",
+            "—",
+            "largest differences over robots, states and frames; the peers' figures are as recent as the last `bash peers/run.sh`",
+        );
+    }
     page.h2("Robots from URDF");
     page.para(
         "Each file in `robots/` read at compile time by `#[mechanism(urdf = …)]` (default kernels). Expansion: the \
@@ -296,7 +386,10 @@ pub fn urdf(config: &Config) -> Section {
          second reader of the same file) at 20 random states. Pinocchio (columns filled after `bash peers/run.sh`, \
          which loads the same URDFs with `buildModelFromUrdf`; Panda fingers locked, Solo12 with a free-flyer \
          base, its velocities mapped to ours): the same differences at the same states, and ABA time through \
-         Pinocchio's Python bindings (call overhead included — not a like-for-like timing).",
+         Pinocchio's Python bindings (call overhead included — not a like-for-like timing). Frames: every body and \
+         the file's tool frames (`emit = [kinematics]`); against Pinocchio's `framesForwardKinematics` and \
+         `computeFrameJacobian(…, LOCAL_WORLD_ALIGNED)` on the same frame names: the largest difference of rotation \
+         entries and origins [m], and of the Jacobian relative to its largest entry, over all frames and states.",
     );
     page.table(
         &[
@@ -309,6 +402,8 @@ pub fn urdf(config: &Config) -> Section {
             "vs Pinocchio M, Cv+g",
             "vs Pinocchio FD",
             "Pinocchio ABA ns (Python)",
+            "frames",
+            "vs Pinocchio frame pose / Jacobian",
         ],
         &rows,
     );

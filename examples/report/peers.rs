@@ -344,6 +344,35 @@ pub fn diffsol_series(config: &Config, scene: &str, ours: bool) -> Vec<Series> {
         .collect()
 }
 
+/// A headline row: filippov's run `f` against diffsol's `g`.
+fn diffsol_headline(claim: String, f: &Row, g: &Row, basis: String) {
+    super::markdown::headline(
+        claim,
+        format!(
+            "{} at {}: {:.3} ms",
+            f.solver.trim_start_matches("filippov "),
+            f.setting,
+            f.time_ms
+        ),
+        format!(
+            "diffsol {} at {}: {:.3} ms",
+            g.solver.trim_start_matches("diffsol "),
+            g.setting,
+            g.time_ms
+        ),
+        format!(
+            "{:.2}× ({})",
+            g.time_ms / f.time_ms,
+            if f.time_ms <= g.time_ms {
+                "filippov faster"
+            } else {
+                "diffsol faster"
+            }
+        ),
+        basis,
+    );
+}
+
 fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
     page.h3("diffsol");
     let d = diffsol(config);
@@ -478,29 +507,10 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
                 .min_by(|a, b| a.time_ms.total_cmp(&b.time_ms))
         };
         if let (Some(f), Some(g)) = (best("filippov"), best("diffsol")) {
-            super::markdown::headline(
+            diffsol_headline(
                 format!("{scene}: fastest to a max grid error ≤ 1e-2, filippov against diffsol"),
-                format!(
-                    "{} at {}: {:.3} ms",
-                    f.solver.trim_start_matches("filippov "),
-                    f.setting,
-                    f.time_ms
-                ),
-                format!(
-                    "diffsol {} at {}: {:.3} ms",
-                    g.solver.trim_start_matches("diffsol "),
-                    g.setting,
-                    g.time_ms
-                ),
-                format!(
-                    "{:.2}× ({})",
-                    g.time_ms / f.time_ms,
-                    if f.time_ms <= g.time_ms {
-                        "filippov faster"
-                    } else {
-                        "diffsol faster"
-                    }
-                ),
+                f,
+                g,
                 format!(
                     "same problem and harness in the peer program ({when}), medians of 5 runs; error against filippov DOPRI5 at rtol 1e-13"
                 ),
@@ -534,31 +544,12 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
                     .min_by(|a, b| a.time_ms.total_cmp(&b.time_ms))
             };
             if let (Some(f), Some(g)) = (best("filippov"), best("diffsol")) {
-                super::markdown::headline(
+                diffsol_headline(
                     format!(
                         "{scene}: stiff solvers, fastest to a max grid error ≤ {threshold:.0e}"
                     ),
-                    format!(
-                        "{} at {}: {:.3} ms",
-                        f.solver.trim_start_matches("filippov "),
-                        f.setting,
-                        f.time_ms
-                    ),
-                    format!(
-                        "diffsol {} at {}: {:.3} ms",
-                        g.solver.trim_start_matches("diffsol "),
-                        g.setting,
-                        g.time_ms
-                    ),
-                    format!(
-                        "{:.2}× ({})",
-                        g.time_ms / f.time_ms,
-                        if f.time_ms <= g.time_ms {
-                            "filippov faster"
-                        } else {
-                            "diffsol faster"
-                        }
-                    ),
+                    f,
+                    g,
                     format!("same problem and harness ({when}), medians of 5 runs"),
                 );
             }

@@ -293,14 +293,7 @@ fn read_frames(
                 None
             }
         };
-        let origin = raw
-            .take("origin", diag)
-            .and_then(|(_, e)| vec3(&e, "origin", names, diag))
-            .unwrap_or_else(zero3);
-        let rpy = raw
-            .take("rpy", diag)
-            .and_then(|(_, e)| vec3(&e, "rpy", names, diag))
-            .unwrap_or_else(zero3);
+        let (origin, rpy) = placement(&mut raw, names, diag);
         raw.reject_rest(&["parent", "origin", "rpy"], diag);
         if let (true, Some(parent)) = (ok, parent) {
             read.push(Raw {
@@ -535,6 +528,16 @@ fn vec3(e: &Expr, what: &str, names: &[String], diag: &mut Diagnostics) -> Optio
     let v: Vec<Option<PExpr>> = items.into_iter().map(|x| lower(x, names, diag)).collect();
     let [a, b, c] = <[Option<PExpr>; 3]>::try_from(v).ok()?;
     Some([a?, b?, c?])
+}
+
+/// `origin = [x, y, z]` and `rpy = [r, p, y]` of a joint or frame (zero when absent).
+fn placement(raw: &mut RawAttr, names: &[String], diag: &mut Diagnostics) -> (Vec3, Vec3) {
+    let mut take = |key: &str| {
+        raw.take(key, diag)
+            .and_then(|(_, e)| vec3(&e, key, names, diag))
+            .unwrap_or_else(zero3)
+    };
+    (take("origin"), take("rpy"))
 }
 
 fn zero3() -> Vec3 {
@@ -797,14 +800,7 @@ fn read_joint(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opt
             None
         }
     };
-    let origin = raw
-        .take("origin", diag)
-        .and_then(|(_, e)| vec3(&e, "origin", names, diag))
-        .unwrap_or_else(zero3);
-    let rpy = raw
-        .take("rpy", diag)
-        .and_then(|(_, e)| vec3(&e, "rpy", names, diag))
-        .unwrap_or_else(zero3);
+    let (origin, rpy) = placement(&mut raw, names, diag);
     raw.reject_rest(&["parent", "child", "origin", "rpy"], diag);
     Some(Joint {
         name,

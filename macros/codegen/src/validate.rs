@@ -236,10 +236,12 @@ fn read_frames(
         origin: Vec3,
         rpy: Vec3,
     }
-    let bodies: Vec<&str> = links
+    // Bodies by link index (the translation half of a free joint is internal).
+    let bodies: Vec<(usize, &str)> = links
         .iter()
-        .filter(|l| l.kind != JointKind::Translation)
-        .map(|l| l.name.as_str())
+        .enumerate()
+        .filter(|(_, l)| l.kind != JointKind::Translation)
+        .map(|(i, l)| (i, l.name.as_str()))
         .collect();
     let mut read: Vec<Raw> = Vec::new();
     for mut raw in raws {
@@ -260,7 +262,7 @@ fn read_frames(
                 "`world` is the fixed frame and is always there; name the frame differently",
             );
             ok = false;
-        } else if bodies.iter().any(|b| name == b) {
+        } else if bodies.iter().any(|(_, b)| name == b) {
             diag.error_at(
                 &name,
                 format_args!("`{name}` is a body, and every body is already a frame; give the frame its own name"),
@@ -310,23 +312,16 @@ fn read_frames(
         let mut offsets = vec![(r.origin.clone(), r.rpy.clone())];
         let mut at = &r.parent;
         for _ in 0..=read.len() {
-            if at == "world" {
+            let link = if at == "world" {
+                Some(None)
+            } else {
+                bodies.iter().find(|(_, b)| at == b).map(|(i, _)| Some(*i))
+            };
+            if let Some(link) = link {
                 offsets.reverse();
                 out.push(crate::model::Frame {
                     name: r.name.to_string(),
-                    link: None,
-                    offsets,
-                });
-                continue 'frames;
-            }
-            if let Some(li) = links
-                .iter()
-                .position(|l| l.kind != JointKind::Translation && *at == l.name)
-            {
-                offsets.reverse();
-                out.push(crate::model::Frame {
-                    name: r.name.to_string(),
-                    link: Some(li),
+                    link,
                     offsets,
                 });
                 continue 'frames;
@@ -339,7 +334,8 @@ fn read_frames(
                 None => {
                     let frames: Vec<String> =
                         read.iter().map(|f| format!("`{}`", f.name)).collect();
-                    let bodies: Vec<String> = bodies.iter().map(|b| format!("`{b}`")).collect();
+                    let bodies: Vec<String> =
+                        bodies.iter().map(|(_, b)| format!("`{b}`")).collect();
                     diag.error_at(
                         &r.parent,
                         format_args!(

@@ -12,7 +12,7 @@ mod common;
 use filippov::prelude::*;
 
 #[derive(Mechanism)]
-#[mechanism(emit = all, gravity = [2.973, -0.335, -1.544])]
+#[mechanism(emit = all, forward_dynamics = auto, gravity = [2.973, -0.335, -1.544])]
 #[body(b0, mass = m * 1.085, com = [0.251, -0.028, 0.181], inertia = cuboid(m * 1.085, 0.395, 0.227, l))]
 #[joint(j0: revolute([1.0, 2.0, 2.0]), parent = world, child = b0, origin = [0.473, 0.0, l], rpy = [-1.399, -0.757, -0.403])]
 #[body(b1, mass = m * 1.683, com = [-0.209, 0.153, 0.259], inertia = rod(m * 1.683, l))]
@@ -49,7 +49,7 @@ fn tree0() {
 }
 
 #[derive(Mechanism)]
-#[mechanism(emit = all, gravity = [0.383, 1.953, -1.356])]
+#[mechanism(emit = all, forward_dynamics = aba, gravity = [0.383, 1.953, -1.356])]
 #[body(b0, mass = m * 1.018, com = [0.272, 0.071, 0.151], inertia = rod(m * 1.018, l))]
 #[joint(j0: revolute([0.6, 0.0, 0.8]), parent = world, child = b0, origin = [-0.409, 0.0, l], rpy = [-0.167, 0.477, 0.941])]
 #[body(b1, mass = m * 1.892, com = [0.028, 0.257, 0.297], inertia = rod(m * 1.892, l))]
@@ -91,7 +91,7 @@ fn tree1() {
 }
 
 #[derive(Mechanism)]
-#[mechanism(emit = all, gravity = [-2.144, -0.346, -2.824])]
+#[mechanism(emit = all, forward_dynamics = crba, gravity = [-2.144, -0.346, -2.824])]
 #[body(b0, mass = m * 0.642, com = [-0.218, -0.276, 0.051], inertia = cylinder(m * 0.642, 0.186, l))]
 #[joint(j0: revolute(-z), parent = world, child = b0, origin = [0.412, 0.0, l], rpy = [0.974, 0.426, -0.119])]
 #[body(b1, mass = m * 0.742, com = [-0.241, 0.246, 0.122], inertia = cylinder(m * 0.742, 0.182, l))]
@@ -123,7 +123,7 @@ fn tree2() {
 }
 
 #[derive(Mechanism)]
-#[mechanism(emit = all, gravity = [1.165, 1.878, -8.076])]
+#[mechanism(emit = all, forward_dynamics = auto, gravity = [1.165, 1.878, -8.076])]
 #[body(b0, mass = m * 1.732, com = [0.096, 0.244, -0.166], inertia = cuboid(m * 1.732, 0.471, 0.401, l))]
 #[joint(j0: fixed, parent = world, child = b0, origin = [0.289, 0.0, l], rpy = [0.088, 0.272, -0.622])]
 #[body(b1, mass = m * 1.762, com = [-0.161, 0.155, 0.185], inertia = cuboid(m * 1.762, 0.422, 0.437, l))]
@@ -154,7 +154,7 @@ fn tree3() {
 }
 
 #[derive(Mechanism)]
-#[mechanism(emit = all, gravity = [2.320, -2.227, -0.811])]
+#[mechanism(emit = all, forward_dynamics = aba, gravity = [2.320, -2.227, -0.811])]
 #[body(b0, mass = m * 0.834, com = [0.271, 0.244, 0.100], inertia = rod(m * 0.834, l))]
 #[joint(j0: revolute([0.6, 0.0, 0.8]), parent = world, child = b0, origin = [-0.380, 0.0, l], rpy = [0.570, -0.041, 0.043])]
 #[body(b1, mass = m * 1.572, com = [-0.183, -0.001, 0.251], inertia = cuboid(m * 1.572, 0.249, 0.069, l))]
@@ -182,7 +182,7 @@ fn tree4() {
 }
 
 #[derive(Mechanism)]
-#[mechanism(emit = all, gravity = [2.960, -1.225, -2.720])]
+#[mechanism(emit = all, forward_dynamics = crba, gravity = [2.960, -1.225, -2.720])]
 #[body(b0, mass = m * 1.140, com = [-0.167, -0.028, 0.012], inertia = cylinder(m * 1.140, 0.027, l))]
 #[joint(j0: prismatic(-x), parent = world, child = b0, origin = [0.067, 0.0, l], rpy = [0.313, -1.327, -0.031])]
 #[body(b1, mass = m * 0.828, com = [0.147, 0.076, -0.222], inertia = cylinder(m * 0.828, 0.155, l))]

@@ -35,9 +35,11 @@ pub fn source() -> String {
             num(&mut rng, -3.0, 3.0),
             num(&mut rng, -10.0, 0.0),
         ];
+        // Both ways of solving with M, and the automatic choice, in turn.
+        let algorithm = ["auto", "aba", "crba"][t % 3];
         out += "#[derive(Mechanism)]\n";
         out += &format!(
-            "#[mechanism(emit = all, gravity = [{}, {}, {}])]\n",
+            "#[mechanism(emit = all, forward_dynamics = {algorithm}, gravity = [{}, {}, {}])]\n",
             g[0], g[1], g[2]
         );
         let mut moving = Vec::new();

@@ -14,4 +14,17 @@ struct Pendulum { m: f64 }
 #[joint(hinge: revolute(z), parent = world, child = link)]
 struct Other { m: f64 }
 
+// An algorithm that does not exist, and one written as a string.
+#[derive(Mechanism)]
+#[mechanism(forward_dynamics = featherstone)]
+#[body(link, mass = m, com = [0.5, 0.0, 0.0], inertia = rod(m, 1.0))]
+#[joint(hinge: revolute(z), parent = world, child = link)]
+struct Third { m: f64 }
+
+#[derive(Mechanism)]
+#[mechanism(forward_dynamics = "aba")]
+#[body(link, mass = m, com = [0.5, 0.0, 0.0], inertia = rod(m, 1.0))]
+#[joint(hinge: revolute(z), parent = world, child = link)]
+struct Fourth { m: f64 }
+
 fn main() {}

@@ -251,6 +251,30 @@ pub struct Model {
     pub urdf_file: Option<std::path::PathBuf>,
     /// Frames declared with `#[frame(…)]` (tool points, sensors), each fixed to a link.
     pub frames: Vec<Frame>,
+    /// How forward dynamics, its Jacobian and `M⁻¹` solve with the mass matrix
+    /// (`#[mechanism(forward_dynamics = …)]`).
+    pub algorithm: Algorithm,
+}
+
+/// The linear solve behind forward dynamics, its Jacobian and `M⁻¹`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Algorithm {
+    /// Per kernel, whichever of the two emits fewer operations for this scene (both are
+    /// built and counted while the scene is small enough for that to be cheap).
+    #[default]
+    Auto,
+    /// Mass matrix by the composite-rigid-body algorithm, then its sparse `LᵀDL`.
+    Crba,
+    /// The articulated-body algorithm, unrolled per link.
+    Aba,
+}
+
+impl Algorithm {
+    pub const NAMES: [(&'static str, Algorithm); 3] = [
+        ("auto", Algorithm::Auto),
+        ("crba", Algorithm::Crba),
+        ("aba", Algorithm::Aba),
+    ];
 }
 
 /// A frame fixed to a link: `link · Trans(origin) · Rot(rpy)` (URDF convention), a

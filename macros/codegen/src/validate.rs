@@ -70,6 +70,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let mut krate = None;
     let mut emit = crate::model::Emit::default();
     let mut emit_expr: Option<syn::Expr> = None;
+    let mut algorithm = crate::model::Algorithm::default();
     let mut mechanism_seen = false;
     let mut bodies = Vec::new();
     let mut joints = Vec::new();
@@ -100,12 +101,16 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
                     emit = read_emit(&e, diag);
                     emit_expr = Some(e);
                 }
+                if let Some((_, e)) = raw.take("forward_dynamics", diag) {
+                    algorithm = read_algorithm(&e, diag);
+                }
                 raw.reject_rest(
                     &[
                         "gravity",
                         "inputs",
                         "crate",
                         "emit",
+                        "forward_dynamics",
                         "urdf",
                         "limits",
                         "joint_friction",
@@ -218,6 +223,26 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         emit,
         urdf_file,
         frames,
+        algorithm,
+    })
+}
+
+/// `forward_dynamics = auto | crba | aba`.
+fn read_algorithm(e: &syn::Expr, diag: &mut Diagnostics) -> crate::model::Algorithm {
+    use crate::model::Algorithm;
+    let found = ident_of(e).and_then(|i| {
+        Algorithm::NAMES
+            .iter()
+            .find(|(n, _)| i == n)
+            .map(|(_, a)| *a)
+    });
+    found.unwrap_or_else(|| {
+        diag.error_at(
+            e,
+            "`forward_dynamics` is `auto` (the default: per kernel, whichever emits fewer operations), \
+             `crba` (mass matrix, then its sparse LᵀDL) or `aba` (the articulated-body algorithm)",
+        );
+        Algorithm::default()
     })
 }
 

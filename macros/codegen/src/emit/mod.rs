@@ -94,9 +94,12 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         vec_t.clone(),
         k.forward.clone(),
         &vasm,
-        " Forward dynamics `M⁻¹ (τ + τ_p − C v − g)` by a sparse `LᵀDL` of `M`.",
+        &format!(
+            " Forward dynamics `M⁻¹ (τ + τ_p − C v − g)` {}.",
+            algorithm_doc(k.algorithms[0])
+        ),
     ));
-    let mut jac_outs = k.forward.clone();
+    let mut jac_outs = k.jacobian_forward.clone();
     jac_outs.extend(flat(&k.jac_q));
     jac_outs.extend(flat(&k.jac_v));
     methods.extend(add(
@@ -110,7 +113,11 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
             let dv = matrix(o[n + n * n..].to_vec(), n);
             quote!(::filippov::runtime::system::ForwardJacobian { acceleration: #acc, d_dq: #dq, d_dv: #dv })
         },
-        " Forward dynamics and its symbolic Jacobian with respect to `(q, v)`.",
+        &format!(
+            " Forward dynamics and its symbolic Jacobian with respect to `(q, v)`, \
+             `∂v̇/∂x = −M⁻¹ ∂ID/∂x`, {}.",
+            algorithm_doc(k.algorithms[1])
+        ),
     ));
 
     // Asked for by name (`emit = [...]`): one trait each, so that a kernel the scene
@@ -489,4 +496,12 @@ pub fn rename_crate(tokens: TokenStream, path: &syn::Path) -> TokenStream {
         i += 1;
     }
     out.into_iter().collect()
+}
+
+/// How a kernel that solves with `M` was built, for its doc comment.
+fn algorithm_doc(a: crate::model::Algorithm) -> &'static str {
+    match a {
+        crate::model::Algorithm::Aba => "by the articulated-body algorithm, unrolled per link",
+        _ => "by a sparse `LᵀDL` of the CRBA mass matrix",
+    }
 }

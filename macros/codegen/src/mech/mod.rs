@@ -11,6 +11,7 @@
 //! - its Jacobian: `∂v̇/∂x = −M⁻¹ ∂ID/∂x` at `a = v̇` ([`Kernels::build`]);
 //! - world poses and Jacobians of bodies and `#[frame]`s: [`frames`].
 
+pub mod aba;
 pub mod chart;
 pub mod christoffel;
 pub mod crba;
@@ -23,7 +24,7 @@ pub mod spatial;
 
 use std::collections::HashMap;
 
-use crate::model::Model;
+use crate::model::{Algorithm, Model};
 use crate::sym::{Graph, Id, Input, InputKind};
 use spatial::{Inertia, dot3};
 
@@ -42,6 +43,11 @@ pub struct Kernels {
     pub passive: Vec<Id>,
     pub inverse: Vec<Id>,
     pub forward: Vec<Id>,
+    /// `v̇` as the Jacobian's kernel computes it (it returns both): the same nodes as
+    /// `forward` unless the two kernels were built with different algorithms.
+    pub jacobian_forward: Vec<Id>,
+    /// The algorithm each of forward dynamics and its Jacobian was built with.
+    pub algorithms: [Algorithm; 2],
     pub jac_q: Vec<Vec<Id>>,
     pub jac_v: Vec<Vec<Id>>,
     /// `(kinetic, potential)`, built only when the energies are asked for.
@@ -118,60 +124,94 @@ impl Kernels {
             })
             .collect();
 
-        // Forward dynamics: M v̇ = τ + τ_p − bias.
-        let parent = model.coordinate_parents();
-        let factor = ltdl::factor(&mut g, &mass, &parent);
+        // Forward dynamics M v̇ = τ + τ_p − bias, its Jacobian and M⁻¹: each solves
+        // with M, by either algorithm (see [`Solver`]).
+        let solver = Solver::new(&mut g, model, &kin, &inertia, &mass);
         let rhs: Vec<Id> = (0..n)
             .map(|i| {
                 let t = g.add(tau[i], passive[i]);
                 g.sub(t, bias[i])
             })
             .collect();
-        let forward = factor.solve(&mut g, &rhs);
+        // For the articulated-body algorithm, gravity is the base's acceleration `−γ`
+        // (no composite inertias needed) and the right-hand side keeps only `C v`.
+        let base = gravity_vec.map(|gv| spatial::Motion {
+            w: spatial::v3_zero(&mut g),
+            v: gv.map(|c| g.neg(c)),
+        });
+        let rhs_aba: Vec<Id> = (0..n)
+            .map(|i| {
+                let t = g.add(tau[i], passive[i]);
+                g.sub(t, coriolis_v[i])
+            })
+            .collect();
+        let solve_forward = |g: &mut Graph, s: Which<'_, '_>| match s {
+            Which::Crba(f) => f.solve(g, &rhs),
+            Which::Aba(a) => a.solve(g, &rhs_aba, base),
+        };
+        let (forward, forward_algorithm) = solver.choose(&mut g, solve_forward);
         let inverse_mass = (!model.elements.is_empty()).then(|| {
-            let cols: Vec<Vec<Id>> = (0..n)
-                .map(|k| {
-                    let e: Vec<Id> = (0..n)
-                        .map(|i| g.constant(if i == k { 1.0 } else { 0.0 }))
-                        .collect();
-                    factor.solve(&mut g, &e)
-                })
-                .collect();
-            (0..n)
-                .map(|i| (0..n).map(|k| cols[k][i]).collect())
-                .collect()
+            let (cols, _) = solver.choose_flat(&mut g, |g, s| {
+                (0..n)
+                    .map(|k| {
+                        let e: Vec<Id> = (0..n)
+                            .map(|i| g.constant(if i == k { 1.0 } else { 0.0 }))
+                            .collect();
+                        match s {
+                            Which::Crba(f) => f.solve(g, &e),
+                            Which::Aba(a) => a.solve(g, &e, None),
+                        }
+                    })
+                    .collect()
+            });
+            transpose_cols(&cols)
         });
 
         // ∂v̇/∂x = −M⁻¹ ∂ID(q, v, a)/∂x evaluated at a = v̇: differentiate inverse
-        // dynamics with a held fixed (cheap: RNEA is linear-size), then substitute.
-        let subst: HashMap<Id, Id> = a.iter().copied().zip(forward.iter().copied()).collect();
-        let mut memo = HashMap::new();
-        let mut jac = |g: &mut Graph, kind: InputKind| -> Vec<Vec<Id>> {
-            let mut cols = Vec::with_capacity(n);
+        // dynamics with a held fixed (cheap: RNEA is linear-size), then substitute v̇
+        // as the same algorithm computes it (the Jacobian's code computes v̇ too).
+        let mut d_x: Vec<Vec<Id>> = Vec::with_capacity(2 * n);
+        for kind in [InputKind::Q, InputKind::V] {
             for k in 0..n {
                 let x = Input {
                     kind,
                     index: k as u16,
                 };
-                let d: Vec<Id> = (0..n)
-                    .map(|i| {
-                        let di = match kind {
-                            InputKind::Q => chart.derivative(g, inverse[i], k),
-                            _ => g.diff(inverse[i], x),
-                        };
-                        let s = g.substitute(di, &subst, &mut memo);
-                        g.neg(s)
+                let col = (0..n)
+                    .map(|i| match kind {
+                        InputKind::Q => chart.derivative(&mut g, inverse[i], k),
+                        _ => g.diff(inverse[i], x),
                     })
                     .collect();
-                cols.push(factor.solve(g, &d));
+                d_x.push(col);
             }
-            // cols[k][i] = ∂v̇_i/∂x_k → rows
-            (0..n)
-                .map(|i| (0..n).map(|k| cols[k][i]).collect())
-                .collect()
-        };
-        let jac_q = jac(&mut g, InputKind::Q);
-        let jac_v = jac(&mut g, InputKind::V);
+        }
+        // One kernel returns v̇ and both halves of its Jacobian, so one algorithm for all.
+        let (mut cols, jacobian_algorithm) = solver.choose_flat(&mut g, |g, s| {
+            let fwd = solve_forward(g, s);
+            let subst: HashMap<Id, Id> = a.iter().copied().zip(fwd.iter().copied()).collect();
+            let mut memo = HashMap::new();
+            let mut out = Vec::with_capacity(d_x.len() + 1);
+            out.push(fwd);
+            for col in &d_x {
+                let rhs: Vec<Id> = col
+                    .iter()
+                    .map(|&d| {
+                        let t = g.substitute(d, &subst, &mut memo);
+                        g.neg(t)
+                    })
+                    .collect();
+                out.push(match s {
+                    Which::Crba(f) => f.solve(g, &rhs),
+                    Which::Aba(a) => a.solve(g, &rhs, None),
+                });
+            }
+            out
+        });
+        let jacobian_forward = cols.remove(0);
+        // cols[k][i] = ∂v̇_i/∂x_k → rows
+        let jac_q = transpose_cols(&cols[..n]);
+        let jac_v = transpose_cols(&cols[n..]);
 
         // Energies: T = ½ vᵀ M v; U = −gravity · (first moment of everything) + springs.
         let energy = emit.energy.then(|| {
@@ -278,6 +318,8 @@ impl Kernels {
             passive,
             inverse,
             forward,
+            jacobian_forward,
+            algorithms: [forward_algorithm, jacobian_algorithm],
             jac_q,
             jac_v,
             energy,
@@ -286,6 +328,86 @@ impl Kernels {
             frames,
         }
     }
+}
+
+/// One algorithm's solve with `M`, handed to the code that builds a kernel.
+#[derive(Clone, Copy)]
+pub enum Which<'a, 'm> {
+    Crba(&'a ltdl::Ltdl),
+    Aba(&'a aba::Articulated<'m>),
+}
+
+/// The solves with `M` a scene's kernels use: the `LᵀDL` factor of the CRBA mass
+/// matrix, the articulated-body algorithm, or (for [`Algorithm::Auto`]) both, each
+/// kernel then built with both and emitted with whichever takes fewer operations.
+enum Solver<'m> {
+    Crba(ltdl::Ltdl),
+    Aba(aba::Articulated<'m>),
+    Both(ltdl::Ltdl, aba::Articulated<'m>),
+}
+
+impl<'m> Solver<'m> {
+    fn new(
+        g: &mut Graph,
+        model: &'m Model,
+        kin: &kinematics::Kinematics,
+        inertia: &[Inertia],
+        mass: &[Vec<Id>],
+    ) -> Self {
+        let parents = model.coordinate_parents();
+        match model.algorithm {
+            Algorithm::Crba => Solver::Crba(ltdl::factor(g, mass, &parents)),
+            Algorithm::Aba => Solver::Aba(aba::Articulated::new(g, model, kin, inertia)),
+            Algorithm::Auto => Solver::Both(
+                ltdl::factor(g, mass, &parents),
+                aba::Articulated::new(g, model, kin, inertia),
+            ),
+        }
+    }
+
+    /// One output vector built by `build` with the chosen algorithm.
+    fn choose(
+        &self,
+        g: &mut Graph,
+        mut build: impl FnMut(&mut Graph, Which<'_, 'm>) -> Vec<Id>,
+    ) -> (Vec<Id>, Algorithm) {
+        let (mut cols, used) = self.choose_flat(g, |g, w| vec![build(g, w)]);
+        (cols.pop().unwrap_or_default(), used)
+    }
+
+    /// Several output vectors (a kernel's columns), all with one algorithm: the one whose
+    /// code for all of them together has fewer operations.
+    fn choose_flat(
+        &self,
+        g: &mut Graph,
+        mut build: impl FnMut(&mut Graph, Which<'_, 'm>) -> Vec<Vec<Id>>,
+    ) -> (Vec<Vec<Id>>, Algorithm) {
+        match self {
+            Solver::Crba(l) => (build(g, Which::Crba(l)), Algorithm::Crba),
+            Solver::Aba(a) => (build(g, Which::Aba(a)), Algorithm::Aba),
+            Solver::Both(l, a) => {
+                let x = build(g, Which::Crba(l));
+                let y = build(g, Which::Aba(a));
+                let ops = |g: &Graph, cols: &[Vec<Id>]| {
+                    let roots: Vec<Id> = cols.iter().flatten().copied().collect();
+                    g.count_ops(&roots).total()
+                };
+                if ops(g, &y) < ops(g, &x) {
+                    (y, Algorithm::Aba)
+                } else {
+                    (x, Algorithm::Crba)
+                }
+            }
+        }
+    }
+}
+
+/// `cols[k][i]` → rows `[i][k]`.
+fn transpose_cols(cols: &[Vec<Id>]) -> Vec<Vec<Id>> {
+    let n = cols.first().map_or(0, Vec::len);
+    (0..n)
+        .map(|i| cols.iter().map(|c| c[i]).collect())
+        .collect()
 }
 
 /// `τ_p = −k (q − rest) − c v`, summed over the springs and dampers of each coordinate.

@@ -146,23 +146,16 @@ impl Kernels {
             })
             .collect();
         let solve_forward = |g: &mut Graph, s: Which<'_, '_>| match s {
-            Which::Crba(f) => f.solve(g, &rhs),
-            Which::Aba(a) => a.solve(g, &rhs_aba, base),
+            Which::Crba(_) => s.solve(g, &rhs, None),
+            Which::Aba(_) => s.solve(g, &rhs_aba, base),
         };
         let (forward, forward_algorithm) = solver.choose(&mut g, solve_forward);
         let inverse_mass = (!model.elements.is_empty()).then(|| {
-            let (cols, _) = solver.choose_flat(&mut g, |g, s| {
-                (0..n)
-                    .map(|k| {
-                        let e: Vec<Id> = (0..n)
-                            .map(|i| g.constant(if i == k { 1.0 } else { 0.0 }))
-                            .collect();
-                        match s {
-                            Which::Crba(f) => f.solve(g, &e),
-                            Which::Aba(a) => a.solve(g, &e, None),
-                        }
-                    })
-                    .collect()
+            let (cols, _) = solver.choose_columns(&mut g, n, |g, s, k| {
+                let e: Vec<Id> = (0..n)
+                    .map(|i| g.constant(if i == k { 1.0 } else { 0.0 }))
+                    .collect();
+                s.solve(g, &e, None)
             });
             transpose_cols(&cols)
         });
@@ -186,27 +179,27 @@ impl Kernels {
                 d_x.push(col);
             }
         }
-        // One kernel returns v̇ and both halves of its Jacobian, so one algorithm for all.
-        let (mut cols, jacobian_algorithm) = solver.choose_flat(&mut g, |g, s| {
+        // One kernel returns v̇ (column 0) and both halves of its Jacobian, so one
+        // algorithm for all. The substitution's memo is kept per algorithm.
+        let mut substitutions: [Option<(HashMap<Id, Id>, HashMap<Id, Id>)>; 2] = [None, None];
+        let (mut cols, jacobian_algorithm) = solver.choose_columns(&mut g, 2 * n + 1, |g, s, k| {
             let fwd = solve_forward(g, s);
-            let subst: HashMap<Id, Id> = a.iter().copied().zip(fwd.iter().copied()).collect();
-            let mut memo = HashMap::new();
-            let mut out = Vec::with_capacity(d_x.len() + 1);
-            out.push(fwd);
-            for col in &d_x {
-                let rhs: Vec<Id> = col
-                    .iter()
-                    .map(|&d| {
-                        let t = g.substitute(d, &subst, &mut memo);
-                        g.neg(t)
-                    })
-                    .collect();
-                out.push(match s {
-                    Which::Crba(f) => f.solve(g, &rhs),
-                    Which::Aba(a) => a.solve(g, &rhs, None),
-                });
+            if k == 0 {
+                return fwd;
             }
-            out
+            let slot = usize::from(matches!(s, Which::Aba(_)));
+            let (subst, memo) = substitutions[slot].get_or_insert_with(|| {
+                let subst = a.iter().copied().zip(fwd.iter().copied()).collect();
+                (subst, HashMap::new())
+            });
+            let rhs: Vec<Id> = d_x[k - 1]
+                .iter()
+                .map(|&d| {
+                    let t = g.substitute(d, subst, memo);
+                    g.neg(t)
+                })
+                .collect();
+            s.solve(g, &rhs, None)
         });
         let jacobian_forward = cols.remove(0);
         // cols[k][i] = ∂v̇_i/∂x_k → rows
@@ -337,6 +330,17 @@ pub enum Which<'a, 'm> {
     Aba(&'a aba::Articulated<'m>),
 }
 
+impl Which<'_, '_> {
+    /// `M⁻¹ b` (for the articulated-body algorithm, with the base accelerating as
+    /// `base`; the factor ignores it, and is only ever asked for with `None`).
+    fn solve(self, g: &mut Graph, b: &[Id], base: Option<spatial::Motion>) -> Vec<Id> {
+        match self {
+            Which::Crba(f) => f.solve(g, b),
+            Which::Aba(a) => a.solve(g, b, base),
+        }
+    }
+}
+
 /// The solves with `M` a scene's kernels use: the `LᵀDL` factor of the CRBA mass
 /// matrix, the articulated-body algorithm, or (for [`Algorithm::Auto`]) both, each
 /// kernel then built with both and emitted with whichever takes fewer operations.
@@ -371,35 +375,68 @@ impl<'m> Solver<'m> {
         g: &mut Graph,
         mut build: impl FnMut(&mut Graph, Which<'_, 'm>) -> Vec<Id>,
     ) -> (Vec<Id>, Algorithm) {
-        let (mut cols, used) = self.choose_flat(g, |g, w| vec![build(g, w)]);
+        let (mut cols, used) = self.choose_columns(g, 1, |g, w, _| build(g, w));
         (cols.pop().unwrap_or_default(), used)
     }
 
-    /// Several output vectors (a kernel's columns), all with one algorithm: the one whose
-    /// code for all of them together has fewer operations.
-    fn choose_flat(
+    /// The `count` columns of one kernel, all with one algorithm: the one whose code for
+    /// all of them together has fewer operations. With both algorithms at hand, a few
+    /// columns are built with each (the first, the second and the last) and the rest
+    /// extrapolated from what each sampled column adds to the others: building every
+    /// column twice would double the expansion of a large scene.
+    fn choose_columns(
         &self,
         g: &mut Graph,
-        mut build: impl FnMut(&mut Graph, Which<'_, 'm>) -> Vec<Vec<Id>>,
+        count: usize,
+        mut col: impl FnMut(&mut Graph, Which<'_, 'm>, usize) -> Vec<Id>,
     ) -> (Vec<Vec<Id>>, Algorithm) {
-        match self {
-            Solver::Crba(l) => (build(g, Which::Crba(l)), Algorithm::Crba),
-            Solver::Aba(a) => (build(g, Which::Aba(a)), Algorithm::Aba),
-            Solver::Both(l, a) => {
-                let x = build(g, Which::Crba(l));
-                let y = build(g, Which::Aba(a));
-                let ops = |g: &Graph, cols: &[Vec<Id>]| {
-                    let roots: Vec<Id> = cols.iter().flatten().copied().collect();
-                    g.count_ops(&roots).total()
-                };
-                if ops(g, &y) < ops(g, &x) {
-                    (y, Algorithm::Aba)
-                } else {
-                    (x, Algorithm::Crba)
-                }
+        let (l, a) = match self {
+            Solver::Crba(l) => return (build_all(g, Which::Crba(l), count, col), Algorithm::Crba),
+            Solver::Aba(a) => return (build_all(g, Which::Aba(a), count, col), Algorithm::Aba),
+            Solver::Both(l, a) => (l, a),
+        };
+        let mut sample: Vec<usize> = vec![0, 1.min(count - 1), count - 1];
+        sample.dedup();
+        let estimate = |g: &mut Graph,
+                        w: Which<'_, 'm>,
+                        col: &mut dyn FnMut(&mut Graph, Which<'_, 'm>, usize) -> Vec<Id>|
+         -> f64 {
+            let cols: Vec<Vec<Id>> = sample.iter().map(|&k| col(g, w, k)).collect();
+            let ops = |g: &Graph, skip: Option<usize>| -> usize {
+                let roots: Vec<Id> = cols
+                    .iter()
+                    .enumerate()
+                    .filter(|(j, _)| Some(*j) != skip)
+                    .flat_map(|(_, c)| c.iter().copied())
+                    .collect();
+                g.count_ops(&roots).total()
+            };
+            let total = ops(g, None);
+            if sample.len() == count {
+                return total as f64;
             }
+            // What each sampled column after the first adds to the others.
+            let added: Vec<usize> = (1..sample.len()).map(|j| total - ops(g, Some(j))).collect();
+            let per_column = added.iter().sum::<usize>() as f64 / added.len() as f64;
+            total as f64 + per_column * (count - sample.len()) as f64
+        };
+        let crba = estimate(g, Which::Crba(l), &mut col);
+        let aba = estimate(g, Which::Aba(a), &mut col);
+        if aba < crba {
+            (build_all(g, Which::Aba(a), count, col), Algorithm::Aba)
+        } else {
+            (build_all(g, Which::Crba(l), count, col), Algorithm::Crba)
         }
     }
+}
+
+fn build_all<'m>(
+    g: &mut Graph,
+    w: Which<'_, 'm>,
+    count: usize,
+    mut col: impl FnMut(&mut Graph, Which<'_, 'm>, usize) -> Vec<Id>,
+) -> Vec<Vec<Id>> {
+    (0..count).map(|k| col(g, w, k)).collect()
 }
 
 /// `cols[k][i]` → rows `[i][k]`.

@@ -2,7 +2,9 @@
 //! repeated runs of the engine on the scene's source), graph size, lets and operation
 //! counts of every generated method. Also expands planar chains of 2…30 links and 3D
 //! binary trees of up to 36 joints to show how expansion scales, each twice: with the
-//! default kernels (what the integrators call) and with `emit = all`.
+//! default kernels (what the integrators call) and with `emit = all`. Last, the
+//! operations of forward dynamics and its Jacobian with `forward_dynamics = crba` and
+//! `= aba` on chains and trees of 3…50 joints, and which one `auto` picks.
 //!
 //! Run: `cargo run --release --example expansion`.
 
@@ -31,6 +33,63 @@ fn scene(file: &str) -> Vec<(String, TokenStream)> {
 fn header(gravity: &str, all: bool) -> String {
     let emit = if all { ", emit = all" } else { "" };
     format!("#[derive(Mechanism)]\n#[mechanism(gravity = {gravity}{emit})]\n")
+}
+
+/// The same scene with `forward_dynamics = algorithm` (and the default kernels).
+fn with_algorithm(tokens: TokenStream, algorithm: &str) -> TokenStream {
+    let src = tokens.to_string().replacen(
+        "gravity =",
+        &format!("forward_dynamics = {algorithm}, gravity ="),
+        1,
+    );
+    src.parse().expect("tokens")
+}
+
+/// A chain of `n` links in 3D, joint axes cycling x, y, z.
+fn chain3d(n: usize) -> TokenStream {
+    let mut attrs = header("[0.0, 0.0, -9.81]", false);
+    for i in 0..n {
+        let parent = if i == 0 {
+            "world".to_string()
+        } else {
+            format!("b{}", i - 1)
+        };
+        let axis = ["x", "y", "z"][i % 3];
+        attrs += &format!(
+            "#[body(b{i}: revolute({axis}), parent = {parent}, origin = [0.05, 0.0, l], mass = m, com = [0.0, 0.0, l / 2.0], inertia = cuboid(m, 0.1, 0.1, l))]\n"
+        );
+    }
+    attrs += "struct Chain3 { m: f64, l: f64 }";
+    attrs.parse().expect("tokens")
+}
+
+/// Operations in forward dynamics and its Jacobian with each way of solving with `M`,
+/// and which `auto` picks: where the articulated-body algorithm overtakes.
+fn crossover(family: &str, make: &dyn Fn(usize) -> TokenStream) {
+    for n in [3, 5, 7, 10, 15, 20, 30, 50] {
+        let ops = |algorithm: &str| -> (usize, usize) {
+            let e = filippov_codegen::expand_with_stats(with_algorithm(make(n), algorithm))
+                .expect("expands");
+            let get = |f: &str| {
+                e.functions
+                    .iter()
+                    .find(|x| x.name == f)
+                    .map_or(0, |x| x.ops.total())
+            };
+            (get("forward_dynamics"), get("forward_dynamics_jacobian"))
+        };
+        let (crba, aba, auto) = (ops("crba"), ops("aba"), ops("auto"));
+        let pick = |a: usize, c: usize| if a == c { "crba" } else { "aba" };
+        println!(
+            "{family:<14} {n:>2} joints  FD ops crba {:>6} aba {:>6} (auto: {})   Jacobian ops crba {:>8} aba {:>8} (auto: {})",
+            crba.0,
+            aba.0,
+            pick(auto.0, crba.0),
+            crba.1,
+            aba.1,
+            pick(auto.1, crba.1)
+        );
+    }
 }
 
 /// A planar chain of `n` rods.
@@ -122,4 +181,8 @@ fn main() {
         report(&format!("tree{n}"), &tree(n, false), 3, false);
         report(&format!("tree{n} all"), &tree(n, true), 3, false);
     }
+    println!("\n== forward_dynamics = crba | aba: operations, and what auto (the default) picks");
+    crossover("planar chain", &|n| chain(n, false));
+    crossover("3D chain", &chain3d);
+    crossover("3D binary tree", &|n| tree(n, false));
 }

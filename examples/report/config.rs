@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// The sections' keys for `--only`, in the report's order.
-pub const SECTIONS: [&str; 11] = [
+pub const SECTIONS: [&str; 12] = [
     "smooth",
     "nonsmooth",
     "dense",
@@ -17,6 +17,7 @@ pub const SECTIONS: [&str; 11] = [
     "kernels",
     "expansion",
     "compile",
+    "scaling",
     "chains",
     "urdf",
 ];

@@ -43,6 +43,8 @@ mod resting_arm;
 mod s9;
 #[path = "../support/s9.rs"]
 mod s9_support;
+#[path = "scaling.rs"]
+mod scaling;
 #[path = "timing.rs"]
 mod timing;
 #[path = "urdf.rs"]
@@ -55,7 +57,7 @@ pub use config::Config;
 /// Runs every section and writes the report; returns the path of the Markdown page.
 pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     std::fs::create_dir_all(&config.out_dir)?;
-    let progress = config.progress(11);
+    let progress = config.progress(12);
     let load_before = timing::load();
     let started = std::time::Instant::now();
     let mut page = markdown::Page::new("filippov report");
@@ -109,6 +111,11 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     let k = section!("kernels", "kernels", kernels::kernels(config));
     let e = section!("expansion", "expansion time", kernels::expansion(config));
     let c = section!("compile", "compile time", kernels::compile_times(config));
+    let sc = section!(
+        "scaling",
+        "scaling with joints (a release crate per chain and algorithm)",
+        scaling::scaling(config)
+    );
     let ch = section!(
         "chains",
         "planar chains against SymPy",
@@ -159,6 +166,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     summary.extend(lg.summary.iter().cloned());
     summary.extend(e.summary.iter().cloned());
     summary.extend(c.summary.iter().cloned());
+    summary.extend(sc.summary.iter().cloned());
     summary.extend(ch.summary.iter().cloned());
     summary.extend(u.summary.iter().cloned());
     summary.extend(p.summary.iter().cloned());
@@ -172,6 +180,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     page.append(k.page);
     page.append(e.page);
     page.append(c.page);
+    page.append(sc.page);
     page.append(ch.page);
     page.append(u.page);
     page.append(p.page);

@@ -7,8 +7,11 @@
 //! - gravity forces: [`gravity`] (composite first moments);
 //! - Christoffel symbols and the Coriolis matrix: [`christoffel`] (derivatives of `M`
 //!   along the local exponential coordinates of [`chart`]);
-//! - forward dynamics: [`ltdl`] (sparse `LᵀDL` of `M`) applied to `τ + τ_p − bias`;
-//! - its Jacobian: `∂v̇/∂x = −M⁻¹ ∂ID/∂x` at `a = v̇` ([`Kernels::build`]);
+//! - forward dynamics `M⁻¹ (τ + τ_p − bias)`, its Jacobian `∂v̇/∂x = −M⁻¹ ∂ID/∂x` at
+//!   `a = v̇` and `M⁻¹` ([`Kernels::build`]), each solving with `M` either by [`ltdl`]
+//!   (sparse `LᵀDL` of the CRBA mass matrix) or by [`aba`] (the articulated-body
+//!   algorithm, unrolled per link), whichever emits fewer operations for the scene
+//!   (`#[mechanism(forward_dynamics = auto | crba | aba)]`, see `Solver`);
 //! - world poses and Jacobians of bodies and `#[frame]`s: [`frames`].
 
 pub mod aba;

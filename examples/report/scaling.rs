@@ -1,0 +1,320 @@
+//! How the generated kernels scale with the number of joints, per algorithm: planar
+//! chains of 7…50 links declared with `forward_dynamics = crba` and `= aba`, each built
+//! as its own release crate (the build a user runs) whose binary times the generated
+//! forward dynamics and its Jacobian beside the numeric implementation.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+
+use super::config::Config;
+use super::markdown::{Page, headline};
+use super::support::{Scale, Series, line_plot};
+use super::workprecision::Section;
+
+/// A planar chain of `n` rods solved with `algorithm`.
+fn chain_source(n: usize, algorithm: &str) -> String {
+    let mut s = format!(
+        "#[derive(filippov::Mechanism)]\n#[mechanism(gravity = [0.0, -9.81, 0.0], forward_dynamics = {algorithm})]\n"
+    );
+    for i in 0..n {
+        let parent = if i == 0 {
+            "world".to_string()
+        } else {
+            format!("b{}", i - 1)
+        };
+        let origin = if i == 0 { "0.0" } else { "l" };
+        s += &format!(
+            "#[body(b{i}: revolute(z), parent = {parent}, origin = [{origin}, 0.0, 0.0], mass = m, com = [l / 2.0, 0.0, 0.0], inertia = rod(m, l))]\n"
+        );
+    }
+    s += "pub struct Chain { pub m: f64, pub l: f64 }\n";
+    s
+}
+
+/// The crate's binary: ns per call (median, min, max of 7 batches) of the generated
+/// forward dynamics, its Jacobian and the numeric forward dynamics, and the largest
+/// difference between the two forward dynamics.
+const MAIN: &str = r#"
+use filippov::nalgebra::{DVector, SVector};
+use filippov::prelude::*;
+use filippov::runtime::numeric;
+use std::time::Instant;
+
+fn ns<F: FnMut() -> f64>(calls: usize, mut f: F) -> [f64; 3] {
+    let mut t: Vec<f64> = (0..7)
+        .map(|_| {
+            let s = Instant::now();
+            let mut acc = 0.0;
+            for _ in 0..calls {
+                acc += f();
+            }
+            std::hint::black_box(acc);
+            s.elapsed().as_secs_f64() * 1e9 / calls as f64
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    [t[3], t[0], t[6]]
+}
+
+fn main() {
+    let s = Chain { m: 1.0, l: 0.3 };
+    let q = SVector::<f64, N>::from_fn(|i, _| (i as f64 * 0.37).sin());
+    let v = SVector::<f64, N>::from_fn(|i, _| (i as f64 * 0.21).cos());
+    let tau = SVector::<f64, N>::zeros();
+    let model = s.model();
+    let (qd, vd, td) = (
+        DVector::from_column_slice(q.as_slice()),
+        DVector::from_column_slice(v.as_slice()),
+        DVector::from_column_slice(tau.as_slice()),
+    );
+    let fd = ns(2000, || s.forward_dynamics(std::hint::black_box(&q), &v, &tau)[0]);
+    let jac = ns(20, || s.forward_dynamics_jacobian(std::hint::black_box(&q), &v, &tau).d_dq[0]);
+    let num = ns(200, || numeric::forward_dynamics(&model, std::hint::black_box(&qd), &vd, &td)[0]);
+    let a = s.forward_dynamics(&q, &v, &tau);
+    let b = numeric::forward_dynamics(&model, &qd, &vd, &td);
+    let scale = b.amax().max(1.0);
+    let diff = (0..N).map(|i| (a[i] - b[i]).abs()).fold(0.0, f64::max) / scale;
+    println!("{} {} {} {} {} {} {} {} {} {diff:e}", fd[0], fd[1], fd[2], jac[0], jac[1], jac[2], num[0], num[1], num[2]);
+}
+"#;
+
+struct Run {
+    n: usize,
+    algorithm: &'static str,
+    build_s: f64,
+    /// FD, Jacobian, numeric FD: `[median, min, max]` ns.
+    ns: [[f64; 3]; 3],
+    diff: f64,
+}
+
+fn write_crate(dir: &Path, root: &Path, name: &str, n: usize, algorithm: &str) -> Option<()> {
+    std::fs::create_dir_all(dir.join("src")).ok()?;
+    let manifest = format!(
+        "[package]\nname = \"{name}\"\nversion = \"0.0.0\"\nedition = \"2024\"\n\n[dependencies]\nfilippov = {{ path = {root:?} }}\n\n[workspace]\n"
+    );
+    std::fs::write(dir.join("Cargo.toml"), manifest).ok()?;
+    let src = format!(
+        "{}\nconst N: usize = {n};\n{MAIN}",
+        chain_source(n, algorithm)
+    );
+    std::fs::write(dir.join("src/main.rs"), src).ok()
+}
+
+fn build(dir: &Path, target: &Path) -> Option<f64> {
+    let t = Instant::now();
+    let ok = Command::new(env!("CARGO"))
+        .args(["build", "--release", "--quiet"])
+        .current_dir(dir)
+        .env("CARGO_TARGET_DIR", target)
+        .status()
+        .ok()?
+        .success();
+    ok.then(|| t.elapsed().as_secs_f64())
+}
+
+fn run(target: &Path, name: &str) -> Option<([[f64; 3]; 3], f64)> {
+    let out = Command::new(target.join("release").join(name))
+        .output()
+        .ok()?;
+    let text = String::from_utf8(out.stdout).ok()?;
+    let v: Vec<f64> = text
+        .split_whitespace()
+        .filter_map(|x| x.parse().ok())
+        .collect();
+    (v.len() == 10).then(|| {
+        (
+            [[v[0], v[1], v[2]], [v[3], v[4], v[5]], [v[6], v[7], v[8]]],
+            v[9],
+        )
+    })
+}
+
+fn ops(n: usize, algorithm: &str) -> Option<(usize, usize)> {
+    let tokens: proc_macro2::TokenStream = chain_source(n, algorithm).parse().ok()?;
+    let e = filippov_codegen::expand_with_stats(tokens).ok()?;
+    let get = |f: &str| {
+        e.functions
+            .iter()
+            .find(|x| x.name == f)
+            .map_or(0, |x| x.ops.total())
+    };
+    Some((get("forward_dynamics"), get("forward_dynamics_jacobian")))
+}
+
+pub fn scaling(config: &Config) -> Section {
+    let mut page = Page::empty();
+    page.h2("Scaling with the number of joints, per algorithm");
+    if !config.compile {
+        page.para("Not measured in this configuration: it builds a release crate per chain and algorithm (run the default or `--long` report).");
+        return Section {
+            page,
+            summary: Vec::new(),
+        };
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let work: PathBuf = config.out_dir.join("scaling");
+    let target = work.join("target");
+    // Dependencies first (untimed), so each timed build compiles its own crate only.
+    let warm = work.join("warm");
+    let _ = write_crate(&warm, root, "warm", 2, "auto");
+    if build(&warm, &target).is_none() {
+        page.para("**The warm-up crate did not build**; nothing measured.");
+        return Section {
+            page,
+            summary: Vec::new(),
+        };
+    }
+    let sizes: &[usize] = if config.name == "long" {
+        &[7, 15, 25, 36, 50, 64]
+    } else {
+        &[7, 15, 30, 50]
+    };
+    let mut runs = Vec::new();
+    let mut failed = Vec::new();
+    for &n in sizes {
+        for algorithm in ["crba", "aba"] {
+            let name = format!("chain{n}_{algorithm}");
+            let dir = work.join(&name);
+            let measured = write_crate(&dir, root, &name, n, algorithm)
+                .and_then(|()| build(&dir, &target))
+                .and_then(|build_s| run(&target, &name).map(|(ns, diff)| (build_s, ns, diff)));
+            match measured {
+                Some((build_s, ns, diff)) => runs.push(Run {
+                    n,
+                    algorithm,
+                    build_s,
+                    ns,
+                    diff,
+                }),
+                None => failed.push(name),
+            }
+        }
+    }
+    let cell = |t: [f64; 3]| format!("{:.0} ({:.0}–{:.0})", t[0], t[1], t[2]);
+    let mut rows = Vec::new();
+    for r in &runs {
+        let (fd_ops, jac_ops) = ops(r.n, r.algorithm).unwrap_or_default();
+        let auto = ops(r.n, "auto").map(|(f, _)| f);
+        rows.push(vec![
+            r.n.to_string(),
+            format!(
+                "{}{}",
+                r.algorithm,
+                if auto == Some(fd_ops) {
+                    " (auto's FD)"
+                } else {
+                    ""
+                }
+            ),
+            fd_ops.to_string(),
+            jac_ops.to_string(),
+            format!("{:.1}", r.build_s),
+            cell(r.ns[0]),
+            cell(r.ns[1]),
+            cell(r.ns[2]),
+            format!("{:.1}", r.ns[2][0] / r.ns[0][0]),
+            format!("{:.1e}", r.diff),
+        ]);
+    }
+    page.para(
+        "Planar chains of `n` rods under gravity, declared with `#[mechanism(forward_dynamics = crba)]` (the CRBA mass \
+         matrix and its sparse LᵀDL) and with `= aba` (the articulated-body algorithm, unrolled per link). Each is a \
+         crate of its own, built once with `cargo build --release` (dependencies prebuilt; one build each, so the build \
+         times carry the machine's noise), whose binary times the generated forward dynamics (FD) and its Jacobian, and \
+         the numeric implementation's FD (CRBA and a Cholesky factorisation at run time), in ns per call: median (min–max) \
+         of 7 batches. Ops: operations in the emitted code. `auto` (the default) takes, per kernel, whichever has fewer \
+         operations; the row marked is the one auto's forward dynamics matches. Last column: the largest difference of \
+         the generated FD from the numeric one, relative to the largest acceleration.",
+    );
+    page.table(
+        &[
+            "joints",
+            "algorithm",
+            "FD ops",
+            "Jacobian ops",
+            "release build [s]",
+            "FD ns",
+            "Jacobian ns",
+            "numeric FD ns",
+            "numeric / FD",
+            "FD vs numeric",
+        ],
+        &rows,
+    );
+    if !failed.is_empty() {
+        page.para(&format!(
+            "**Not measured** (build or run failed): {}.",
+            failed.join(", ")
+        ));
+    }
+    let series = |f: &dyn Fn(&Run) -> f64| -> Vec<Series> {
+        ["crba", "aba"]
+            .iter()
+            .map(|a| {
+                Series::new(
+                    format!("forward_dynamics = {a}"),
+                    runs.iter()
+                        .filter(|r| r.algorithm == *a)
+                        .map(|r| (r.n as f64, f(r)))
+                        .collect(),
+                )
+            })
+            .collect()
+    };
+    line_plot(
+        &config.out_dir.join("scaling_build.svg"),
+        "Release build of a crate holding one planar chain",
+        "joints",
+        "build time [s]",
+        &series(&|r| r.build_s),
+        Scale::Log,
+        Scale::Log,
+    );
+    let mut fd = series(&|r| r.ns[0][0]);
+    fd.push(Series::new(
+        "numeric FD (run-time CRBA + Cholesky)",
+        runs.iter()
+            .filter(|r| r.algorithm == "aba")
+            .map(|r| (r.n as f64, r.ns[2][0]))
+            .collect(),
+    ));
+    line_plot(
+        &config.out_dir.join("scaling_fd.svg"),
+        "Forward dynamics of a planar chain, ns per call (median)",
+        "joints",
+        "ns per call",
+        &fd,
+        Scale::Log,
+        Scale::Log,
+    );
+    page.image("release build time against joints", "scaling_build.svg");
+    page.image("forward dynamics ns against joints", "scaling_fd.svg");
+    let mut summary = Vec::new();
+    let largest = sizes.last().copied().unwrap_or(0);
+    let at = |a: &str| runs.iter().find(|r| r.n == largest && r.algorithm == a);
+    if let (Some(aba), Some(crba)) = (at("aba"), at("crba")) {
+        summary.push(format!(
+            "{largest}-link planar chain: FD {:.0} ns by ABA, {:.0} ns by CRBA + LᵀDL, numeric {:.0} ns; release build {:.0} s and {:.0} s",
+            aba.ns[0][0], crba.ns[0][0], aba.ns[2][0], aba.build_s, crba.build_s
+        ));
+        headline(
+            &format!(
+                "Generated forward dynamics of a {largest}-link chain (ABA, unrolled) beats the numeric implementation"
+            ),
+            &format!(
+                "{:.0} ns ({:.0}–{:.0})",
+                aba.ns[0][0], aba.ns[0][1], aba.ns[0][2]
+            ),
+            &format!("numeric CRBA + Cholesky {:.0} ns", aba.ns[2][0]),
+            &format!(
+                "{:.1}× ({:.1}–{:.1})",
+                aba.ns[2][0] / aba.ns[0][0],
+                aba.ns[2][1] / aba.ns[0][2],
+                aba.ns[2][2] / aba.ns[0][1]
+            ),
+            "one binary per algorithm, medians of 7 batches; section \"Scaling with the number of joints\"",
+        );
+    }
+    Section { page, summary }
+}

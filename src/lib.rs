@@ -38,6 +38,12 @@
 //!   `inverse_dynamics`, `energy`, `delassus`, `dae_residuals`, `switching_functions`,
 //!   `kinematics` (poses and Jacobians of every body and frame) — or says `emit = all`. Each is a trait of [`runtime::kernels`] (in the [`prelude`]);
 //!   calling one the scene did not ask for is a compile error naming the option.
+//!   `forward_dynamics = auto | crba | aba` chooses how forward dynamics, its Jacobian
+//!   and `M⁻¹` solve with the mass matrix: `crba` (the mass matrix, then its sparse
+//!   `LᵀDL`), `aba` (the articulated-body algorithm, unrolled per link), or `auto`, the
+//!   default, which takes per kernel whichever emits fewer operations for the scene —
+//!   `crba` for short chains and bushy trees, `aba` for long chains
+//!   (`cargo run --release --example expansion` prints both counts on chains and trees).
 //! - `#[body(name, mass = m, com = [x, y, z], inertia = …)]` — inertia about the centre
 //!   of mass in the link frame: `rod(m, l)` (along x), `cylinder(m, r, h)` (along z),
 //!   `cuboid(m, a, b, c)`, `sphere(m, r)`, `diag(ixx, iyy, izz)`, a symmetric 3×3 array,

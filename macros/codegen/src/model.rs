@@ -88,13 +88,14 @@ impl PExpr {
 
     /// Adds the expression to the graph with [`PExpr::Var`] standing for `var`.
     pub fn lower_var(&self, g: &mut Graph, var: Id) -> Id {
-        let mut memo = std::collections::HashMap::new();
+        let mut memo = crate::sym::FastMap::default();
         let x0 = g.input(crate::sym::InputKind::Q, 0);
         let e = self.lower(g);
         if x0 == var {
             return e;
         }
-        g.substitute(e, &std::collections::HashMap::from([(x0, var)]), &mut memo)
+        let map: crate::sym::FastMap<_, _> = [(x0, var)].into_iter().collect();
+        g.substitute(e, &map, &mut memo)
     }
 
     /// Adds the expression to the graph.

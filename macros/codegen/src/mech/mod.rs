@@ -25,10 +25,8 @@ pub mod ltdl;
 pub mod rnea;
 pub mod spatial;
 
-use std::collections::HashMap;
-
 use crate::model::{Algorithm, Model};
-use crate::sym::{Graph, Id, Input, InputKind};
+use crate::sym::{FastMap, Graph, Id, Input, InputKind};
 use spatial::{Inertia, dot3};
 
 /// All outputs of a scene, as nodes of one shared graph.
@@ -184,7 +182,7 @@ impl Kernels {
         }
         // One kernel returns v̇ (column 0) and both halves of its Jacobian, so one
         // algorithm for all. The substitution's memo is kept per algorithm.
-        let mut substitutions: [Option<(HashMap<Id, Id>, HashMap<Id, Id>)>; 2] = [None, None];
+        let mut substitutions: [Option<(FastMap<Id, Id>, FastMap<Id, Id>)>; 2] = [None, None];
         let (mut cols, jacobian_algorithm) = solver.choose_columns(&mut g, 2 * n + 1, |g, s, k| {
             let fwd = solve_forward(g, s);
             if k == 0 {
@@ -193,7 +191,7 @@ impl Kernels {
             let slot = usize::from(matches!(s, Which::Aba(_)));
             let (subst, memo) = substitutions[slot].get_or_insert_with(|| {
                 let subst = a.iter().copied().zip(fwd.iter().copied()).collect();
-                (subst, HashMap::new())
+                (subst, FastMap::default())
             });
             let rhs: Vec<Id> = d_x[k - 1]
                 .iter()

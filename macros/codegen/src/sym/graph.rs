@@ -1,6 +1,6 @@
 //! The arena, the node kinds and the folding constructors.
 
-use std::collections::HashMap;
+use super::hash::FastMap;
 
 /// Index of a node in a [`Graph`]. Children have smaller ids than their parents.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -87,8 +87,8 @@ impl Deps {
 pub struct Graph {
     nodes: Vec<Node>,
     deps: Vec<Deps>,
-    memo: HashMap<Node, Id>,
-    pub(crate) diff_memo: HashMap<(Id, Input), Id>,
+    memo: FastMap<Node, Id>,
+    pub(crate) diff_memo: FastMap<(Id, Input), Id>,
 }
 
 impl Graph {

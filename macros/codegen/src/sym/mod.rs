@@ -15,7 +15,9 @@
 mod count;
 mod diff;
 mod graph;
+mod hash;
 mod subst;
 
 pub use count::OpCount;
 pub use graph::{Graph, Id, Input, InputKind, Node, Unary};
+pub use hash::FastMap;

@@ -1,13 +1,12 @@
 //! Substitution of nodes by nodes, rebuilt through the folding constructors.
 
-use std::collections::HashMap;
-
 use super::graph::{Graph, Id, Node};
+use super::hash::FastMap;
 
 impl Graph {
     /// `id` with every occurrence of a key of `map` replaced by its value. `memo` may be
     /// shared across calls with the same map.
-    pub fn substitute(&mut self, id: Id, map: &HashMap<Id, Id>, memo: &mut HashMap<Id, Id>) -> Id {
+    pub fn substitute(&mut self, id: Id, map: &FastMap<Id, Id>, memo: &mut FastMap<Id, Id>) -> Id {
         if let Some(&r) = map.get(&id) {
             return r;
         }

@@ -13,11 +13,12 @@
 mod common;
 
 use common::{Rng, assert_close, dvec};
-use filippov::nalgebra::{DVector, SVector, UnitQuaternion, Vector3};
+use filippov::nalgebra::{DVector, SMatrix, SVector, UnitQuaternion, Vector3};
 use filippov::prelude::*;
 use filippov::runtime::liegroup::LieMechanism;
 use filippov::runtime::nonsmooth::NonSmooth;
 use filippov::runtime::numeric;
+use filippov::runtime::system::ForwardJacobian;
 
 /// Declares the same scene twice, once per algorithm.
 macro_rules! both {
@@ -84,6 +85,37 @@ both!(StopsAba, StopsCrba, { m: f64, l: f64, mu: f64 }, [gravity = [0.0, 0.0, -9
 
 const STATES: usize = 12;
 
+/// Both algorithms' forward dynamics against the numeric implementation, and their
+/// Jacobians (the `v̇` they return too) against each other.
+fn agree<const N: usize>(
+    (fa, fc): (SVector<f64, N>, SVector<f64, N>),
+    (ja, jc): (&ForwardJacobian<N>, &ForwardJacobian<N>),
+    reference: &DVector<f64>,
+) {
+    let r = reference.as_slice();
+    assert_close(fa.as_slice(), r, 1e-11, 1e-9, "FD (aba) vs numeric");
+    assert_close(fc.as_slice(), r, 1e-11, 1e-9, "FD (crba) vs numeric");
+    let acc = ja.acceleration.as_slice();
+    assert_close(acc, r, 1e-11, 1e-9, "v̇ of the Jacobian kernel");
+    let (a, c) = (ja.d_dq.as_slice(), jc.d_dq.as_slice());
+    assert_close(a, c, 1e-10, 1e-9, "∂v̇/∂q aba vs crba");
+    let (a, c) = (ja.d_dv.as_slice(), jc.d_dv.as_slice());
+    assert_close(a, c, 1e-10, 1e-9, "∂v̇/∂v aba vs crba");
+}
+
+/// A Jacobian against central differences of `f(k, h)`, forward dynamics a step `h`
+/// along coordinate `k`, relative to the whole Jacobian (rounding in a difference
+/// scales with the largest acceleration, not with each column).
+fn vs_differences<const N: usize>(
+    jacobian: &SMatrix<f64, N, N>,
+    f: impl Fn(usize, f64) -> SVector<f64, N>,
+    what: &str,
+) {
+    let h = 1e-6;
+    let d = SMatrix::<f64, N, N>::from_fn(|i, k| (f(k, h)[i] - f(k, -h)[i]) / (2.0 * h));
+    assert_close(jacobian.as_slice(), d.as_slice(), 1e-6, 1.0, what);
+}
+
 /// FD of both against the numeric implementation, their Jacobians against each other
 /// and against central differences, on random states.
 fn compare<A: Mechanism<N>, B: Mechanism<N>, const N: usize>(aba: &A, crba: &B, seed: u64) {
@@ -94,69 +126,19 @@ fn compare<A: Mechanism<N>, B: Mechanism<N>, const N: usize>(aba: &A, crba: &B, 
         let v: SVector<f64, N> = rng.vector(2.0);
         let tau: SVector<f64, N> = rng.vector(3.0);
         let reference = numeric::forward_dynamics(&model, &dvec(&q), &dvec(&v), &dvec(&tau));
-        let fa = aba.forward_dynamics(&q, &v, &tau);
-        let fc = crba.forward_dynamics(&q, &v, &tau);
-        assert_close(
-            fa.as_slice(),
-            reference.as_slice(),
-            1e-11,
-            1e-9,
-            "FD (aba) vs numeric",
-        );
-        assert_close(
-            fc.as_slice(),
-            reference.as_slice(),
-            1e-11,
-            1e-9,
-            "FD (crba) vs numeric",
-        );
         let ja = aba.forward_dynamics_jacobian(&q, &v, &tau);
         let jc = crba.forward_dynamics_jacobian(&q, &v, &tau);
-        assert_close(
-            ja.acceleration.as_slice(),
-            reference.as_slice(),
-            1e-11,
-            1e-9,
-            "v̇ of the Jacobian kernel",
+        let fd = |q: &SVector<f64, N>, v: &SVector<f64, N>| aba.forward_dynamics(q, v, &tau);
+        agree(
+            (fd(&q, &v), crba.forward_dynamics(&q, &v, &tau)),
+            (&ja, &jc),
+            &reference,
         );
-        assert_close(
-            ja.d_dq.as_slice(),
-            jc.d_dq.as_slice(),
-            1e-10,
-            1e-9,
-            "∂v̇/∂q aba vs crba",
-        );
-        assert_close(
-            ja.d_dv.as_slice(),
-            jc.d_dv.as_slice(),
-            1e-10,
-            1e-9,
-            "∂v̇/∂v aba vs crba",
-        );
-        let h = 1e-6;
-        for k in 0..N {
-            let e = SVector::<f64, N>::from_fn(|i, _| f64::from(i == k));
-            let dq = (aba.forward_dynamics(&(q + e * h), &v, &tau)
-                - aba.forward_dynamics(&(q - e * h), &v, &tau))
-                / (2.0 * h);
-            let dv = (aba.forward_dynamics(&q, &(v + e * h), &tau)
-                - aba.forward_dynamics(&q, &(v - e * h), &tau))
-                / (2.0 * h);
-            assert_close(
-                ja.d_dq.column(k).as_slice(),
-                dq.as_slice(),
-                1e-6,
-                1.0,
-                "∂v̇/∂q vs differences",
-            );
-            assert_close(
-                ja.d_dv.column(k).as_slice(),
-                dv.as_slice(),
-                1e-6,
-                1.0,
-                "∂v̇/∂v vs differences",
-            );
-        }
+        let e = |k: usize| SVector::<f64, N>::from_fn(|i, _| f64::from(i == k));
+        let along_q = |k, h| fd(&(q + e(k) * h), &v);
+        vs_differences(&ja.d_dq, along_q, "∂v̇/∂q vs differences");
+        let along_v = |k, h| fd(&q, &(v + e(k) * h));
+        vs_differences(&ja.d_dv, along_v, "∂v̇/∂v vs differences");
     }
 }
 
@@ -183,52 +165,19 @@ where
         let tau: SVector<f64, N> = rng.vector(3.0);
         let qd = DVector::from_column_slice(q.as_slice());
         let reference = numeric::forward_dynamics(&model, &qd, &dvec(&v), &dvec(&tau));
-        let fa = aba.forward_dynamics(&q, &v, &tau);
-        let fc = crba.forward_dynamics(&q, &v, &tau);
-        assert_close(
-            fa.as_slice(),
-            reference.as_slice(),
-            1e-11,
-            1e-9,
-            "FD (aba) vs numeric",
-        );
-        assert_close(
-            fc.as_slice(),
-            reference.as_slice(),
-            1e-11,
-            1e-9,
-            "FD (crba) vs numeric",
-        );
         let ja = aba.forward_dynamics_jacobian(&q, &v, &tau);
         let jc = crba.forward_dynamics_jacobian(&q, &v, &tau);
-        assert_close(
-            ja.d_dq.as_slice(),
-            jc.d_dq.as_slice(),
-            1e-10,
-            1e-9,
-            "∂v̇/∂φ aba vs crba",
+        let fd = |q: &SVector<f64, NQ>, v: &SVector<f64, N>| aba.forward_dynamics(q, v, &tau);
+        agree(
+            (fd(&q, &v), crba.forward_dynamics(&q, &v, &tau)),
+            (&ja, &jc),
+            &reference,
         );
-        assert_close(
-            ja.d_dv.as_slice(),
-            jc.d_dv.as_slice(),
-            1e-10,
-            1e-9,
-            "∂v̇/∂v aba vs crba",
-        );
-        let h = 1e-6;
-        for k in 0..N {
-            let e = SVector::<f64, N>::from_fn(|i, _| f64::from(i == k));
-            let dq = (aba.forward_dynamics(&A::retract(&q, &(e * h)), &v, &tau)
-                - aba.forward_dynamics(&A::retract(&q, &(e * -h)), &v, &tau))
-                / (2.0 * h);
-            assert_close(
-                ja.d_dq.column(k).as_slice(),
-                dq.as_slice(),
-                1e-6,
-                1.0,
-                "∂v̇/∂φ vs differences",
-            );
-        }
+        let e = |k: usize| SVector::<f64, N>::from_fn(|i, _| f64::from(i == k));
+        let along_phi = |k, h| fd(&A::retract(&q, &(e(k) * h)), &v);
+        vs_differences(&ja.d_dq, along_phi, "∂v̇/∂φ vs differences");
+        let along_v = |k, h| fd(&q, &(v + e(k) * h));
+        vs_differences(&ja.d_dv, along_v, "∂v̇/∂v vs differences");
     }
 }
 

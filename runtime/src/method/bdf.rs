@@ -184,8 +184,8 @@ impl BdfStepper {
             }
             for (p, &b) in basis.iter().enumerate().take(j + 1) {
                 if b != 0.0 {
-                    for i in 0..n {
-                        c[p * n + i] += b * self.diff[j][i];
+                    for (cp, d) in c[p * n..(p + 1) * n].iter_mut().zip(&self.diff[j]) {
+                        *cp += b * d;
                     }
                 }
             }
@@ -263,12 +263,19 @@ impl Stepper for BdfStepper {
             let c = h / self.gamma[order];
             self.newton.factor(c, &mut ev.stats.lu_factorisations);
             // Predictor and the constant part ψ of the corrector.
-            for i in 0..n {
-                self.y1[i] = (0..=order).map(|j| self.diff[j][i]).sum();
-                self.psi[i] = (1..=order)
-                    .map(|j| self.gamma[j] * self.diff[j][i])
-                    .sum::<f64>()
-                    / self.gamma[order];
+            // Summed in the same order as term by term per component, by rows of `diff`.
+            self.y1.copy_from_slice(&self.diff[0]);
+            self.psi.fill(0.0);
+            for j in 1..=order {
+                let g = self.gamma[j];
+                for ((y, p), d) in self.y1.iter_mut().zip(&mut self.psi).zip(&self.diff[j]) {
+                    *y += d;
+                    *p += g * d;
+                }
+            }
+            let g = self.gamma[order];
+            for p in &mut self.psi {
+                *p /= g;
             }
             let t1 = if last { t_end } else { t + h };
             let iterations = match self.newton(ev, t1, c) {

@@ -38,16 +38,17 @@ pub(crate) fn error_norm(err: &[f64], y0: &[f64], y1: &[f64], options: &Options)
     };
     let terms = || err.iter().zip(y0.iter().zip(y1)).map(ratio);
     let n = err.len().max(1) as f64;
-    let mut big = 0.0f64;
+    // One pass for the largest ratio and the plain sum of squares; the sum is what is
+    // returned in the common case (the textbook form, no rescaling round-off).
+    let (mut big, mut sum) = (0.0f64, 0.0f64);
     for r in terms() {
         if r.is_nan() {
             return f64::NAN;
         }
         big = big.max(r.abs());
+        sum += r.powi(2);
     }
     if (1e-150..=1e150).contains(&big) {
-        // The common case, in the textbook form (no rescaling round-off).
-        let sum: f64 = terms().map(|r| r.powi(2)).sum();
         return (sum / n).sqrt();
     }
     if big == 0.0 || big.is_infinite() {

@@ -41,6 +41,15 @@ struct Ur5;
 )]
 struct Solo12;
 
+#[derive(Mechanism)]
+#[mechanism(
+    urdf = "robots/simple_humanoid.urdf",
+    base = free,
+    gravity = [0.0, 0.0, -9.81],
+    emit = [kinematics]
+)]
+struct Humanoid;
+
 #[derive(Default)]
 pub struct Section {
     pub page: Page,
@@ -56,7 +65,7 @@ struct Robot {
     options: &'static str,
 }
 
-const ROBOTS: [Robot; 3] = [
+const ROBOTS: [Robot; 4] = [
     Robot {
         name: "panda",
         file: "robots/panda.urdf",
@@ -74,6 +83,13 @@ const ROBOTS: [Robot; 3] = [
     Robot {
         name: "solo12",
         file: "robots/solo12.urdf",
+        lock: &[],
+        free_base: true,
+        options: "base = free, ",
+    },
+    Robot {
+        name: "humanoid",
+        file: "robots/simple_humanoid.urdf",
         lock: &[],
         free_base: true,
         options: "base = free, ",
@@ -316,10 +332,15 @@ pub fn urdf(config: &Config) -> Section {
             ),
             "ur5" => (measure!(Ur5, 6, 6, &[]), Ur5::JOINTS.to_vec(), Ur5::FRAMES),
             // The free base's six coordinates first, then one per joint.
-            _ => (
+            "solo12" => (
                 measure!(Solo12, 18, 19, Solo12::ROTATIONS),
                 Solo12::COORDINATES[6..].to_vec(),
                 Solo12::FRAMES,
+            ),
+            _ => (
+                measure!(Humanoid, 35, 36, Humanoid::ROTATIONS),
+                Humanoid::COORDINATES[6..].to_vec(),
+                Humanoid::FRAMES,
             ),
         };
         let err = against_numeric(&model, &s);

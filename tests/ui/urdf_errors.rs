@@ -38,4 +38,13 @@ struct Bound { m: f64 }
 #[joint(j: revolute(z), parent = world, child = link)]
 struct NotUrdf { m: f64 }
 
+// Inertial data no real body has: each error names the link.
+#[derive(Mechanism)]
+#[mechanism(urdf = "../../../../tests/ui/urdf/negative_mass.urdf")]
+struct NegativeMass;
+
+#[derive(Mechanism)]
+#[mechanism(urdf = "../../../../tests/ui/urdf/unphysical_inertia.urdf")]
+struct UnphysicalInertia;
+
 fn main() {}

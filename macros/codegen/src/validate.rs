@@ -581,7 +581,7 @@ fn read_body(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opti
         );
     }
     let mass = match raw.take("mass", diag) {
-        Some((_, e)) => lower(&e, names, diag).inspect(|m| check_mass(m, &e, diag)),
+        Some((_, e)) => lower(&e, names, diag).inspect(|m| check_mass(m, &e, &name, diag)),
         None => {
             diag.error_at(
                 &name,
@@ -595,7 +595,7 @@ fn read_body(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opti
         .and_then(|(_, e)| vec3(&e, "com", names, diag))
         .unwrap_or_else(zero3);
     let inertia = match raw.take("inertia", diag) {
-        Some((_, e)) => inertia(&e, names, diag)?,
+        Some((_, e)) => inertia(&e, &name, names, diag)?,
         None => [zero3(), zero3(), zero3()],
     };
     raw.reject_rest(&["mass", "com", "inertia"], diag);
@@ -610,21 +610,21 @@ fn read_body(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opti
 /// A literal mass must be non-negative and finite: a negative mass makes M indefinite
 /// and the dynamics meaningless. Zero is allowed for intermediate frames (checked in
 /// [`build_tree`]: a massless body must carry others).
-fn check_mass(m: &PExpr, at: &Expr, diag: &mut Diagnostics) {
+fn check_mass(m: &PExpr, at: &Expr, body: &Ident, diag: &mut Diagnostics) {
     if let Some(v) = m.as_const()
         && !(v > 0.0 && v.is_finite())
         && v != 0.0
     {
         diag.error_at(
             at,
-            format_args!("mass must be positive and finite, found {v}"),
+            format_args!("body `{body}`: mass must be positive and finite, found {v}"),
         );
     }
 }
 
 /// Inertia about the centre of mass: a shape function, `diag(…)`, a full 3×3 array, or
 /// `point`.
-fn inertia(e: &Expr, names: &[String], diag: &mut Diagnostics) -> Option<Mat3> {
+fn inertia(e: &Expr, body: &Ident, names: &[String], diag: &mut Diagnostics) -> Option<Mat3> {
     const SHAPES: &str = "`rod(m, l)` (along x), `cylinder(m, r, h)` (along z), `cuboid(m, a, b, c)`, `sphere(m, r)`, `diag(ixx, iyy, izz)`, `[[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]` or `point`";
     let num = |v: f64| PExpr::Const(v);
     let mul = |a: PExpr, b: PExpr| PExpr::Bin('*', Box::new(a), Box::new(b));
@@ -717,19 +717,19 @@ fn inertia(e: &Expr, names: &[String], diag: &mut Diagnostics) -> Option<Mat3> {
             return None;
         }
     };
-    check_inertia(&m, e, diag);
+    check_inertia(&m, e, body, diag);
     Some(m)
 }
 
 /// An inertia must be symmetric, and when its entries are literals, positive
 /// semi-definite and satisfy the triangle inequalities of a real body
 /// (`I_xx + I_yy ≥ I_zz` and cyclic); otherwise M can lose definiteness.
-fn check_inertia(m: &Mat3, at: &Expr, diag: &mut Diagnostics) {
+fn check_inertia(m: &Mat3, at: &Expr, body: &Ident, diag: &mut Diagnostics) {
     for (i, j) in [(0, 1), (0, 2), (1, 2)] {
         if m[i][j] != m[j][i] {
             diag.error_at(
                 at,
-                format_args!("inertia must be symmetric: entry ({i}, {j}) differs from ({j}, {i})"),
+                format_args!("body `{body}`: inertia must be symmetric: entry ({i}, {j}) differs from ({j}, {i})"),
             );
             return;
         }
@@ -761,8 +761,11 @@ fn check_inertia(m: &Mat3, at: &Expr, diag: &mut Diagnostics) {
     if !psd || !triangle {
         diag.error_at(
             at,
-            "this inertia is not that of a real body: it must be positive semi-definite with \
-             I_xx + I_yy ≥ I_zz (and cyclic); check signs and magnitudes",
+            format_args!(
+                "body `{body}`: this inertia is not that of a real body (diagonal {a}, {b}, {c}): it \
+                 must be positive semi-definite with I_xx + I_yy ≥ I_zz (and cyclic); check signs \
+                 and magnitudes"
+            ),
         );
     }
 }

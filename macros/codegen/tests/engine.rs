@@ -191,3 +191,70 @@ fn thirty_six_joint_tree_expands() {
     assert!(max_part <= CHUNK + 80, "a helper part has {max_part} lets");
     assert!(text.contains("_part0"), "large functions are split");
 }
+
+/// `forward_dynamics = auto` emits, per kernel, what the smaller of `crba` and `aba`
+/// emits: on random trees of 3…24 joints (chains, bushy trees and everything between,
+/// random axes and offsets), its operation counts of forward dynamics and its Jacobian
+/// equal the smaller of the two algorithms'.
+#[test]
+fn auto_takes_the_algorithm_with_fewer_operations() {
+    let mut seed = 0x0A17_0u64;
+    let mut next = move || {
+        seed = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = seed;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    let mut aba_won = 0;
+    for case in 0..10 {
+        let n = 3 + (next() % 22) as usize;
+        // How far up a parent may be: 1 makes a chain, larger makes bushier trees.
+        let reach = 1 + (next() % 4) as usize;
+        let mut src = String::new();
+        for i in 0..n {
+            let parent = if i == 0 {
+                "world".to_string()
+            } else {
+                format!("b{}", i - 1 - (next() as usize % reach).min(i - 1))
+            };
+            let axis = ["x", "y", "z", "[0.6, 0.0, 0.8]"][(next() % 4) as usize];
+            let ox = (next() % 100) as f64 / 100.0;
+            src += &format!(
+                "#[body(b{i}: revolute({axis}), parent = {parent}, origin = [{ox}, 0.0, l], mass = m, com = [0.0, 0.05, l / 2.0], inertia = cuboid(m, 0.1, 0.2, l))]\n"
+            );
+        }
+        src += "struct Tree { m: f64, l: f64 }";
+        let ops = |algorithm: &str| -> (usize, usize) {
+            let full = format!(
+                "#[derive(Mechanism)]\n#[mechanism(gravity = [0.0, 0.0, -9.81], forward_dynamics = {algorithm})]\n{src}"
+            );
+            let e = filippov_codegen::expand_with_stats(full.parse().unwrap()).expect("expands");
+            let get = |f: &str| {
+                e.functions
+                    .iter()
+                    .find(|x| x.name == f)
+                    .map(|x| x.ops.total())
+                    .expect("emitted")
+            };
+            (get("forward_dynamics"), get("forward_dynamics_jacobian"))
+        };
+        let (crba, aba, auto) = (ops("crba"), ops("aba"), ops("auto"));
+        assert_eq!(
+            auto.0,
+            crba.0.min(aba.0),
+            "case {case} ({n} joints): forward dynamics"
+        );
+        assert_eq!(
+            auto.1,
+            crba.1.min(aba.1),
+            "case {case} ({n} joints): Jacobian"
+        );
+        aba_won += usize::from(aba.0 < crba.0);
+    }
+    // Both outcomes occur, so both branches of the choice are exercised.
+    assert!(
+        (1..10).contains(&aba_won),
+        "ABA had fewer FD operations in {aba_won} of 10"
+    );
+}

@@ -382,8 +382,9 @@ impl<'m> Solver<'m> {
 
     /// The `count` columns of one kernel, all with one algorithm: the one whose code for
     /// all of them together has fewer operations. With both algorithms at hand, a few
-    /// columns are built with each (the first, the second and the last) and the rest
-    /// extrapolated from what each sampled column adds to the others: building every
+    /// columns are built with each (the first two, then at a quarter, half and three
+    /// quarters of the way, and the last) and the rest extrapolated from what each
+    /// sampled column adds to the others: building every
     /// column twice would double the expansion of a large scene.
     fn choose_columns(
         &self,
@@ -396,7 +397,10 @@ impl<'m> Solver<'m> {
             Solver::Aba(a) => return (build_all(g, Which::Aba(a), count, col), Algorithm::Aba),
             Solver::Both(l, a) => (l, a),
         };
-        let mut sample: Vec<usize> = vec![0, 1.min(count - 1), count - 1];
+        // Columns spread over the kernel: a tree's columns cost more near the root.
+        let mut sample: Vec<usize> = vec![0, 1, count / 4, count / 2, 3 * count / 4, count - 1];
+        sample.retain(|&k| k < count);
+        sample.sort_unstable();
         sample.dedup();
         let estimate = |g: &mut Graph,
                         w: Which<'_, 'm>,

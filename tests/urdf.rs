@@ -154,131 +154,97 @@ struct Solo12;
 )]
 struct Humanoid;
 
+/// `max |a − b| / max(1, max |b|)`.
+fn rel(a: &[f64], b: &[f64]) -> f64 {
+    let scale = b.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+        / scale
+}
+
+/// A robot on a free base against the numeric reader of the same file at `states` random
+/// states (unit quaternions in the rotation slots): M, C v + g and forward dynamics;
+/// `more` checks anything else at the same state.
+fn free_base_against_reader<S, const N: usize, const NQ: usize>(
+    sys: &S,
+    model: &Model,
+    seed: u64,
+    states: usize,
+    mut more: impl FnMut(&SVector<f64, NQ>, &SVector<f64, N>, &SVector<f64, N>),
+) where
+    S: filippov::runtime::liegroup::LieMechanism<N, NQ> + Bias<N, NQ>,
+{
+    use filippov::runtime::UnitQuat;
+    let mut rng = common::Rng::new(seed);
+    for _ in 0..states {
+        let mut q = SVector::<f64, NQ>::from_fn(|_, _| rng.uniform(-2.0, 2.0));
+        for &(s, _) in S::ROTATIONS {
+            let r = UnitQuat::try_new(q[s], q[s + 1], q[s + 2], q[s + 3])
+                .unwrap_or_default()
+                .coords();
+            q.fixed_rows_mut::<4>(s).copy_from_slice(&r);
+        }
+        let v = SVector::<f64, N>::from_fn(|_, _| rng.uniform(-2.0, 2.0));
+        let tau = SVector::<f64, N>::from_fn(|_, _| rng.uniform(-5.0, 5.0));
+        let (qd, vd) = (
+            DVector::from_column_slice(q.as_slice()),
+            DVector::from_column_slice(v.as_slice()),
+        );
+        let m = sys.mass_matrix(&q);
+        let m_ref = numeric::crba(model, &qd);
+        assert!(rel(m.as_slice(), m_ref.as_slice()) < 1e-12, "M");
+        let b = sys.bias(&q, &v);
+        let b_ref = numeric::bias(model, &qd, &vd);
+        assert!(rel(b.as_slice(), b_ref.as_slice()) < 1e-12, "C v + g");
+        let fd = sys.forward_dynamics(&q, &v, &tau);
+        let tau_d = DVector::from_column_slice(tau.as_slice());
+        let fd_ref = numeric::forward_dynamics(model, &qd, &vd, &tau_d);
+        assert!(
+            rel(fd.as_slice(), fd_ref.as_slice()) < 1e-10,
+            "forward dynamics"
+        );
+        more(&q, &v, &tau);
+    }
+}
+
 /// A humanoid of 29 revolute joints on a floating base (35 dof), large enough that
 /// `forward_dynamics = auto` takes the articulated-body algorithm for forward dynamics:
 /// M, C v + g and forward dynamics against the numeric reader at random configurations,
-/// and the Jacobian against central differences along the group's retraction.
+/// and the Jacobian against central differences along the group's retraction (over the
+/// whole matrix, as rounding in a difference scales with the largest acceleration).
 #[test]
 fn humanoid_with_a_free_base_matches_the_numeric_reader() {
-    use filippov::runtime::UnitQuat;
     use filippov::runtime::liegroup::LieMechanism;
     let text = include_str!("../robots/simple_humanoid.urdf");
     let model = Model::from_urdf(text, Vector3::new(0.0, 0.0, -9.81), true, &[]).expect("reads");
     assert_eq!((Humanoid::DOF, Humanoid::CONFIG, model.dof()), (35, 36, 35));
-    let mut rng = common::Rng::new(37);
-    let rel = |a: &[f64], b: &[f64]| {
-        let scale = b.iter().fold(1.0f64, |m, x| m.max(x.abs()));
-        a.iter()
-            .zip(b)
-            .map(|(x, y)| (x - y).abs())
-            .fold(0.0, f64::max)
-            / scale
-    };
-    for _ in 0..10 {
-        let mut q = SVector::<f64, 36>::from_fn(|_, _| rng.uniform(-2.0, 2.0));
-        for &(s, _) in Humanoid::ROTATIONS {
-            let r = UnitQuat::try_new(q[s], q[s + 1], q[s + 2], q[s + 3])
-                .unwrap_or_default()
-                .coords();
-            q.fixed_rows_mut::<4>(s).copy_from_slice(&r);
-        }
-        let v = SVector::<f64, 35>::from_fn(|_, _| rng.uniform(-2.0, 2.0));
-        let tau = SVector::<f64, 35>::from_fn(|_, _| rng.uniform(-5.0, 5.0));
-        let (qd, vd) = (
-            DVector::from_column_slice(q.as_slice()),
-            DVector::from_column_slice(v.as_slice()),
-        );
-        let m = Humanoid.mass_matrix(&q);
-        assert!(
-            rel(m.as_slice(), numeric::crba(&model, &qd).as_slice()) < 1e-12,
-            "M"
-        );
-        let b = Humanoid.bias(&q, &v);
-        assert!(
-            rel(b.as_slice(), numeric::bias(&model, &qd, &vd).as_slice()) < 1e-12,
-            "C v + g"
-        );
-        let fd = Humanoid.forward_dynamics(&q, &v, &tau);
-        let fd_ref = numeric::forward_dynamics(
-            &model,
-            &qd,
-            &vd,
-            &DVector::from_column_slice(tau.as_slice()),
-        );
-        assert!(
-            rel(fd.as_slice(), fd_ref.as_slice()) < 1e-10,
-            "forward dynamics"
-        );
-        // The Jacobian (over the whole matrix, as rounding in a difference scales with
-        // the largest acceleration).
-        let jac = Humanoid.forward_dynamics_jacobian(&q, &v, &tau);
+    free_base_against_reader(&Humanoid, &model, 37, 10, |q, v, tau| {
+        let jac = Humanoid.forward_dynamics_jacobian(q, v, tau);
         let h = 1e-6;
         let mut dq = filippov::nalgebra::SMatrix::<f64, 35, 35>::zeros();
         for k in 0..35 {
             let e = SVector::<f64, 35>::from_fn(|i, _| f64::from(i == k));
-            let plus = Humanoid.forward_dynamics(&Humanoid::retract(&q, &(e * h)), &v, &tau);
-            let minus = Humanoid.forward_dynamics(&Humanoid::retract(&q, &(e * -h)), &v, &tau);
+            let plus = Humanoid.forward_dynamics(&Humanoid::retract(q, &(e * h)), v, tau);
+            let minus = Humanoid.forward_dynamics(&Humanoid::retract(q, &(e * -h)), v, tau);
             dq.set_column(k, &((plus - minus) / (2.0 * h)));
         }
         assert!(rel(jac.d_dq.as_slice(), dq.as_slice()) < 1e-6, "∂v̇/∂φ");
-    }
+    });
 }
 
 /// A quadruped with a floating base (SO(3) × ℝ³ and 12 revolute joints): the derive's
 /// expansion against the numeric reader at random configurations (unit quaternion for
-/// the base).
+/// the base), frame kinematics included.
 #[test]
 fn solo12_with_a_free_base_matches_the_numeric_reader() {
-    use filippov::runtime::UnitQuat;
     let text = include_str!("../robots/solo12.urdf");
     let model = Model::from_urdf(text, Vector3::new(0.0, 0.0, -9.81), true, &[]).expect("reads");
     assert_eq!((Solo12::DOF, Solo12::CONFIG, model.dof()), (18, 19, 18));
-    let mut rng = common::Rng::new(31);
-    let rel = |a: &[f64], b: &[f64]| {
-        let scale = b.iter().fold(1.0f64, |m, x| m.max(x.abs()));
-        a.iter()
-            .zip(b)
-            .map(|(x, y)| (x - y).abs())
-            .fold(0.0, f64::max)
-            / scale
-    };
-    for _ in 0..20 {
-        let mut q = SVector::<f64, 19>::from_fn(|_, _| rng.uniform(-2.0, 2.0));
-        for &(s, _) in Solo12::ROTATIONS {
-            let r = UnitQuat::try_new(q[s], q[s + 1], q[s + 2], q[s + 3])
-                .unwrap_or_default()
-                .coords();
-            q.fixed_rows_mut::<4>(s).copy_from_slice(&r);
-        }
-        let v = SVector::<f64, 18>::from_fn(|_, _| rng.uniform(-2.0, 2.0));
-        let tau = SVector::<f64, 18>::from_fn(|_, _| rng.uniform(-5.0, 5.0));
-        let (qd, vd) = (
-            DVector::from_column_slice(q.as_slice()),
-            DVector::from_column_slice(v.as_slice()),
-        );
-        let m = Solo12.mass_matrix(&q);
-        assert!(
-            rel(m.as_slice(), numeric::crba(&model, &qd).as_slice()) < 1e-12,
-            "M"
-        );
-        let b = Solo12.bias(&q, &v);
-        assert!(
-            rel(b.as_slice(), numeric::bias(&model, &qd, &vd).as_slice()) < 1e-12,
-            "C v + g"
-        );
-        common::check_kinematics_lie(&Solo12, &model, &q, &v);
-        let fd = Solo12.forward_dynamics(&q, &v, &tau);
-        let fd_ref = numeric::forward_dynamics(
-            &model,
-            &qd,
-            &vd,
-            &DVector::from_column_slice(tau.as_slice()),
-        );
-        assert!(
-            rel(fd.as_slice(), fd_ref.as_slice()) < 1e-10,
-            "forward dynamics"
-        );
-    }
+    free_base_against_reader(&Solo12, &model, 31, 20, |q, v, _| {
+        common::check_kinematics_lie(&Solo12, &model, q, v);
+    });
 }
 
 #[derive(Mechanism)]

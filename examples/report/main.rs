@@ -69,6 +69,14 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
         timing::machine(),
         config.repeats
     ));
+    // The diffsol peer is built and run once, for the non-smooth plots and the peers'
+    // section; cold, its build takes minutes, so the progress line says so first.
+    if config.peers && (config.runs("nonsmooth") || config.runs("kernels")) {
+        progress.set_message(
+            "building and running the diffsol peer (peers/diffsol; minutes when cold)",
+        );
+        let _ = peers::diffsol(config);
+    }
     // A section not asked for by `--only` is left out (empty page, no summary).
     macro_rules! section {
         ($key:literal, $msg:literal, $run:expr) => {{

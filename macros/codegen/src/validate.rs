@@ -51,7 +51,10 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
             "`urdf_param` binds values of a URDF file; add `urdf = \"path/to/robot.urdf\"` to `#[mechanism(…)]` or drop it",
         );
     }
+    // How errors about a body name it: the link of the file, for a URDF scene.
+    let mut who = Who { urdf: None };
     if let Some(opts) = options {
+        who.urdf = Some(opts.path.value());
         urdf_file = Some(crate::urdf::resolve(&opts.path.value()));
         match crate::urdf::attributes(&opts, &params, diag) {
             Some(more) => raws.extend(more),
@@ -128,13 +131,13 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
             Family::Body if raw.head.is_some() => {
                 let child = raw.name.clone();
                 let (body, joint) = split_body_with_joint(raw);
-                bodies.extend(read_body(body, &names, diag));
+                bodies.extend(read_body(body, &names, &who, diag));
                 match read_joint(joint, &names, diag) {
                     Some(j) => joints.push(j),
                     None => claimed.extend(child),
                 }
             }
-            Family::Body => bodies.extend(read_body(raw, &names, diag)),
+            Family::Body => bodies.extend(read_body(raw, &names, &who, diag)),
             Family::Joint => {
                 // The child a joint names, even if the joint has errors: that body is
                 // attached as far as the user is concerned, and saying otherwise would
@@ -565,7 +568,28 @@ fn zero3() -> Vec3 {
     [PExpr::zero(), PExpr::zero(), PExpr::zero()]
 }
 
-fn read_body(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Option<Body> {
+/// Where a body comes from, for its error messages: written in an attribute, or a link
+/// of a URDF file (then the message names the file and the link, as the file's other
+/// errors do).
+struct Who {
+    urdf: Option<String>,
+}
+
+impl Who {
+    fn body(&self, name: &Ident) -> String {
+        match &self.urdf {
+            Some(path) => format!("URDF `{path}`: link `{name}`"),
+            None => format!("body `{name}`"),
+        }
+    }
+}
+
+fn read_body(
+    mut raw: RawAttr,
+    names: &[String],
+    who: &Who,
+    diag: &mut Diagnostics,
+) -> Option<Body> {
     let name = raw.name.clone()?;
     if name == "world" {
         diag.error_at(
@@ -581,7 +605,9 @@ fn read_body(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opti
         );
     }
     let mass = match raw.take("mass", diag) {
-        Some((_, e)) => lower(&e, names, diag).inspect(|m| check_mass(m, &e, &name, diag)),
+        Some((_, e)) => {
+            lower(&e, names, diag).inspect(|m| check_mass(m, &e, &who.body(&name), diag))
+        }
         None => {
             diag.error_at(
                 &name,
@@ -595,7 +621,7 @@ fn read_body(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opti
         .and_then(|(_, e)| vec3(&e, "com", names, diag))
         .unwrap_or_else(zero3);
     let inertia = match raw.take("inertia", diag) {
-        Some((_, e)) => inertia(&e, &name, names, diag)?,
+        Some((_, e)) => inertia(&e, &who.body(&name), names, diag)?,
         None => [zero3(), zero3(), zero3()],
     };
     raw.reject_rest(&["mass", "com", "inertia"], diag);
@@ -610,21 +636,21 @@ fn read_body(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opti
 /// A literal mass must be non-negative and finite: a negative mass makes M indefinite
 /// and the dynamics meaningless. Zero is allowed for intermediate frames (checked in
 /// [`build_tree`]: a massless body must carry others).
-fn check_mass(m: &PExpr, at: &Expr, body: &Ident, diag: &mut Diagnostics) {
+fn check_mass(m: &PExpr, at: &Expr, body: &str, diag: &mut Diagnostics) {
     if let Some(v) = m.as_const()
         && !(v > 0.0 && v.is_finite())
         && v != 0.0
     {
         diag.error_at(
             at,
-            format_args!("body `{body}`: mass must be positive and finite, found {v}"),
+            format_args!("{body}: mass must be positive and finite, found {v}"),
         );
     }
 }
 
 /// Inertia about the centre of mass: a shape function, `diag(…)`, a full 3×3 array, or
 /// `point`.
-fn inertia(e: &Expr, body: &Ident, names: &[String], diag: &mut Diagnostics) -> Option<Mat3> {
+fn inertia(e: &Expr, body: &str, names: &[String], diag: &mut Diagnostics) -> Option<Mat3> {
     const SHAPES: &str = "`rod(m, l)` (along x), `cylinder(m, r, h)` (along z), `cuboid(m, a, b, c)`, `sphere(m, r)`, `diag(ixx, iyy, izz)`, `[[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]` or `point`";
     let num = |v: f64| PExpr::Const(v);
     let mul = |a: PExpr, b: PExpr| PExpr::Bin('*', Box::new(a), Box::new(b));
@@ -724,12 +750,14 @@ fn inertia(e: &Expr, body: &Ident, names: &[String], diag: &mut Diagnostics) -> 
 /// An inertia must be symmetric, and when its entries are literals, positive
 /// semi-definite and satisfy the triangle inequalities of a real body
 /// (`I_xx + I_yy ≥ I_zz` and cyclic); otherwise M can lose definiteness.
-fn check_inertia(m: &Mat3, at: &Expr, body: &Ident, diag: &mut Diagnostics) {
+fn check_inertia(m: &Mat3, at: &Expr, body: &str, diag: &mut Diagnostics) {
     for (i, j) in [(0, 1), (0, 2), (1, 2)] {
         if m[i][j] != m[j][i] {
             diag.error_at(
                 at,
-                format_args!("body `{body}`: inertia must be symmetric: entry ({i}, {j}) differs from ({j}, {i})"),
+                format_args!(
+                    "{body}: inertia must be symmetric: entry ({i}, {j}) differs from ({j}, {i})"
+                ),
             );
             return;
         }
@@ -762,7 +790,7 @@ fn check_inertia(m: &Mat3, at: &Expr, body: &Ident, diag: &mut Diagnostics) {
         diag.error_at(
             at,
             format_args!(
-                "body `{body}`: this inertia is not that of a real body (diagonal {a}, {b}, {c}): it \
+                "{body}: this inertia is not that of a real body (diagonal {a}, {b}, {c}): it \
                  must be positive semi-definite with I_xx + I_yy ≥ I_zz (and cyclic); check signs \
                  and magnitudes"
             ),

@@ -2,7 +2,8 @@
 //! `#[body(name: kind, parent = …, …)]` attribute (a body and its joint), so the struct
 //! carries 65 attributes, below the 128 derive helper attributes rustc expands on one item.
 //! (Prismatic links along one axis keep the kernels small; the build time of large
-//! chains is another matter.)
+//! chains is another matter.) Its forward dynamics runs on a 2 MiB thread in this
+//! unoptimised build and falls as the closed form says.
 use filippov::Mechanism;
 
 #[derive(Mechanism)]
@@ -81,4 +82,19 @@ fn main() {
     let m = c.mass_matrix(&q);
     // Every coordinate carries the links after it: M_00 is the whole chain's mass.
     assert!((m[(0, 0)] - 64.0).abs() < 1e-9 && (m[(63, 63)] - 1.0).abs() < 1e-12);
+    // Forward dynamics of 64 coordinates on a 2 MiB thread, in this unoptimised build: the
+    // generated code is straight-line, no recursion. Closed form: with gravity along
+    // every slide the chain falls as one body, the first coordinate at −9.81, the others
+    // at rest relative to it.
+    let fd = std::thread::Builder::new()
+        .stack_size(2 << 20)
+        .spawn(move || {
+            let zero = SVector::<f64, 64>::zeros();
+            c.forward_dynamics(&q, &zero, &zero)
+        })
+        .expect("thread")
+        .join()
+        .expect("forward dynamics runs on a 2 MiB stack");
+    assert!((fd[0] + 9.81).abs() < 1e-12, "{}", fd[0]);
+    assert!(fd.iter().skip(1).all(|a| a.abs() < 1e-12), "{fd:?}");
 }

@@ -260,8 +260,9 @@ pub struct Model {
 /// The linear solve behind forward dynamics, its Jacobian and `M⁻¹`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Algorithm {
-    /// Per kernel, whichever of the two emits fewer operations for this scene (both are
-    /// built and counted while the scene is small enough for that to be cheap).
+    /// Per kernel, whichever of the two emits fewer operations for this scene: forward
+    /// dynamics is built and counted both ways; for the column kernels (its Jacobian,
+    /// `M⁻¹`) a sample of columns is, and the rest extrapolated.
     #[default]
     Auto,
     /// Mass matrix by the composite-rigid-body algorithm, then its sparse `LᵀDL`.

@@ -11,7 +11,9 @@
 //! inertia.
 
 use super::kinematics::Kinematics;
-use super::spatial::{Force, Inertia, M3, Motion, V3, Xform, mat_mul, transpose};
+use super::spatial::{
+    Force, Inertia, M3, Motion, V3, Xform, add3, mat_add, mat_mul, mat_vec, scale3, transpose,
+};
 use crate::model::Model;
 use crate::sym::{Graph, Id};
 
@@ -75,13 +77,13 @@ impl Spatial6 {
 
     pub fn apply(&self, g: &mut Graph, m: Motion) -> Force {
         let bt = transpose(&self.b);
-        let aw = super::spatial::mat_vec(g, &self.a, m.w);
-        let bv = super::spatial::mat_vec(g, &self.b, m.v);
-        let btw = super::spatial::mat_vec(g, &bt, m.w);
-        let cv = super::spatial::mat_vec(g, &self.c, m.v);
+        let aw = mat_vec(g, &self.a, m.w);
+        let bv = mat_vec(g, &self.b, m.v);
+        let btw = mat_vec(g, &bt, m.w);
+        let cv = mat_vec(g, &self.c, m.v);
         Force {
-            n: super::spatial::add3(g, aw, bv),
-            f: super::spatial::add3(g, btw, cv),
+            n: add3(g, aw, bv),
+            f: add3(g, btw, cv),
         }
     }
 
@@ -122,9 +124,9 @@ impl Spatial6 {
     }
 
     pub fn add(&self, g: &mut Graph, o: &Spatial6) -> Spatial6 {
-        let a = super::spatial::mat_add(g, &self.a, &o.a);
-        let b = super::spatial::mat_add(g, &self.b, &o.b);
-        let c = super::spatial::mat_add(g, &self.c, &o.c);
+        let a = mat_add(g, &self.a, &o.a);
+        let b = mat_add(g, &self.b, &o.b);
+        let c = mat_add(g, &self.c, &o.c);
         Spatial6 { a, b, c }
     }
 
@@ -149,7 +151,7 @@ impl Spatial6 {
                 a[j][i] = a[i][j];
             }
         }
-        let b = super::spatial::mat_add(g, &b1, &rc);
+        let b = mat_add(g, &b1, &rc);
         Spatial6 { a, b, c: c1 }
     }
 }
@@ -165,8 +167,7 @@ struct Joint {
 /// The articulated-body factorisation of a scene at symbolic `q`.
 pub struct Articulated<'m> {
     model: &'m Model,
-    xform: Vec<Xform>,
-    subspace: Vec<Vec<Motion>>,
+    kin: &'m Kinematics,
     joints: Vec<Option<Joint>>,
 }
 
@@ -230,7 +231,7 @@ fn inverse_spd(g: &mut Graph, d: &[Vec<Id>]) -> Vec<Vec<Id>> {
 }
 
 impl<'m> Articulated<'m> {
-    pub fn new(g: &mut Graph, model: &'m Model, kin: &Kinematics, inertia: &[Inertia]) -> Self {
+    pub fn new(g: &mut Graph, model: &'m Model, kin: &'m Kinematics, inertia: &[Inertia]) -> Self {
         let nl = model.links.len();
         let mut art: Vec<Spatial6> = inertia.iter().map(|i| Spatial6::from_rigid(g, i)).collect();
         let mut joints: Vec<Option<Joint>> = (0..nl).map(|_| None).collect();
@@ -287,12 +288,7 @@ impl<'m> Articulated<'m> {
                 art[p] = art[p].add(g, &moved);
             }
         }
-        Articulated {
-            model,
-            xform: kin.xform.clone(),
-            subspace: kin.subspace.clone(),
-            joints,
-        }
+        Articulated { model, kin, joints }
     }
 
     /// `M⁻¹ (b − bias(base))`: the accelerations under generalised forces `b` when the
@@ -312,7 +308,7 @@ impl<'m> Articulated<'m> {
             let link = &model.links[i];
             let mut pa = p[i];
             if let (Some(c), Some(j)) = (link.coordinate, &self.joints[i]) {
-                u[i] = self.subspace[i]
+                u[i] = self.kin.subspace[i]
                     .iter()
                     .enumerate()
                     .map(|(k, s)| {
@@ -321,13 +317,13 @@ impl<'m> Articulated<'m> {
                     })
                     .collect();
                 for (wk, uk) in j.w.iter().zip(&u[i]) {
-                    let n = super::spatial::scale3(g, *uk, wk.n);
-                    let f = super::spatial::scale3(g, *uk, wk.f);
+                    let n = scale3(g, *uk, wk.n);
+                    let f = scale3(g, *uk, wk.f);
                     pa = pa.add(g, Force { n, f });
                 }
             }
             if let Some(par) = link.parent {
-                let up = self.xform[i].apply_force_t(g, pa);
+                let up = self.kin.xform[i].apply_force_t(g, pa);
                 p[par] = p[par].add(g, up);
             }
         }
@@ -337,9 +333,9 @@ impl<'m> Articulated<'m> {
         for i in 0..nl {
             let link = &model.links[i];
             let ap = link.parent.map_or(base, |par| acc[par]);
-            let mut ai = self.xform[i].apply_motion(g, ap);
+            let mut ai = self.kin.xform[i].apply_motion(g, ap);
             if let (Some(c), Some(j)) = (link.coordinate, &self.joints[i]) {
-                let k = self.subspace[i].len();
+                let k = self.kin.subspace[i].len();
                 for row in 0..k {
                     // q̈ = D⁻¹ u − Wᵀ a.
                     let du: Vec<Id> = (0..k).map(|m| j.d_inv[row][m]).collect();
@@ -347,7 +343,7 @@ impl<'m> Articulated<'m> {
                     let ta = ai.dot_force(g, j.w[row]);
                     out[c + row] = g.sub(d, ta);
                 }
-                for (row, s) in self.subspace[i].iter().enumerate() {
+                for (row, s) in self.kin.subspace[i].iter().enumerate() {
                     let t = s.scale(g, out[c + row]);
                     ai = ai.add(g, t);
                 }

@@ -184,14 +184,13 @@ impl Kernels {
         // algorithm for all. The substitution's memo is kept per algorithm.
         let mut substitutions: [Option<(FastMap<Id, Id>, FastMap<Id, Id>)>; 2] = [None, None];
         let (mut cols, jacobian_algorithm) = solver.choose_columns(&mut g, 2 * n + 1, |g, s, k| {
-            let fwd = solve_forward(g, s);
             if k == 0 {
-                return fwd;
+                return solve_forward(g, s);
             }
             let slot = usize::from(matches!(s, Which::Aba(_)));
             let (subst, memo) = substitutions[slot].get_or_insert_with(|| {
-                let subst = a.iter().copied().zip(fwd.iter().copied()).collect();
-                (subst, FastMap::default())
+                let fwd = solve_forward(g, s);
+                (a.iter().copied().zip(fwd).collect(), FastMap::default())
             });
             let rhs: Vec<Id> = d_x[k - 1]
                 .iter()
@@ -355,7 +354,7 @@ impl<'m> Solver<'m> {
     fn new(
         g: &mut Graph,
         model: &'m Model,
-        kin: &kinematics::Kinematics,
+        kin: &'m kinematics::Kinematics,
         inertia: &[Inertia],
         mass: &[Vec<Id>],
     ) -> Self {
@@ -398,7 +397,8 @@ impl<'m> Solver<'m> {
             Solver::Both(l, a) => (l, a),
         };
         // Columns spread over the kernel: a tree's columns cost more near the root.
-        let mut sample: Vec<usize> = vec![0, 1, count / 4, count / 2, 3 * count / 4, count - 1];
+        let last = count.saturating_sub(1);
+        let mut sample: Vec<usize> = vec![0, 1, count / 4, count / 2, 3 * count / 4, last];
         sample.retain(|&k| k < count);
         sample.sort_unstable();
         sample.dedup();

@@ -1,5 +1,6 @@
 // Times Pinocchio's crba, rnea, aba and computeCoriolisMatrix on a model written by
-// pin_model.write_flat (joint list with merged inertias + a fixed state).
+// pin_model.write_flat or write_model (joint list with merged inertias + a fixed state;
+// joint types RX RY RZ RU PX PY PZ PU and FF, the free flyer, whose q has nv + 1 entries).
 // Usage: pin_bench MODEL.txt  -> prints results (key value lines) on stdout.
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/crba.hpp>
@@ -23,7 +24,10 @@ static std::vector<double> read_vec(std::istream &in, int n) {
   return v;
 }
 
-template <class F> static double time_ns(F &&f) {
+struct Timing { double median, min, max; };
+
+// ns per call: median, min and max of 21 batches of ~20 ms each, after a warm-up.
+template <class F> static Timing time_ns(F &&f) {
   using clk = std::chrono::steady_clock;
   for (int i = 0; i < 20000; ++i) f();  // warm-up
   // calibrate a batch to ~20 ms
@@ -42,7 +46,7 @@ template <class F> static double time_ns(F &&f) {
     per.push_back(std::chrono::duration<double, std::nano>(clk::now() - t0).count() / n);
   }
   std::sort(per.begin(), per.end());
-  return per[per.size() / 2];
+  return {per[per.size() / 2], per.front(), per.back()};
 }
 
 int main(int argc, char **argv) {
@@ -71,13 +75,14 @@ int main(int argc, char **argv) {
     else if (t == "PY") id = model.addJoint(parent, JointModelPY(), place, name);
     else if (t == "PZ") id = model.addJoint(parent, JointModelPZ(), place, name);
     else if (t == "PU") id = model.addJoint(parent, JointModelPrismaticUnaligned(axis), place, name);
+    else if (t == "FF") id = model.addJoint(parent, JointModelFreeFlyer(), place, name);
     else { std::cerr << "unknown joint type " << t << "\n"; return 2; }
     model.appendBodyToJoint(id, inertia, SE3::Identity());
   }
   const int n = model.nv;
-  auto qv = read_vec(in, n), vv = read_vec(in, n), tv = read_vec(in, n);
+  auto qv = read_vec(in, model.nq), vv = read_vec(in, n), tv = read_vec(in, n);
   if (!in) { std::cerr << "model file truncated\n"; return 2; }
-  Eigen::VectorXd q = Eigen::Map<Eigen::VectorXd>(qv.data(), n), v = Eigen::Map<Eigen::VectorXd>(vv.data(), n),
+  Eigen::VectorXd q = Eigen::Map<Eigen::VectorXd>(qv.data(), model.nq), v = Eigen::Map<Eigen::VectorXd>(vv.data(), n),
                   tau = Eigen::Map<Eigen::VectorXd>(tv.data(), n);
   Data data(model);
 
@@ -98,11 +103,13 @@ int main(int argc, char **argv) {
   std::printf("\n");
 
   double sink = 0;
-  double t_crba = time_ns([&] { crba(model, data, q); sink += data.M(0, 0); });
-  double t_rnea = time_ns([&] { rnea(model, data, q, v, a); sink += data.tau[0]; });
-  double t_aba = time_ns([&] { aba(model, data, q, v, tau); sink += data.ddq[0]; });
-  double t_cor = time_ns([&] { computeCoriolisMatrix(model, data, q, v); sink += data.C(0, 0); });
-  std::printf("crba_ns %.3f\nrnea_ns %.3f\naba_ns %.3f\ncoriolis_ns %.3f\n", t_crba, t_rnea, t_aba, t_cor);
+  auto show = [](const char *key, Timing t) {
+    std::printf("%s %.3f\n%s_range %.3f %.3f\n", key, t.median, key, t.min, t.max);
+  };
+  show("crba_ns", time_ns([&] { crba(model, data, q); sink += data.M(0, 0); }));
+  show("rnea_ns", time_ns([&] { rnea(model, data, q, v, a); sink += data.tau[0]; }));
+  show("aba_ns", time_ns([&] { aba(model, data, q, v, tau); sink += data.ddq[0]; }));
+  show("coriolis_ns", time_ns([&] { computeCoriolisMatrix(model, data, q, v); sink += data.C(0, 0); }));
   std::fprintf(stderr, "(sink %g)\n", sink);
   return 0;
 }

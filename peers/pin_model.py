@@ -83,6 +83,29 @@ def load(path):
     return model, spec, info
 
 
+# Pinocchio joint types the C++ benchmark rebuilds (pin_bench.cpp reads these codes).
+FLAT_TYPES = {
+    "JointModelRX": "RX", "JointModelRY": "RY", "JointModelRZ": "RZ",
+    "JointModelRevoluteUnaligned": "RU", "JointModelPX": "PX", "JointModelPY": "PY",
+    "JointModelPZ": "PZ", "JointModelPrismaticUnaligned": "PU", "JointModelFreeFlyer": "FF",
+}
+
+
+def write_model(model, path, q, v, tau):
+    """Any Pinocchio model built from the joint types in FLAT_TYPES (e.g. from a URDF,
+    reduced or with a free-flyer base), as plain text for the C++ benchmark: each joint's
+    type, parent, placement, axis and the inertia of its (merged) body, then q, v, tau."""
+    spec = []
+    for jid in range(1, model.njoints):
+        joint = model.joints[jid]
+        code = FLAT_TYPES.get(joint.shortname())
+        if code is None:
+            raise ValueError(f"joint {model.names[jid]}: type {joint.shortname()} is not one pin_bench.cpp rebuilds")
+        axis = np.asarray(getattr(joint.extract(), "axis", np.array([1.0, 0.0, 0.0])), float)
+        spec.append((code, int(model.parents[jid]), model.jointPlacements[jid], axis, jid))
+    write_flat(model, spec, path, q, v, tau)
+
+
 def write_flat(model, spec, path, q, v, tau):
     """Plain-text model + state for the C++ benchmark (inertias already merged)."""
     lines = [f"{len(spec)}", " ".join(repr(float(x)) for x in model.gravity.linear)]

@@ -59,7 +59,8 @@ echo "== Pinocchio"
 # 2a'. Pinocchio on the URDF robots (robots/*.urdf), at the states the report exported
 if ls "$ROOT/target/report/urdf/"*.json >/dev/null 2>&1; then
   echo "== Pinocchio on the URDF robots"
-  "$PY" "$HERE/urdf_pin.py" "$ROOT/target/report/urdf" "$OUT/urdf.tsv" || fail "URDF comparison failed"
+  "$PY" "$HERE/urdf_pin.py" "$ROOT/target/report/urdf" "$OUT/urdf.tsv" "$( [ -x "$BIN" ] && echo "$BIN" || echo "")" \
+    || fail "URDF comparison failed"
 fi
 
 # 2b. SciPy

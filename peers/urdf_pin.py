@@ -7,7 +7,13 @@ the generated forward kinematics), Pinocchio's framesForwardKinematics placement
 computeFrameJacobian(LOCAL_WORLD_ALIGNED) on the frame of the same name, the Jacobian
 mapped to our velocity coordinates (J_ours = J_pin T).
 
-Usage: urdf_pin.py <dir with the robots' JSON> <output .tsv>
+Usage: urdf_pin.py <dir with the robots' JSON> <output .tsv> [pin_bench binary]
+
+With the C++ benchmark (peers/pin_bench.cpp, built by peers/run.sh), each robot's model
+as Pinocchio built it is also written next to the .tsv (urdf/<robot>.txt, read by
+pin_bench) and ABA is timed in C++; its result must equal the bindings' at the state.
+The report runs the same binary on those files beside its own timing of our forward
+dynamics, so the two are measured in one run.
 
 A free base (`base = free` in filippov) is Pinocchio's free-flyer joint. The two use
 different velocity coordinates for it: filippov's are the world-frame rate of the base
@@ -19,11 +25,14 @@ v_b = Rᵀ ṗ and ω. With T = diag(Rᵀ, I, I) (ours → Pinocchio): M_ours = 
 import glob
 import json
 import os
+import subprocess
 import sys
 import time
 
 import numpy as np
 import pinocchio as pin
+
+import pin_model
 
 
 def quat_matrix(w, x, y, z):
@@ -51,7 +60,20 @@ def load(d):
     return model
 
 
-def robot(d):
+def cpp_aba(binary, model, path, q, v, tau):
+    """ABA ns from pin_bench on the model written to `path`; checks its result first."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    pin_model.write_model(model, path, q, v, tau)
+    res = subprocess.run([binary, path], capture_output=True, text=True, check=True)
+    vals = {k: [float(t) for t in x] for k, *x in (l.split() for l in res.stdout.splitlines())}
+    ref = pin.aba(model, model.createData(), q, v, tau)
+    diff = rel(vals["aba"], ref)
+    if diff > 1e-12:
+        raise SystemExit(f"{path}: the C++ model's ABA differs from the bindings' by {diff:.2e}")
+    return vals["aba_ns"][0]
+
+
+def robot(d, binary=None, flat_dir=None):
     model = load(d)
     data = model.createData()
     free = d["free_base"]
@@ -124,18 +146,23 @@ def robot(d):
         for _ in range(calls):
             pin.aba(model, data, q, v, tau)
         times.append((time.perf_counter() - t0) / calls * 1e9)
-    return err_m, err_b, err_fd, sorted(times)[2], model.nv, err_pose, err_jac
+    cpp = (cpp_aba(binary, model, os.path.join(flat_dir, d["name"] + ".txt"), q, v, tau)
+           if binary else float("nan"))
+    return err_m, err_b, err_fd, sorted(times)[2], model.nv, err_pose, err_jac, cpp
 
 
 def main():
     src, out = sys.argv[1], sys.argv[2]
-    rows = ["robot\tM\tbias\tfd\taba_ns_python\tnv\tframe_pose\tframe_jacobian"]
+    binary = sys.argv[3] if len(sys.argv) > 3 and sys.argv[3] else None
+    flat_dir = os.path.join(os.path.dirname(out), "urdf")
+    rows = ["robot\tM\tbias\tfd\taba_ns_python\tnv\tframe_pose\tframe_jacobian\taba_ns_cpp"]
     for path in sorted(glob.glob(os.path.join(src, "*.json"))):
         d = json.load(open(path))
-        m, b, fd, ns, nv, fp, fj = robot(d)
+        m, b, fd, ns, nv, fp, fj, cpp = robot(d, binary, flat_dir)
         print(f"{d['name']}: nv {nv}, max rel difference M {m:.2e}, C v + g {b:.2e}, FD {fd:.2e}; "
-              f"{len(d.get('frames', []))} frames: pose {fp:.2e}, Jacobian {fj:.2e}; ABA {ns:.0f} ns (Python)")
-        rows.append(f"{d['name']}\t{m:e}\t{b:e}\t{fd:e}\t{ns:.1f}\t{nv}\t{fp:e}\t{fj:e}")
+              f"{len(d.get('frames', []))} frames: pose {fp:.2e}, Jacobian {fj:.2e}; "
+              f"ABA {ns:.0f} ns (Python), {cpp:.0f} ns (C++)")
+        rows.append(f"{d['name']}\t{m:e}\t{b:e}\t{fd:e}\t{ns:.1f}\t{nv}\t{fp:e}\t{fj:e}\t{cpp:.1f}")
     os.makedirs(os.path.dirname(out), exist_ok=True)
     open(out, "w").write("\n".join(rows) + "\n")
 

@@ -57,14 +57,7 @@ fn row<S: Mechanism<N> + Coriolis<N> + Gravity<N>, const N: usize>(
         s.forward_dynamics_jacobian(bb(&q), bb(&v), bb(&tau))
     });
     // The ratio's range: slowest over fastest batch and the other way round.
-    let ratio = |(a, b): (Timing, Timing)| {
-        format!(
-            "{:.1}× ({:.1}–{:.1})",
-            b.median / a.median,
-            b.min / a.max,
-            b.max / a.min
-        )
-    };
+    let ratio = |(a, b): (Timing, Timing)| b.ratio_to(&a, 1);
     let cell =
         |(a, b): (Timing, Timing)| format!("{} / {} ({})", a.show(1), b.show(0), ratio((a, b)));
     rows.push(vec![

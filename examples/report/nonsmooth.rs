@@ -267,12 +267,7 @@ fn race_headline(claim: &str, a: Timing, b: Timing, basis: &str) {
         claim,
         format!("{} ms", a.scaled(1e3).show(3)),
         format!("{} ms (Moreau time-stepping)", b.scaled(1e3).show(3)),
-        format!(
-            "{:.0}× ({:.0}–{:.0})",
-            b.median / a.median,
-            b.min / a.max,
-            b.max / a.min
-        ),
+        b.ratio_to(&a, 0),
         basis,
     );
 }

@@ -31,6 +31,18 @@ impl Timing {
         }
     }
 
+    /// How many times `self` takes as long as `fast`, `r× (lo–hi)` with `digits` decimals;
+    /// the range pairs the fastest repetition of one with the slowest of the other.
+    pub fn ratio_to(&self, fast: &Timing, digits: usize) -> String {
+        format!(
+            "{:.d$}× ({:.d$}–{:.d$})",
+            self.median / fast.median,
+            self.min / fast.max,
+            self.max / fast.min,
+            d = digits
+        )
+    }
+
     /// `median (min–max)` with `digits` decimals, in the timing's units.
     pub fn show(&self, digits: usize) -> String {
         format!(

@@ -17,7 +17,7 @@ use filippov::runtime::numeric::{self, Model};
 use super::agreement_support::Rng;
 use super::config::Config;
 use super::markdown::{Page, sci};
-use super::timing::{median, ns_per_call};
+use super::timing::{Timing, median, ns_timed};
 
 #[derive(Mechanism)]
 #[mechanism(
@@ -269,6 +269,47 @@ fn pinocchio(dir: &Path) -> Vec<(String, [f64; 6])> {
         .collect()
 }
 
+/// Pinocchio's ABA in C++ on `robot`, timed now, beside our forward dynamics: the binary
+/// `peers/run.sh` builds from `peers/pin_bench.cpp`, on the model Pinocchio built from the
+/// same URDF (`peers/urdf_pin.py` writes it to `peers/urdf/<robot>.txt` and checks the
+/// binary's ABA against the bindings'). `None` before `bash peers/run.sh`.
+fn pinocchio_aba(out_dir: &Path, robot: &str) -> Option<Timing> {
+    let bin = out_dir.join("peers/build/pin_bench");
+    let model = out_dir.join("peers/urdf").join(format!("{robot}.txt"));
+    if !bin.exists() || !model.exists() {
+        return None;
+    }
+    let out = match std::process::Command::new(&bin).arg(&model).output() {
+        Ok(out) if out.status.success() => out,
+        Ok(out) => {
+            eprintln!(
+                "report: {} {} failed: {}",
+                bin.display(),
+                model.display(),
+                String::from_utf8_lossy(&out.stderr)
+            );
+            return None;
+        }
+        Err(e) => {
+            eprintln!("report: cannot run {}: {e}", bin.display());
+            return None;
+        }
+    };
+    let text = String::from_utf8_lossy(&out.stdout);
+    let field = |key: &str| -> Option<Vec<f64>> {
+        text.lines().find_map(|l| {
+            let mut w = l.split_whitespace();
+            (w.next()? == key).then(|| w.filter_map(|x| x.parse().ok()).collect())
+        })
+    };
+    let (median, range) = (field("aba_ns")?, field("aba_ns_range")?);
+    Some(Timing {
+        median: *median.first()?,
+        min: *range.first()?,
+        max: *range.get(1)?,
+    })
+}
+
 fn expansion_ms(config: &Config, robot: &Robot) -> (f64, usize) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(robot.file);
     let src = format!(
@@ -292,6 +333,8 @@ pub fn urdf(config: &Config) -> Section {
     let pin = pinocchio(&config.out_dir.join("peers"));
     // Largest differences from Pinocchio over the robots: dynamics, frame kinematics.
     let (mut pin_dyn, mut pin_fk, mut pin_robots) = (0.0f64, 0.0f64, 0);
+    // (robot, our FD, Pinocchio's ABA in C++), timed in this run.
+    let mut pin_speed: Vec<(&str, Timing, Timing)> = Vec::new();
     for robot in &ROBOTS {
         let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(robot.file))
             .expect("the robot's URDF");
@@ -318,7 +361,7 @@ pub fn urdf(config: &Config) -> Section {
                     SVector::<f64, $n>::from_column_slice(&s[0].1),
                     SVector::<f64, $n>::from_column_slice(&s[0].2),
                 );
-                let ns = ns_per_call(config.repeats, config.kernel_calls, || {
+                let ns = ns_timed(config.repeats, config.kernel_calls, || {
                     $s.forward_dynamics(&q, &v, &tau)
                 });
                 (s, ns, $n)
@@ -344,7 +387,11 @@ pub fn urdf(config: &Config) -> Section {
             ),
         };
         let err = against_numeric(&model, &s);
-        if let Err(e) = export(&dir, robot, &joints, frame_names, fd_ns, &s) {
+        let pin_aba = pinocchio_aba(&config.out_dir, robot.name);
+        if let Some(p) = pin_aba {
+            pin_speed.push((robot.name, fd_ns, p));
+        }
+        if let Err(e) = export(&dir, robot, &joints, frame_names, fd_ns.median, &s) {
             eprintln!("report: could not export {}: {e}", robot.name);
         }
         let peer = pin.iter().find(|(n, _)| n == robot.name).map(|(_, p)| *p);
@@ -358,11 +405,16 @@ pub fn urdf(config: &Config) -> Section {
             format!("{dof}{}", if robot.free_base { " (free base)" } else { "" }),
             format!("{exp_ms:.1}"),
             lets.to_string(),
-            format!("{fd_ns:.0}"),
+            fd_ns.show(0),
             sci(err),
             peer.map_or("—".into(), |p| sci(p[0].max(p[1]))),
             peer.map_or("—".into(), |p| sci(p[2])),
-            peer.map_or("—".into(), |p| format!("{:.0}", p[3])),
+            match (pin_aba, peer) {
+                (Some(p), _) => format!("{} (C++)", p.show(0)),
+                (None, Some(p)) => format!("{:.0} (Python bindings)", p[3]),
+                (None, None) => "—".into(),
+            },
+            pin_aba.map_or("—".into(), |p| p.ratio_to(&fd_ns, 1)),
             format!("{}", frame_names.len()),
             peer.map_or("—".into(), |p| {
                 if p[4].is_nan() {
@@ -373,14 +425,19 @@ pub fn urdf(config: &Config) -> Section {
             }),
         ]);
         summary.push(format!(
-            "URDF `{}` ({dof} dof): generated FD {fd_ns:.0} ns; against the numeric reader of the same file {}{}",
+            "URDF `{}` ({dof} dof): generated FD {} ns; against the numeric reader of the same file {}{}{}",
             robot.file,
+            fd_ns.show(0),
             sci(err),
             peer.map_or(String::from("; Pinocchio not run (bash peers/run.sh)"), |p| format!(
-                "; against Pinocchio M, C v + g {} and FD {} (ABA {:.0} ns through its Python bindings)",
+                "; against Pinocchio M, C v + g {} and FD {}",
                 sci(p[0].max(p[1])),
                 sci(p[2]),
-                p[3]
+            )),
+            pin_aba.map_or(String::new(), |p| format!(
+                "; Pinocchio's ABA in C++ {} ns in this run, {} our time",
+                p.show(0),
+                p.ratio_to(&fd_ns, 1)
             ))
         ));
     }
@@ -399,15 +456,38 @@ pub fn urdf(config: &Config) -> Section {
             "largest differences over robots, states and frames; the peers' figures are as recent as the last `bash peers/run.sh`",
         );
     }
+    if !pin_speed.is_empty() {
+        let ours: Vec<String> = pin_speed
+            .iter()
+            .map(|(n, a, _)| format!("{n} {}", a.show(0)))
+            .collect();
+        let theirs: Vec<String> = pin_speed
+            .iter()
+            .map(|(n, _, b)| format!("{n} {}", b.show(0)))
+            .collect();
+        let ratios: Vec<String> = pin_speed
+            .iter()
+            .map(|(n, a, b)| format!("{n} {}", b.ratio_to(a, 1)))
+            .collect();
+        super::markdown::headline(
+            "Generated forward dynamics against Pinocchio's ABA in C++ on the same URDF robots",
+            format!("{} ns", ours.join("; ")),
+            format!("{} ns (Pinocchio C++ `aba`)", theirs.join("; ")),
+            ratios.join("; "),
+            "ns per call, median (min–max) of batches, both timed in this run; Pinocchio's model built from the same file and its ABA checked against the Python bindings by peers/urdf_pin.py",
+        );
+    }
     page.h2("Robots from URDF");
     page.para(
         "Each file in `robots/` read at compile time by `#[mechanism(urdf = …)]` (default kernels). Expansion: the \
          engine (release build) on the attribute, median. FD ns: generated forward dynamics, median of batches. \
          \"numeric\": the largest relative difference of M, C v + g and FD from `numeric::Model::from_urdf` (a \
          second reader of the same file) at 20 random states. Pinocchio (columns filled after `bash peers/run.sh`, \
-         which loads the same URDFs with `buildModelFromUrdf`; Panda fingers locked, Solo12 with a free-flyer \
-         base, its velocities mapped to ours): the same differences at the same states, and ABA time through \
-         Pinocchio's Python bindings (call overhead included — not a like-for-like timing). Frames: every body and \
+         which loads the same URDFs with `buildModelFromUrdf`; Panda fingers locked, Solo12 and the humanoid with \
+         a free-flyer base, their velocities mapped to ours): the same differences at the same states, and \
+         Pinocchio's `aba` in C++ (`peers/pin_bench.cpp`, -O3 -march=native, on the model Pinocchio built from \
+         the file) timed by this report beside our FD, with the ratio Pinocchio / ours (> 1: ours faster); \
+         without the C++ build, the time through its Python bindings, call overhead included. Frames: every body and \
          the file's tool frames (`emit = [kinematics]`); against Pinocchio's `framesForwardKinematics` and \
          `computeFrameJacobian(…, LOCAL_WORLD_ALIGNED)` on the same frame names: the largest difference of rotation \
          entries and origins [m], and of the Jacobian relative to its largest entry, over all frames and states.",
@@ -422,7 +502,8 @@ pub fn urdf(config: &Config) -> Section {
             "vs numeric",
             "vs Pinocchio M, Cv+g",
             "vs Pinocchio FD",
-            "Pinocchio ABA ns (Python)",
+            "Pinocchio ABA ns",
+            "Pinocchio / ours",
             "frames",
             "vs Pinocchio frame pose / Jacobian",
         ],

@@ -50,6 +50,14 @@ struct Solo12;
 )]
 struct Humanoid;
 
+#[derive(Mechanism)]
+#[mechanism(
+    urdf = "robots/three_link_arm.urdf",
+    gravity = [0.0, 0.0, -9.81],
+    emit = [kinematics]
+)]
+struct ThreeLinkArm;
+
 #[derive(Default)]
 pub struct Section {
     pub page: Page,
@@ -65,7 +73,7 @@ struct Robot {
     options: &'static str,
 }
 
-const ROBOTS: [Robot; 4] = [
+const ROBOTS: [Robot; 5] = [
     Robot {
         name: "panda",
         file: "robots/panda.urdf",
@@ -93,6 +101,13 @@ const ROBOTS: [Robot; 4] = [
         lock: &[],
         free_base: true,
         options: "base = free, ",
+    },
+    Robot {
+        name: "three_link_arm",
+        file: "robots/three_link_arm.urdf",
+        lock: &[],
+        free_base: false,
+        options: "",
     },
 ];
 
@@ -379,6 +394,11 @@ pub fn urdf(config: &Config) -> Section {
                 measure!(Solo12, 18, 19, Solo12::ROTATIONS),
                 Solo12::COORDINATES[6..].to_vec(),
                 Solo12::FRAMES,
+            ),
+            "three_link_arm" => (
+                measure!(ThreeLinkArm, 3, 3, &[]),
+                ThreeLinkArm::JOINTS.to_vec(),
+                ThreeLinkArm::FRAMES,
             ),
             _ => (
                 measure!(Humanoid, 35, 36, Humanoid::ROTATIONS),

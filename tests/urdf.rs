@@ -99,6 +99,56 @@ fn panda_from_urdf_matches_the_numeric_reader() {
     }
 }
 
+/// The hand-written Panda scenes (`filippov_scenes::Panda`, and `PandaS9` with friction
+/// and stops) type in the file's kinematics by hand and take their inertial data from
+/// Gaz et al.'s identification, not from the file. Their link frames must be the file's
+/// at random configurations, S9's mass matrix must be the plain scene's (the same data,
+/// typed twice), and S9's two stops must sit at the file's upper limits.
+#[test]
+fn hand_written_pandas_have_the_urdf_kinematics() {
+    use filippov_scenes::{Panda, PandaS9};
+    let (p, s9) = (Panda::default(), PandaS9::default());
+    let mut rng = common::Rng::new(17);
+    for _ in 0..10 {
+        let q: SVector<f64, 7> = rng.vector(2.5);
+        for i in 1..=7 {
+            let from_file = PandaUrdf.frame_pose(
+                PandaUrdf::frame(&format!("panda_link{i}")).expect("a body of the file"),
+                &q,
+            );
+            let mine = p.frame_pose(Panda::frame(&format!("link{i}")).expect("a body"), &q);
+            let s9_pose = s9.frame_pose(PandaS9::frame(&format!("link{i}")).expect("a body"), &q);
+            for pose in [mine, s9_pose] {
+                let dp = (pose.translation.vector - from_file.translation.vector).norm();
+                let dr = pose.rotation.angle_to(&from_file.rotation);
+                assert!(dp < 1e-14 && dr < 1e-14, "link {i}: {dp:e} m, {dr:e} rad");
+            }
+        }
+        let (m, m9) = (p.mass_matrix(&q), s9.mass_matrix(&q));
+        assert!((m - m9).norm() <= 1e-14 * m.norm(), "S9's inertial data");
+    }
+    // S9's stops: upper limits of j2 and j4 (`#[stop(j2, max = 1.7628)]`, `#[stop(j4,
+    // max = -0.0698)]`), against the file's `<limit upper>`.
+    let text = include_str!("../robots/panda.urdf");
+    let upper = |joint: &str| -> f64 {
+        let at = text
+            .find(&format!("<joint name=\"{joint}\""))
+            .expect("the joint");
+        let limit = &text[at..][text[at..].find("<limit").expect("a limit")..];
+        let u = &limit[limit.find("upper=\"").expect("an upper limit") + 7..];
+        u[..u.find('"').expect("quoted")].parse().expect("a number")
+    };
+    use filippov::runtime::nonsmooth::{ElementKind, NonSmooth};
+    let stops: Vec<(usize, f64)> = (0..PandaS9::ELEMENTS)
+        .map(|e| s9.element(e))
+        .filter_map(|el| match el.kind {
+            ElementKind::Stop { position, .. } => Some((el.coordinate, position)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(stops, [(1, upper("panda_joint2")), (3, upper("panda_joint4"))]);
+}
+
 #[test]
 fn ur5_from_urdf_matches_the_numeric_reader() {
     let text = include_str!("../robots/ur5.urdf");

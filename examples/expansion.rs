@@ -7,6 +7,11 @@
 //! `= aba` on chains and trees of 3…50 joints, and which one `auto` picks.
 //!
 //! Run: `cargo run --release --example expansion`.
+//!
+//! `-- --big` expands only the 36-joint 3D binary tree and the 50-link planar chain
+//! (default kernels). Without `--release` the engine is compiled as a user's build
+//! compiles the derive (proc-macros and their dependencies unoptimised), so
+//! `cargo run --example expansion -- --big` measures the expansion time users wait for.
 
 use std::time::{Duration, Instant};
 
@@ -133,7 +138,11 @@ fn tree(n: usize, all: bool) -> TokenStream {
     attrs.parse().expect("tokens")
 }
 
-fn median_time(tokens: &TokenStream, reps: usize) -> (Duration, filippov_codegen::Expansion) {
+/// Median, fastest and slowest of `reps` expansions, and the last expansion.
+fn median_time(
+    tokens: &TokenStream,
+    reps: usize,
+) -> ([Duration; 3], filippov_codegen::Expansion) {
     let mut times = Vec::new();
     let mut last = None;
     for _ in 0..reps {
@@ -143,16 +152,22 @@ fn median_time(tokens: &TokenStream, reps: usize) -> (Duration, filippov_codegen
         last = Some(e);
     }
     times.sort();
-    (times[reps / 2], last.expect("ran"))
+    (
+        [times[reps / 2], times[0], times[reps - 1]],
+        last.expect("ran"),
+    )
 }
 
 fn report(name: &str, tokens: &TokenStream, reps: usize, detail: bool) {
-    let (t, e) = median_time(tokens, reps);
+    let ([t, lo, hi], e) = median_time(tokens, reps);
     let lets: usize = e.functions.iter().map(|f| f.lets).sum();
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
     println!(
-        "{name:<16} dof {:>2}  expansion {:>9.2} ms (median of {reps})  graph {:>7} nodes  {lets:>6} lets  {:>9} bytes of code",
+        "{name:<16} dof {:>2}  expansion {:>9.2} ms (median of {reps}, {:.2}–{:.2})  graph {:>7} nodes  {lets:>6} lets  {:>9} bytes of code",
         e.dof,
-        t.as_secs_f64() * 1e3,
+        ms(t),
+        ms(lo),
+        ms(hi),
         e.graph_nodes,
         e.tokens.to_string().len()
     );
@@ -164,6 +179,19 @@ fn report(name: &str, tokens: &TokenStream, reps: usize, detail: bool) {
 }
 
 fn main() {
+    if std::env::args().skip(1).any(|a| a == "--big") {
+        println!(
+            "== engine {}",
+            if cfg!(debug_assertions) {
+                "unoptimised, as a user's build runs the derive"
+            } else {
+                "optimised (--release); without --release it runs as in a user's build"
+            }
+        );
+        report("tree36", &tree(36, false), 5, false);
+        report("chain50", &chain(50, false), 5, false);
+        return;
+    }
     println!("== canonical scenes");
     for file in ["double_pendulum.rs", "arm3.rs", "tree.rs", "panda.rs"] {
         for (name, tokens) in scene(file) {

@@ -72,12 +72,13 @@
 //! 4527 steps against Sdirk4's 4734 on the linearisation and Rkmk5's 2128, 2 s at
 //! `rtol = 10⁻⁶`).
 
-use nalgebra::{DMatrix, DVector, Dyn, LU, Vector3};
+use nalgebra::{DMatrix, DVector, Vector3};
 
 use super::events::{EventTracker, LieEvent, LieEventHit};
 use super::rkmk::{LieMethod, LieRun, chart_field, drive, initial_step, magnitudes, retract};
 use super::so3::{self, UnitQuat};
 use super::{LieProblem, LieState, LieSystem, LieTrajectory};
+use crate::numerics::newton::NewtonMatrix;
 use crate::numerics::tableau::SDIRK4;
 use crate::numerics::{error_norm, underflow};
 use crate::{ErrorKind, Options, PiController, SolveError};
@@ -110,16 +111,10 @@ impl Default for LieSdirk {
     }
 }
 
-/// The Newton matrix `I − hγJ` and what it was built from (as in `Sdirk4`).
+/// The Newton matrix `I − hγJ` (shared with `Sdirk4`) and the last convergence-rate
+/// estimate, carried across stages.
 struct Newton {
-    jac: DMatrix<f64>,
-    /// `J` was evaluated at the current accepted point.
-    jac_current: bool,
-    /// `J` must be (re)evaluated before the next attempt.
-    jac_needed: bool,
-    lu: Option<LU<f64, Dyn, Dyn>>,
-    lu_h: f64,
-    /// Last convergence-rate estimate, carried across stages.
+    m: NewtonMatrix,
     eta: f64,
 }
 
@@ -271,11 +266,7 @@ impl LieSdirk {
         };
         let mut controller = PiController::new(3);
         let mut newton = Newton {
-            jac: DMatrix::zeros(d, d),
-            jac_current: false,
-            jac_needed: true,
-            lu: None,
-            lu_h: f64::NAN,
+            m: NewtonMatrix::new(d),
             eta: 1.0,
         };
         let e = SDIRK4.error_weights();
@@ -303,18 +294,13 @@ impl LieSdirk {
             if underflow(t, h, opts) {
                 return Err(non_finite_ahead.unwrap_or(ErrorKind::StepSizeUnderflow { t, h }));
             }
-            if newton.jac_needed {
-                newton_jacobian(run, t, &y, &mut w, &mut newton.jac)?;
-                newton.jac_current = true;
-                newton.jac_needed = false;
-                newton.lu = None;
+            if newton.m.jac_needed {
+                newton_jacobian(run, t, &y, &mut w, &mut newton.m.jac)?;
+                newton.m.jacobian_updated();
             }
-            if newton.lu.is_none() || newton.lu_h != h {
-                let m = DMatrix::identity(d, d) - &newton.jac * (h * gamma);
-                newton.lu = Some(m.lu());
-                newton.lu_h = h;
-                run.traj.flat.stats.lu_factorisations += 1;
-            }
+            newton
+                .m
+                .factor(h * gamma, &mut run.traj.flat.stats.lu_factorisations);
             chart_field(&w.zeros, &y, &f, &mut w.k_start);
             let outcome = self.stages(run, &mut newton, t, h, &y, &mut w);
             let theta_max = match outcome {
@@ -335,14 +321,14 @@ impl LieSdirk {
                     }
                     let give_up = match self.fixed_step {
                         // Fixed steps: one retry with a fresh Jacobian.
-                        Some(_) => newton.jac_current,
+                        Some(_) => newton.m.jac_current,
                         None => failures >= MAX_NEWTON_FAILURES,
                     };
                     if give_up {
                         return Err(non_finite_ahead.unwrap_or(ErrorKind::NewtonDivergence { t }));
                     }
-                    if !newton.jac_current {
-                        newton.jac_needed = true;
+                    if !newton.m.jac_current {
+                        newton.m.jac_needed = true;
                     }
                     if self.fixed_step.is_none() {
                         h *= 0.5;
@@ -359,8 +345,7 @@ impl LieSdirk {
                 let mut est = DVector::from_fn(d, |i, _| {
                     h * (0..e.len()).map(|j| e[j] * w.k[j][i]).sum::<f64>()
                 });
-                let lu = newton.lu.as_ref().expect("factorised above");
-                if !lu.solve_mut(&mut est) {
+                if !newton.m.lu().solve(est.as_mut_slice()) {
                     est.fill(f64::INFINITY);
                 }
                 magnitudes(&y, &mut w.mag0);
@@ -392,8 +377,8 @@ impl LieSdirk {
                 if last {
                     return Ok(());
                 }
-                newton.jac_current = false;
-                newton.jac_needed = theta_max > THETA_REUSE_JACOBIAN;
+                newton.m.jac_current = false;
+                newton.m.jac_needed = theta_max > THETA_REUSE_JACOBIAN;
                 if self.fixed_step.is_none() {
                     let fac = controller.accept(err);
                     // Keep h (and the LU) when it would grow only a little.
@@ -404,8 +389,8 @@ impl LieSdirk {
             } else {
                 run.traj.flat.stats.rejected_steps += 1;
                 h *= controller.reject(err);
-                if !newton.jac_current {
-                    newton.jac_needed = true;
+                if !newton.m.jac_current {
+                    newton.m.jac_needed = true;
                 }
             }
         }
@@ -424,7 +409,7 @@ impl LieSdirk {
     ) -> StageOutcome {
         let d = 2 * w.n;
         let hg = h * SDIRK4.a(0, 0);
-        let lu = newton.lu.as_ref().expect("factorised before the stages");
+        let lu = newton.m.lu();
         magnitudes(y, &mut w.mag0);
         // Never ask for less than ten round-offs of `y` (as `Sdirk4`).
         let roundoff = 10.0 * f64::EPSILON * error_norm(&w.mag0, &w.mag0, &w.mag0, &self.options);
@@ -458,7 +443,7 @@ impl LieSdirk {
                 for c in 0..d {
                     w.delta[c] = -(w.z[c] - w.base[c] - hg * w.fz[c]);
                 }
-                if !lu.solve_mut(&mut w.delta) {
+                if !lu.solve(w.delta.as_mut_slice()) {
                     return StageOutcome::Failed { non_finite: None };
                 }
                 let norm = error_norm(w.delta.as_slice(), &w.mag0, &w.mag0, &self.options);

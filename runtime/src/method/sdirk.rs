@@ -196,7 +196,7 @@ impl Stepper for Sdirk4Stepper {
                     let mut err = DVector::from_fn(n, |i, _| {
                         h * (0..s).map(|j| e[j] * stage_f[j][i]).sum::<f64>()
                     });
-                    if !self.newton.lu().solve_mut(&mut err) {
+                    if !self.newton.lu().solve(err.as_mut_slice()) {
                         err.fill(f64::INFINITY);
                     }
                     let err = error_norm(err.as_slice(), &self.s.y, &self.y1, &self.s.options);
@@ -277,7 +277,7 @@ impl Sdirk4Stepper {
                 for k in 0..n {
                     self.delta[k] = -(self.z[k] - self.base[k] - hg * self.fz[k]);
                 }
-                if !lu.solve_mut(&mut self.delta) {
+                if !lu.solve(self.delta.as_mut_slice()) {
                     return StageOutcome::Failed { non_finite: None };
                 }
                 let norm = error_norm(self.delta.as_slice(), y, y, &self.s.options);

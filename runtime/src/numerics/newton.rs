@@ -7,9 +7,10 @@
 //! step and refreshed only when an iteration fails with a stale one (or converged
 //! slowly). The LU of `I − s J` is kept while `s` and `J` are unchanged.
 
-use nalgebra::{DMatrix, Dyn, LU};
+use nalgebra::DMatrix;
 
 use super::eval::Eval;
+use super::lu::DenseLu;
 use crate::{ErrorKind, OdeSystem};
 
 /// `J`, what it was built from, and the factorised `I − s J`.
@@ -20,7 +21,9 @@ pub(crate) struct NewtonMatrix {
     pub jac_current: bool,
     /// `J` must be (re)evaluated before the next attempt.
     pub jac_needed: bool,
-    lu: Option<LU<f64, Dyn, Dyn>>,
+    lu: DenseLu,
+    /// `lu` holds `I − s J` for the current `J` and `s = scale`.
+    factored: bool,
     /// The `s` of the factorised matrix.
     scale: f64,
 }
@@ -31,7 +34,8 @@ impl NewtonMatrix {
             jac: DMatrix::zeros(n, n),
             jac_current: false,
             jac_needed: true,
-            lu: None,
+            lu: DenseLu::new(n),
+            factored: false,
             scale: f64::NAN,
         }
     }
@@ -47,28 +51,34 @@ impl NewtonMatrix {
     ) -> Result<(), ErrorKind> {
         if self.jac_needed {
             jacobian(ev, t, y, f, fresh, &mut self.jac)?;
-            self.jac_current = true;
-            self.jac_needed = false;
-            self.lu = None;
+            self.jacobian_updated();
         }
         Ok(())
+    }
+
+    /// `jac` was just evaluated at the current accepted point (by the caller, for
+    /// methods with their own Jacobian, e.g. in a Lie-group chart).
+    pub fn jacobian_updated(&mut self) {
+        self.jac_current = true;
+        self.jac_needed = false;
+        self.factored = false;
     }
 
     /// Factorises `I − s J` unless it is already factorised for this `s` and `J`
     /// (counted in `lu`).
     pub fn factor(&mut self, s: f64, lu_count: &mut usize) {
-        if self.lu.is_none() || self.scale != s {
-            let n = self.jac.nrows();
-            let m = DMatrix::identity(n, n) - &self.jac * s;
-            self.lu = Some(m.lu());
+        if !self.factored || self.scale != s {
+            self.lu.factor_shifted(&self.jac, s);
+            self.factored = true;
             self.scale = s;
             *lu_count += 1;
         }
     }
 
     /// The factorised matrix (after [`factor`](Self::factor)).
-    pub fn lu(&self) -> &LU<f64, Dyn, Dyn> {
-        self.lu.as_ref().expect("factorised before use")
+    pub fn lu(&self) -> &DenseLu {
+        debug_assert!(self.factored, "factorised before use");
+        &self.lu
     }
 
     /// After a failure with a stale `J`: refresh it before the next attempt.

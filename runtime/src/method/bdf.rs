@@ -46,11 +46,11 @@
 //!
 //! [`Sdirk4`]: super::Sdirk4
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 
 use super::stepper::{Eval, StepState, Stepper, check_budget};
 use crate::numerics::newton::NewtonMatrix;
-use crate::numerics::{check_finite, error_norm, underflow};
+use crate::numerics::{check_finite, error_norm, error_weights, underflow, weighted_norm};
 use crate::{ErrorKind, OdeSystem, Options};
 
 /// Highest order.
@@ -134,6 +134,7 @@ impl Bdf {
             delta: DVector::zeros(dim),
             correction: vec![0.0; dim],
             scratch: vec![0.0; dim],
+            weights: vec![0.0; dim],
         }
     }
 }
@@ -162,6 +163,8 @@ pub struct BdfStepper {
     delta: DVector<f64>,
     correction: Vec<f64>,
     scratch: Vec<f64>,
+    /// The error test's weights at the predictor, for the norms of one Newton solve.
+    weights: Vec<f64>,
 }
 
 impl BdfStepper {
@@ -397,6 +400,7 @@ impl BdfStepper {
         let n = self.y1.len();
         let lu = self.newton.lu();
         let (predictor, fz, delta) = (&mut self.predictor, &mut self.fz, &mut self.delta);
+        let weights = &mut self.weights;
         let (y1, correction, psi) = (&mut self.y1, &mut self.correction, &self.psi);
         predictor.copy_from_slice(y1);
         // Stop when the estimated remaining error `η ‖Δ‖` is below `NEWTON_TOL` of the
@@ -404,8 +408,8 @@ impl BdfStepper {
         // last solve's, relaxed towards 1 (`η^0.8`), so that a step whose predictor is
         // already good converges after one evaluation (CVODE, diffsol and Hairer's codes do
         // the same).
-        let roundoff =
-            10.0 * f64::EPSILON * error_norm(predictor, predictor, predictor, &self.s.options);
+        error_weights(predictor, &self.s.options, weights);
+        let roundoff = 10.0 * f64::EPSILON * weighted_norm(predictor, weights);
         let tol = NEWTON_TOL.max(roundoff);
         correction.fill(0.0);
         let mut norm_prev = f64::NAN;
@@ -423,7 +427,7 @@ impl BdfStepper {
             if !lu.solve(delta.as_mut_slice()) {
                 return NewtonOutcome::Failed { non_finite: None };
             }
-            let norm = error_norm(delta.as_slice(), predictor, predictor, &self.s.options);
+            let norm = weighted_norm(delta.as_slice(), weights);
             if iteration > 0 {
                 let rate = norm / norm_prev;
                 // Diverging, or predicted not to converge in the iterations left.
@@ -454,37 +458,36 @@ impl BdfStepper {
 
 /// Re-interpolates the differences `D_0 … D_k` from spacing `h` to `factor · h`:
 /// `D ← (R U)ᵀ D` with `R_ij = Π_{m=1}^{i} (m − 1 − factor·j)/m` and `U` the same at
-/// factor 1 (Shampine & Reichelt 1997, eq. 2.4).
+/// factor 1 (Shampine & Reichelt 1997, eq. 2.4). Component by component, without
+/// allocating.
 fn rescale(diff: &mut [Vec<f64>], order: usize, factor: f64) {
-    let r = change_matrix(order, factor);
-    let u = change_matrix(order, 1.0);
-    let ru = &r * &u;
-    let n = diff[0].len();
-    let mut new = vec![vec![0.0; n]; order + 1];
-    for (a, row) in new.iter_mut().enumerate() {
-        for (b, old) in diff.iter().take(order + 1).enumerate() {
-            let w = ru[(b, a)];
-            if w != 0.0 {
-                for (x, o) in row.iter_mut().zip(old) {
-                    *x += w * o;
-                }
-            }
+    let (r, u) = (change_matrix(order, factor), change_matrix(order, 1.0));
+    let mut ru = [[0.0; MAX_ORDER + 1]; MAX_ORDER + 1];
+    for i in 0..=order {
+        for j in 0..=order {
+            ru[i][j] = (0..=order).map(|m| r[i][m] * u[m][j]).sum();
         }
     }
-    for (d, row) in diff.iter_mut().zip(new) {
-        *d = row;
+    let mut old = [0.0; MAX_ORDER + 1];
+    for c in 0..diff[0].len() {
+        for (b, o) in old.iter_mut().enumerate().take(order + 1) {
+            *o = diff[b][c];
+        }
+        for (a, d) in diff.iter_mut().enumerate().take(order + 1) {
+            d[c] = (0..=order).map(|b| ru[b][a] * old[b]).sum();
+        }
     }
 }
 
 /// `R` of [`rescale`]: row 0 is ones, `R_i0 = 0` for `i ≥ 1`.
-fn change_matrix(order: usize, factor: f64) -> DMatrix<f64> {
-    let mut r = DMatrix::zeros(order + 1, order + 1);
+fn change_matrix(order: usize, factor: f64) -> [[f64; MAX_ORDER + 1]; MAX_ORDER + 1] {
+    let mut r = [[0.0; MAX_ORDER + 1]; MAX_ORDER + 1];
     for j in 0..=order {
         let mut p = 1.0;
-        r[(0, j)] = p;
+        r[0][j] = p;
         for i in 1..=order {
             p *= (i as f64 - 1.0 - factor * j as f64) / i as f64;
-            r[(i, j)] = p;
+            r[i][j] = p;
         }
     }
     r

@@ -33,29 +33,48 @@ pub(crate) fn check_finite(t: f64, x: &[f64]) -> Result<(), ErrorKind> {
 /// 1e200 with atol 1e-10 would otherwise square to infinity and make every step size
 /// zero). A NaN anywhere gives NaN, which every caller treats as a failed step.
 pub(crate) fn error_norm(err: &[f64], y0: &[f64], y1: &[f64], options: &Options) -> f64 {
-    let ratio = |(e, (a, b)): (&f64, (&f64, &f64))| {
+    rms(err.iter().zip(y0.iter().zip(y1)).map(|(e, (a, b))| {
         let scale = options.atol + options.rtol * a.abs().max(b.abs());
         e / scale
-    };
-    let terms = || err.iter().zip(y0.iter().zip(y1)).map(ratio);
-    let n = err.len().max(1) as f64;
+    }))
+}
+
+/// [`error_norm`] with the weights `1 / (atol + rtol · |y|)` computed once
+/// ([`error_weights`]), for the several norms of one Newton solve.
+pub(crate) fn weighted_norm(err: &[f64], weights: &[f64]) -> f64 {
+    rms(err.iter().zip(weights).map(|(e, w)| e * w))
+}
+
+/// `1 / (atol + rtol · |y|)` into `weights`.
+pub(crate) fn error_weights(y: &[f64], options: &Options, weights: &mut [f64]) {
+    for (w, y) in weights.iter_mut().zip(y) {
+        *w = 1.0 / (options.atol + options.rtol * y.abs());
+    }
+}
+
+/// The root mean square of `ratios`, exact in the common range and rescaled far outside
+/// it; NaN if any ratio is.
+fn rms<I: Iterator<Item = f64> + Clone>(ratios: I) -> f64 {
+    let mut n = 0usize;
     // One pass for the largest ratio and the plain sum of squares; the sum is what is
     // returned in the common case (the textbook form, no rescaling round-off).
     let (mut big, mut sum) = (0.0f64, 0.0f64);
-    for r in terms() {
+    for r in ratios.clone() {
         if r.is_nan() {
             return f64::NAN;
         }
+        n += 1;
         big = big.max(r.abs());
         sum += r.powi(2);
     }
+    let n = n.max(1) as f64;
     if (1e-150..=1e150).contains(&big) {
         return (sum / n).sqrt();
     }
     if big == 0.0 || big.is_infinite() {
         return big;
     }
-    let sum: f64 = terms().map(|r| (r / big).powi(2)).sum();
+    let sum: f64 = ratios.map(|r| (r / big).powi(2)).sum();
     big * (sum / n).sqrt()
 }
 

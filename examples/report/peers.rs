@@ -20,7 +20,7 @@ use filippov_scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
 
 use super::config::Config;
 use super::markdown::{Page, sci};
-use super::support::Series;
+use super::support::{Scale, Series, line_plot};
 use super::workprecision::Section;
 
 /// Writes the scene models for the peer script.
@@ -344,6 +344,30 @@ pub fn diffsol_series(config: &Config, scene: &str, ours: bool) -> Vec<Series> {
         .collect()
 }
 
+/// One work-precision series per solver on a smooth scene of the peer program (run time
+/// in ms, max grid error), its points in the order of the tolerance sweep.
+fn smooth_series(d: &Diffsol, scene: &str) -> Vec<Series> {
+    let mut labels: Vec<&str> = Vec::new();
+    for r in d.rows.iter().filter(|r| r.scene == scene) {
+        if !labels.contains(&r.solver.as_str()) {
+            labels.push(&r.solver);
+        }
+    }
+    labels
+        .iter()
+        .map(|solver| {
+            let pts = d
+                .rows
+                .iter()
+                .filter(|r| r.scene == scene && r.solver == *solver)
+                .filter(|r| r.time_ms.is_finite() && r.max_grid_error.is_finite())
+                .map(|r| (r.time_ms, r.max_grid_error))
+                .collect();
+            Series::new(solver.to_string(), pts)
+        })
+        .collect()
+}
+
 /// A headline row: filippov's run `f` against diffsol's `g`.
 fn diffsol_headline(claim: String, f: &Row, g: &Row, basis: String) {
     super::markdown::headline(
@@ -409,6 +433,23 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
          Coulomb law itself. The S5 and S6 plots above carry these runs as extra series.",
     );
     page.bullets(&d.header);
+    for scene in ["DoublePendulum", "Panda"] {
+        let series = smooth_series(&d, scene);
+        if series.iter().all(|s| s.points.is_empty()) {
+            continue;
+        }
+        let file = format!("diffsol_{}.svg", scene.to_lowercase());
+        line_plot(
+            &config.out_dir.join(&file),
+            &format!("{scene}: work-precision, filippov and diffsol (same problem and harness)"),
+            "run time [ms], median of 5",
+            "max error over the 201-point grid",
+            &series,
+            Scale::Log,
+            Scale::Log,
+        );
+        page.image(scene, &file);
+    }
     let body: Vec<Vec<String>> = d
         .rows
         .iter()

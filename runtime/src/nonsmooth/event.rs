@@ -112,11 +112,6 @@ pub const ZENO_SPAN: f64 = 1e-3;
 pub const ZENO_GEOMETRIC: usize = 10;
 /// … at most this fraction of the previous one.
 pub const ZENO_RATIO: f64 = 0.9;
-/// How far, in units of the relative tolerance, a mode's consistency margin may miss at
-/// an event before no mode is taken to fit: forces at an event inherit the error of the
-/// located state, amplified where the transition is nearly tangential (measured: a miss
-/// of 9.7e-6 at rtol 1e-8 entering S4's plateau); see `mode::select`.
-const STATE_ACCURACY: f64 = 1e4;
 /// Fixed steps of the time-stepping that takes over a span of accumulating events.
 pub const HANDOVER_STEPS: usize = 200;
 /// Events at one and the same instant before the mode selection counts as cycling.
@@ -1129,7 +1124,7 @@ where
             q,
             v,
             &tau,
-            STATE_ACCURACY * self.options.rtol,
+            (self.options.atol, self.options.rtol),
         )
         .map_err(|detail| ErrorKind::IllPosedMode { t, detail })?;
         check_unique_forces(&self.elements, &self.modes, v)

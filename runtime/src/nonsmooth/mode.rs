@@ -17,7 +17,7 @@
 //! A stop has a sign `s = +1` (upper: `q ≤ position`) or `−1` (lower), its gap is
 //! `s (position − q) ≥ 0`, its contact magnitude is `λ = s f ≥ 0`.
 
-use nalgebra::{DMatrix, DVector, SVector};
+use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 
 use super::law::{Branch, Branches};
 use super::{Element, ElementKind, Law, NonSmooth, Side, StopKind};
@@ -688,6 +688,87 @@ pub(crate) type Choices = Vec<(usize, Vec<Mode>)>;
 /// of zero counts as on the boundary.
 const MARGIN_TOL: f64 = 1e-9;
 
+/// How far the located event state may be from the true one, per component, in units of
+/// the integrator's accuracy `atol + rtol |x|`: the local error of the step that located
+/// it and the root finder's tolerance together.
+const EVENT_STATE_ERROR: f64 = 10.0;
+
+/// The least margin over the elements in `choices` of the combination `modes`, with the
+/// forces and accelerations evaluated at `(qe, ve)` and the element states (which
+/// decide a margin's form) taken at `(q, v)`; `None` where the mode's constraints are
+/// dependent.
+#[allow(clippy::too_many_arguments)]
+fn least_margin<S: NonSmooth<N>, const N: usize>(
+    system: &S,
+    elements: &[Element],
+    branches: &[Branches],
+    modes: &[Mode],
+    choices: &Choices,
+    qe: &SVector<f64, N>,
+    ve: &SVector<f64, N>,
+    q: &SVector<f64, N>,
+    v: &SVector<f64, N>,
+    tau: &SVector<f64, N>,
+    w: &SMatrix<f64, N, N>,
+) -> Option<f64> {
+    let ev = evaluate(system, elements, branches, modes, qe, ve, tau)?;
+    Some(
+        choices
+            .iter()
+            .map(|(e, _)| {
+                let c = elements[*e].coordinate;
+                margin(
+                    &elements[*e],
+                    &branches[*e],
+                    modes[*e],
+                    q[c],
+                    v[c],
+                    ev.a[c],
+                    ev.f[*e],
+                    w[(c, c)],
+                )
+            })
+            .fold(f64::INFINITY, f64::min),
+    )
+}
+
+/// How much the least margin of `modes` can move when the state moves within its
+/// error at an event: `Σ_i |Δm_i|`, each `Δm_i` the change when coordinate or velocity
+/// `i` alone moves by `EVENT_STATE_ERROR · (atol + rtol |x_i|)` (a first-order bound,
+/// by one-sided differences). A stiff spring makes it large in force units — on the
+/// two-block chain with k₂/k₁ = 1e9 a position error of 1e-13 moves the stuck force by
+/// 1e-4 — where a slack relative to the force scale alone would refuse every mode.
+#[allow(clippy::too_many_arguments)]
+fn margin_uncertainty<S: NonSmooth<N>, const N: usize>(
+    system: &S,
+    elements: &[Element],
+    branches: &[Branches],
+    modes: &[Mode],
+    choices: &Choices,
+    q: &SVector<f64, N>,
+    v: &SVector<f64, N>,
+    tau: &SVector<f64, N>,
+    w: &SMatrix<f64, N, N>,
+    (atol, rtol): (f64, f64),
+) -> f64 {
+    let at = |qe: &SVector<f64, N>, ve: &SVector<f64, N>| {
+        least_margin(system, elements, branches, modes, choices, qe, ve, q, v, tau, w)
+    };
+    let Some(m0) = at(q, v).filter(|m| m.is_finite()) else {
+        return 0.0;
+    };
+    let mut sum = 0.0;
+    for i in 0..2 * N {
+        let (mut qe, mut ve) = (*q, *v);
+        let x = if i < N { &mut qe[i] } else { &mut ve[i - N] };
+        *x += EVENT_STATE_ERROR * (atol + rtol * x.abs());
+        if let Some(m) = at(&qe, &ve).filter(|m| m.is_finite()) {
+            sum += (m - m0).abs();
+        }
+    }
+    sum
+}
+
 /// Largest number of mode combinations enumerated (`3^k`, so up to 9 dash-pots at once).
 const MAX_COMBINATIONS: usize = 20_000;
 
@@ -699,9 +780,10 @@ const MAX_COMBINATIONS: usize = 20_000;
 /// one is consistent with a margin above the tolerance, the choice is not unique and
 /// an error (the text of [`ErrorKind::IllPosedMode`](crate::ErrorKind)) is returned;
 /// otherwise the largest margin wins; when none is consistent, the least violated one
-/// is taken if it misses by less than `state_accuracy` (relative to the force scale) (at a switching instant located to round-off, the
-/// old mode and the new one may both sit on the boundary; the new one has the larger
-/// margin on the far side of the located root).
+/// is taken if it misses by less than the state's error can move its margin
+/// ([`margin_uncertainty`] with the integrator's `accuracy = (atol, rtol)`; at a
+/// switching instant located to round-off, the old mode and the new one may both sit on
+/// the boundary; the new one has the larger margin on the far side of the located root).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
     system: &S,
@@ -712,7 +794,7 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
     q: &SVector<f64, N>,
     v: &SVector<f64, N>,
     tau: &SVector<f64, N>,
-    state_accuracy: f64,
+    accuracy: (f64, f64),
 ) -> Result<Vec<Mode>, String> {
     if choices.is_empty() {
         return Ok(modes.to_vec());
@@ -758,25 +840,10 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
             trial[*e] = cands[rest % cands.len()];
             rest /= cands.len();
         }
-        let Some(ev) = evaluate(system, elements, branches, &trial, q, v, tau) else {
+        let Some(m) = least_margin(system, elements, branches, &trial, choices, q, v, q, v, tau, &w)
+        else {
             continue;
         };
-        let m = choices
-            .iter()
-            .map(|(e, _)| {
-                let c = elements[*e].coordinate;
-                margin(
-                    &elements[*e],
-                    &branches[*e],
-                    trial[*e],
-                    q[c],
-                    v[c],
-                    ev.a[c],
-                    ev.f[*e],
-                    w[(c, c)],
-                )
-            })
-            .fold(f64::INFINITY, f64::min);
         if m >= -tol {
             consistent.push((m, trial.clone()));
         } else if best_violation.as_ref().is_none_or(|(b, _)| m > *b) {
@@ -804,12 +871,14 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
     match consistent.into_iter().max_by(|a, b| a.0.total_cmp(&b.0)) {
         Some((_, ms)) => Ok(ms),
         // The event state is known only to the integrator's accuracy: at a transition
-        // whose margins all vanish there (entering a plateau of a non-monotone law, say)
-        // the best candidate may miss by that much. It is taken when it misses by less
-        // than `state_accuracy · scale`; beyond that, no mode fits.
-        None if best_violation
-            .as_ref()
-            .is_some_and(|(m, _)| *m >= -state_accuracy * scale) =>
+        // whose margins all vanish there (entering a plateau of a non-monotone law, a
+        // stiff spring holding a stuck element, say) the best candidate may miss by what
+        // that error does to its margin. It is taken when it misses by less than that
+        // (`margin_uncertainty`); beyond it, no mode fits.
+        None if best_violation.as_ref().is_some_and(|(m, ms)| {
+            *m >= -tol
+                - margin_uncertainty(system, elements, branches, ms, choices, q, v, tau, &w, accuracy)
+        }) =>
         {
             Ok(best_violation.map(|(_, ms)| ms).unwrap_or_default())
         }

@@ -1373,3 +1373,56 @@ fn stiff_spring_inside_the_mechanism_with_implicit_event_driven_methods() {
         .collect();
     assert!((x1[0] - x1[1]).abs() < 1e-4, "{x1:?}");
 }
+
+/// A stiff spring holding a stuck element: the two-block friction chain with the second
+/// block on a spring k₂ = 1e9 and 1e12 times the first's. At an event the stuck force
+/// inherits the located state's error times k₂ (1e-13 m moves it by 1e-4 N), so mode
+/// selection must allow for what the state's error does to a margin; with a slack
+/// relative to the force scale alone event-driven SDIRK4 found no consistent mode at
+/// k₂/k₁ = 1e9. Now it completes, and its end state agrees with time-stepping's within
+/// twice the latter's Richardson error estimate (steps h and h/4, first order).
+#[test]
+fn stiff_two_block_chain_completes_event_driven_and_agrees_with_time_stepping() {
+    type V2 = SVector<f64, 2>;
+    for k2 in [1e9, 1e12] {
+        let s = FrictionChain {
+            m1: 1.0,
+            m2: 1.0,
+            k1: 1.0,
+            k2,
+            f1: 0.1,
+            f2: 0.2,
+        };
+        let p = NonSmoothProblem::new(0.0, 4.0, V2::new(1.0, 1e-3 / k2.sqrt()), V2::zeros());
+        let sdirk = NonSmoothMethod::EventDriven {
+            method: SmoothMethod::Sdirk4,
+            options: Options::tolerances(1e-8, 1e-10),
+        };
+        let end = |m: &NonSmoothMethod| -> Vec<f64> {
+            let traj = solve_nonsmooth(&s, &unforced, &p, m)
+                .unwrap_or_else(|e| panic!("k2 = {k2:e}, {m:?}: {e}"));
+            traj.last().expect("rows").1.to_vec()
+        };
+        let ed = end(&sdirk);
+        let (coarse, fine) = (end(&stepping(1e-3)), end(&stepping(2.5e-4)));
+        // Position of block 1, and block 2's in units of its own scale 1/k2.
+        for (i, scale) in [(0, 1.0), (1, k2)] {
+            let estimate = (coarse[i] - fine[i]).abs() * scale;
+            let distance = (ed[i] - fine[i]).abs() * scale;
+            eprintln!(
+                "k2 = {k2:e}: x{} event-driven {:e}, time-stepping {:e} / {:e}",
+                i + 1,
+                ed[i],
+                coarse[i],
+                fine[i]
+            );
+            assert!(
+                distance <= 2.0 * estimate,
+                "k2 = {k2:e}, x{}: event-driven {} vs time-stepping {} (estimate {estimate:e})",
+                i + 1,
+                ed[i],
+                fine[i]
+            );
+        }
+    }
+}

@@ -499,3 +499,26 @@ fn typed_errors() {
     let err = LieSdirk::fixed(4.0).solve(&body, &fast).unwrap_err();
     assert!(matches!(err.kind, ErrorKind::InvalidInput(_)), "{err}");
 }
+
+/// The global error follows the tolerance down to rtol 1e-12 (against [`Rkmk5`] at
+/// 1e-14): the stages' Newton errors, amplified up to 68 times into each step with one
+/// sign, must stay below the local error. With the Newton tolerance at `κ/(10 A)` of the
+/// tolerance and its floor at the state's round-off the error stopped falling below
+/// rtol 1e-10 (the S10 measurement in `numerics::newton::dirk_stage_tolerance`).
+#[test]
+fn free_body_global_error_follows_the_tolerance_to_1e_12() {
+    let problem = tumbling(20.0);
+    let reference = Rkmk5::new(Options::tolerances(1e-14, 1e-17))
+        .solve(&free_body(), &problem)
+        .unwrap();
+    let (_, r) = reference.last().unwrap();
+    for rtol in [1e-8, 1e-10, 1e-12] {
+        let traj = LieSdirk::new(Options::tolerances(rtol, rtol * 1e-3))
+            .solve(&free_body(), &problem)
+            .unwrap();
+        let (_, y) = traj.last().unwrap();
+        let err = distance(&y, &r);
+        eprintln!("LieSdirk rtol {rtol:e}: final error {err:.2e} ({})", traj.stats());
+        assert!(err <= 100.0 * rtol, "rtol {rtol:e}: final error {err:e}");
+    }
+}

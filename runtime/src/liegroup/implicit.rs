@@ -44,12 +44,16 @@
 //!   (Shampine's device), in the norm of [`Rkmk5`](super::Rkmk5) (scale 1 for rotation
 //!   components), with a [`PiController`] for an order-3 estimate. Steps whose stage
 //!   rotation vectors leave `|θ| < π` count as Newton failures.
-//! * **Dense output.** Cubic Hermite in each step's local coordinates, from `Θ(0) = 0`,
-//!   `Θ(h) = Θ₁` and the derivatives `Θ̇(0) = (ω₀, u₀, f(t₀, y₀))`,
-//!   `Θ̇(h) = (J_r(θ₁)⁻¹ ω₁, u₁, f(t₁, y₁))`, mapped by `y₀ · exp(Θ(t))` onto the
-//!   group: third order (error `O(h⁴)`), stored in [`LieTrajectory`] as the
-//!   Dormand–Prince extension with `r₅ = 0`. `f(t₁, y₁)` is one extra rhs evaluation
-//!   per step, which the next step's predictor and Jacobian use.
+//! * **Dense output.** In each step's local coordinates, the quartic through `Θ(0) = 0`,
+//!   `Θ(h) = Θ₁`, the derivatives `Θ̇(0) = (ω₀, u₀, f(t₀, y₀))`,
+//!   `Θ̇(h) = (J_r(θ₁)⁻¹ ω₁, u₁, f(t₁, y₁))` and the previous accepted point in the same
+//!   chart (cubic Hermite on the first step), mapped by `y₀ · exp(Θ(t))` onto the group:
+//!   interpolation error `O(h⁵)`, one order above the step's local error, stored in
+//!   [`LieTrajectory`] as the Dormand–Prince extension's form with its quartic term `r₅`.
+//!   Measured on S10 at the step midpoints against the exact solution from the step's
+//!   start: within 0.04–0.36 of the tolerance from rtol 1e-4 to 1e-8 (the cubic Hermite
+//!   alone: 1.3–1.4 times it). `f(t₁, y₁)` is one extra rhs evaluation per step, which
+//!   the next step's predictor and Jacobian use.
 //! * **Normalisation.** As [`Rkmk5`](super::Rkmk5): every accepted quaternion is
 //!   normalised once.
 //!
@@ -82,7 +86,7 @@ use crate::numerics::newton::{
     DIRK_MAX_NEWTON_ITERATIONS as MAX_NEWTON_ITERATIONS,
     DIRK_THETA_REUSE_JACOBIAN as THETA_REUSE_JACOBIAN, NewtonMatrix, dirk_stage_tolerance,
 };
-use crate::numerics::tableau::SDIRK4;
+use crate::numerics::tableau::{SDIRK4, dopri5_dense};
 use crate::numerics::{error_norm, underflow};
 use crate::{ErrorKind, Options, PiController, SolveError};
 
@@ -148,6 +152,13 @@ struct Work {
     /// Row-major `∂f/∂φ`, `∂f/∂v`.
     dq: Vec<f64>,
     dv: Vec<f64>,
+    /// The accepted point before the current one, its time, and its coordinates in the
+    /// current point's chart: the dense output's fifth condition.
+    prev: Option<f64>,
+    prev_y: LieState,
+    prev_theta: Vec<f64>,
+    /// The quartic term of the dense output (`r₅` of [`dopri5_dense`]).
+    r5: Vec<f64>,
 }
 
 impl Work {
@@ -173,6 +184,10 @@ impl Work {
             mag1: vec![0.0; d],
             dq: vec![0.0; n * n],
             dv: vec![0.0; n * n],
+            prev: None,
+            prev_y: y0.clone(),
+            prev_theta: vec![0.0; d],
+            r5: vec![0.0; d],
         }
     }
 }
@@ -358,8 +373,13 @@ impl LieSdirk {
                 run.rhs(t, &y, &mut f)?;
                 chart_field(&w.theta1, &y, &f, &mut w.k_end);
                 run.traj.push(&y, t, &f);
+                // `w.next` is now the step's start: the chart of its dense output.
+                let t_start = t - h;
+                quartic_term(&mut w, t_start, h);
                 run.traj
-                    .push_chart(h, &w.theta1, &w.k_start, &w.k_end, &w.zeros);
+                    .push_chart(h, &w.theta1, &w.k_start, &w.k_end, &w.r5);
+                w.prev = Some(t_start);
+                w.prev_y.clone_from(&w.next);
                 run.traj.flat.stats.steps += 1;
                 if matches!(non_finite_ahead, Some(ErrorKind::NonFinite { t: bad, .. }) if bad <= t)
                 {
@@ -484,6 +504,41 @@ impl LieSdirk {
         w.theta1.copy_from_slice(&w.z);
         retract(y, &w.theta1, &mut w.next);
         StageOutcome::Converged { theta_max }
+    }
+}
+
+/// The dense output's quartic term `r₅` ([`dopri5_dense`]), so that it also passes
+/// through the previous accepted point: the cubic Hermite on the step's ends and
+/// derivatives (local interpolation error `O(h⁴)`, the order of the method's own global
+/// error, so that reading the solution between steps lost accuracy: 1.2e-9 on S10's
+/// grid against 1.5e-11 at the steps, rtol 1e-12) plus `θ²(1 − θ)² r₅`, which keeps those
+/// four conditions and takes the fifth at `θ = −ρ`, `ρ = h_prev / h`: error `O(h⁵)`. In
+/// the chart of the step's start `y_n = w.next`, the previous point is
+/// `(log(q_n⁻¹ q_{n−1}), x_{n−1} − x_n, v_{n−1} − v_n)`. Zero on the first step (no
+/// previous point).
+fn quartic_term(w: &mut Work, t_start: f64, h: f64) {
+    let Some(t_prev) = w.prev else {
+        w.r5.fill(0.0);
+        return;
+    };
+    let (base, prev) = (&w.next, &w.prev_y);
+    let m = base.rotations.len();
+    for k in 0..m {
+        let th = (base.rotations[k].inverse() * prev.rotations[k]).log();
+        w.prev_theta[3 * k..3 * k + 3].copy_from_slice(th.as_slice());
+    }
+    let n = base.euclid.len();
+    for i in 0..n {
+        w.prev_theta[3 * m + i] = prev.euclid[i] - base.euclid[i];
+    }
+    for j in 0..base.velocity.len() {
+        w.prev_theta[3 * m + n + j] = prev.velocity[j] - base.velocity[j];
+    }
+    let rho = (t_start - t_prev) / h;
+    let weight = (rho * (1.0 + rho)).powi(2);
+    for c in 0..w.r5.len() {
+        let cubic = dopri5_dense(-rho, h, 0.0, w.theta1[c], w.k_start[c], w.k_end[c], 0.0);
+        w.r5[c] = (w.prev_theta[c] - cubic) / weight;
     }
 }
 

@@ -22,7 +22,7 @@
 //! | method | kind | use |
 //! |---|---|---|
 //! | [`Rkmk5`] | explicit, Dormand–Prince 5(4), dense output of order 4 | non-stiff problems |
-//! | [`LieSdirk`] | L-stable SDIRK4 (order 4, embedded 3), simplified Newton, Hermite dense output | stiff problems: stiff springs, strong damping |
+//! | [`LieSdirk`] | L-stable SDIRK4 (order 4, embedded 3), simplified Newton, quartic dense output through the previous point | stiff problems: stiff springs, strong damping |
 //!
 //! Both locate events ([`LieEvent`]) on their dense output with
 //! `solve_with_events`. [`so3`] has the group's functions.

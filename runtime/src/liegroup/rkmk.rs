@@ -31,8 +31,8 @@
 //!   coordinates, then `y₀ · exp(Θ(t))` — it stays on the group. [`LieTrajectory`]
 //!   stores per step `Θ₁`, the end derivatives and the fifth coefficient `r₅`, and the
 //!   step's length (so that a step cut short by a terminal event keeps its
-//!   interpolant); [`LieSdirk`](super::LieSdirk) stores `r₅ = 0`, the cubic Hermite
-//!   interpolant in the same coordinates.
+//!   interpolant); [`LieSdirk`](super::LieSdirk) stores the `r₅` that makes its
+//!   Hermite interpolant in the same coordinates pass through the previous point.
 //! * Events: [`Rkmk5::solve_with_events`], see [`LieEvent`].
 //! * Normalisation policy: the group update `q₀ ⊗ exp(θ)` is a product of unit
 //!   quaternions, unit up to round-off; every accepted state is normalised once (one
@@ -502,7 +502,8 @@ pub(super) fn initial_step<S: LieSystem + ?Sized>(
 /// of every rotation, then `x`, then `v`; derivatives `q̇ = ½ q ⊗ (0, ω)`, `ẋ = u`,
 /// `v̇ = f`; its own interpolation is cubic Hermite and leaves the group), and per step
 /// the local-coordinate data of the continuous extension (Dormand–Prince for
-/// [`Rkmk5`], cubic Hermite for [`LieSdirk`](super::LieSdirk)), used by
+/// [`Rkmk5`], quartic through the previous point for [`LieSdirk`](super::LieSdirk)),
+/// used by
 /// [`at`](Self::at).
 #[derive(Clone, Debug, PartialEq)]
 pub struct LieTrajectory {
@@ -510,7 +511,7 @@ pub struct LieTrajectory {
     n_euclid: usize,
     pub(super) flat: Solution,
     /// Per interval: `Θ₁, K₁, K₇, r₅`, each of the local dimension (`K₁`, `K₇` the
-    /// derivatives of `Θ` at the ends; `r₅ = 0` gives the cubic Hermite interpolant).
+    /// derivatives of `Θ` at the ends; `r₅` the quartic term, `0` for the cubic Hermite).
     chart: Vec<f64>,
     /// Per interval: the step's length `h` (the chart's time scale; longer than the
     /// interval when a terminal event cut the step short).

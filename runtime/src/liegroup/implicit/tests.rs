@@ -522,3 +522,30 @@ fn free_body_global_error_follows_the_tolerance_to_1e_12() {
         assert!(err <= 100.0 * rtol, "rtol {rtol:e}: final error {err:e}");
     }
 }
+
+/// The dense output between steps is well within the tolerance of the exact solution
+/// from the step's start (a tight [`Rkmk5`] run from there), measured at every step
+/// midpoint of adaptive runs: the quartic through the previous point interpolates to
+/// `O(h⁵)` (measured 0.07 and 0.02 of rtol 1e-6 and 1e-8). The cubic Hermite alone
+/// (`r₅ = 0`) was 0.96 and 0.89 of it here, and 1.4 times it on S10.
+#[test]
+fn dense_output_between_steps_is_within_the_tolerance() {
+    let problem = tumbling(20.0);
+    for rtol in [1e-6, 1e-8] {
+        let traj = LieSdirk::new(Options::tolerances(rtol, rtol * 1e-3))
+            .solve(&free_body(), &problem)
+            .unwrap();
+        let times = traj.times().to_vec();
+        let mut worst: f64 = 0.0;
+        for i in 1..times.len() - 1 {
+            let (t0, t1) = (times[i], times[i + 1]);
+            let tm = 0.5 * (t0 + t1);
+            let local = Rkmk5::new(Options::tolerances(1e-14, 1e-17))
+                .solve(&free_body(), &LieProblem::new(t0, tm, traj.state(i)))
+                .unwrap();
+            worst = worst.max(distance(&traj.at(tm).unwrap(), &local.last().unwrap().1));
+        }
+        eprintln!("LieSdirk rtol {rtol:e}: dense midpoints off the local solution by {worst:.2e}");
+        assert!(worst <= 0.25 * rtol, "rtol {rtol:e}: {worst:e}");
+    }
+}

@@ -13,7 +13,8 @@
 //! the Jacobian was old, refreshed; after [`MAX_NEWTON_FAILURES`] consecutive failures
 //! the integration stops with [`ErrorKind::NewtonDivergence`].
 //! The dense output is the quintic Hermite through the last three points (local error
-//! `O(h⁶)`), cubic Hermite on the step's ends for the first step after a (re)start.
+//! `O(h⁶)`), cubic Hermite on the step's ends for the first step after a (re)start (which a
+//! stored solution rewrites from the next point once it is taken).
 
 use nalgebra::DVector;
 

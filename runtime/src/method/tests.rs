@@ -546,3 +546,35 @@ fn sdirk4_follows_the_tolerance_to_1e_12_over_thousands_of_steps() {
         assert!(err <= 10.0 * tol, "tol {tol:e}: error {err:e}");
     }
 }
+
+/// The first step of a run (and of every stretch after a restart) has only the method's
+/// own extension, a cubic Hermite for SDIRK4; once the next step arrives the solution
+/// rewrites it as the two-step quintic Hermite, so reading the first step back is as
+/// accurate as the steps (y'' = −y: within twice the error at the first three rows).
+/// Before, SDIRK4's first step read back 1.4, 26 and 470 times worse than its rows at
+/// rtol 1e-4, 1e-6 and 1e-8.
+#[test]
+fn the_first_step_reads_back_as_accurately_as_the_steps() {
+    let problem = Problem::new(0.0, 10.0, [1.0, 0.0]);
+    for tol in [1e-4, 1e-6, 1e-8] {
+        for m in [
+            Method::Sdirk4(Options::tolerances(tol, tol)),
+            Method::Dopri5(Options::tolerances(tol, tol)),
+            Method::Rk4 { h: 0.05 },
+        ] {
+            let traj = solve(&oscillator(), &problem, &m).unwrap();
+            let (t0, t1) = (traj.times()[0], traj.times()[1]);
+            let first = (1..100)
+                .map(|k| {
+                    let t = t0 + (t1 - t0) * k as f64 / 100.0;
+                    (traj.at(t).unwrap()[0] - t.cos()).abs()
+                })
+                .fold(0.0, f64::max);
+            let rows = (0..3)
+                .map(|i| (traj.state(i)[0] - traj.times()[i].cos()).abs())
+                .fold(0.0, f64::max);
+            eprintln!("{m:?}: first step read back {first:e}, rows {rows:e}");
+            assert!(first <= 2.0 * rows.max(1e-15), "{m:?}: {first:e} vs {rows:e}");
+        }
+    }
+}

@@ -12,6 +12,12 @@
 //! | RK4, SDIRK4, first step after a (re)start | cubic Hermite on the step's ends ([`set_hermite`](DenseStep::set_hermite)) | 3 | `O(h⁴)` |
 //! | DOPRI5, RK4, SDIRK4 after their first step since a (re)start | quintic Hermite through the last three points ([`set_hermite5`](DenseStep::set_hermite5)) | 5 | `O(h⁶)` |
 //!
+//!
+//! The first two rows serve event location inside that first step; a stored
+//! [`Solution`](crate::Solution) (`Output::Steps`) rewrites that step as the quintic
+//! Hermite through its ends and the next point once the next step is taken without a
+//! restart in between.
+//!
 //! The monomial form is well conditioned on `[0, 1]` for these degrees (≤ 5) and is
 //! evaluated by Horner's rule without allocation.
 
@@ -24,6 +30,8 @@ pub struct DenseStep {
     dim: usize,
     /// `c_k` of component `i` at `k · dim + i`, `k = 0 … degree`.
     coeffs: Vec<f64>,
+    /// The third point of a two-step Hermite extension ([`set_hermite5`](Self::set_hermite5)).
+    third_node: Option<f64>,
 }
 
 impl DenseStep {
@@ -73,7 +81,14 @@ impl DenseStep {
         self.degree = degree;
         self.coeffs.clear();
         self.coeffs.resize((degree + 1) * self.dim, 0.0);
+        self.third_node = None;
         &mut self.coeffs
+    }
+
+    /// The time of the third point of a two-step Hermite extension, `None` for every
+    /// other kind.
+    pub(crate) fn third_node(&self) -> Option<f64> {
+        self.third_node
     }
 
     /// Cubic Hermite interpolation of `y0, f0` at `t0` and `y1, f1` at `t0 + h`.
@@ -100,7 +115,8 @@ impl DenseStep {
 
     /// Quintic Hermite interpolation over two steps: the polynomial of degree 5 through
     /// `y, f` at the previous point `tm`, at `t0` and at `t0 + h`, kept on
-    /// `[t0, t0 + h]`. Its interpolation error is
+    /// `[t0, t0 + h]` (`tm` may also lie after the step: the solution then rewrites a
+    /// finished step's extension from the next point, see `Solution::push_step`). Its interpolation error is
     /// `y⁽⁶⁾(ξ)/6! · (t − tm)²(t − t0)²(t − t0 − h)² = O(h⁶)`, one order above the
     /// local error of every one-step method here, so reading a solution between its steps
     /// costs no accuracy. It needs a smooth solution over `[tm, t0 + h]`: the steppers use
@@ -159,6 +175,7 @@ impl DenseStep {
                 c[k * n + i] = *ak;
             }
         }
+        self.third_node = Some(tm);
     }
 
     /// The Dormand–Prince continuous extension (Hairer, Nørsett & Wanner, *Solving ODEs

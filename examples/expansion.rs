@@ -139,10 +139,7 @@ fn tree(n: usize, all: bool) -> TokenStream {
 }
 
 /// Median, fastest and slowest of `reps` expansions, and the last expansion.
-fn median_time(
-    tokens: &TokenStream,
-    reps: usize,
-) -> ([Duration; 3], filippov_codegen::Expansion) {
+fn median_time(tokens: &TokenStream, reps: usize) -> ([Duration; 3], filippov_codegen::Expansion) {
     let mut times = Vec::new();
     let mut last = None;
     for _ in 0..reps {

@@ -978,14 +978,7 @@ fn friction_and_stop_on_one_coordinate_hold_together() {
 #[test]
 fn time_stepping_is_stable_with_a_stiff_smooth_spring() {
     type V2 = SVector<f64, 2>;
-    let s = FrictionChain {
-        m1: 1.0,
-        m2: 1.0,
-        k1: 1.0,
-        k2: 1e9,
-        f1: 0.1,
-        f2: 0.2,
-    };
+    let s = FrictionChain::stiff(1e9);
     let none = |_t: f64, _q: &V2, _v: &V2| V2::zeros();
     let t_turn = std::f64::consts::PI * 2f64.sqrt();
     let p = NonSmoothProblem::new(0.0, t_turn, V2::new(1.0, 0.0), V2::zeros());
@@ -1349,14 +1342,7 @@ fn stiff_spring_inside_the_mechanism_with_implicit_event_driven_methods() {
     use filippov_scenes::FrictionChain;
     type V2 = SVector<f64, 2>;
     let k2 = 1e12;
-    let s = FrictionChain {
-        m1: 1.0,
-        m2: 1.0,
-        k1: 1.0,
-        k2,
-        f1: 0.1,
-        f2: 0.2,
-    };
+    let s = FrictionChain::stiff(k2);
     let none = |_t: f64, _q: &V2, _v: &V2| V2::zeros();
     let p = NonSmoothProblem::new(0.0, 10.0, V2::new(1.0, 1e-3 / k2.sqrt()), V2::zeros());
     let x1: Vec<f64> = [SmoothMethod::Sdirk4, SmoothMethod::Bdf]
@@ -1385,14 +1371,7 @@ fn stiff_spring_inside_the_mechanism_with_implicit_event_driven_methods() {
 fn stiff_two_block_chain_completes_event_driven_and_agrees_with_time_stepping() {
     type V2 = SVector<f64, 2>;
     for k2 in [1e9, 1e12] {
-        let s = FrictionChain {
-            m1: 1.0,
-            m2: 1.0,
-            k1: 1.0,
-            k2,
-            f1: 0.1,
-            f2: 0.2,
-        };
+        let s = FrictionChain::stiff(k2);
         let p = NonSmoothProblem::new(0.0, 4.0, V2::new(1.0, 1e-3 / k2.sqrt()), V2::zeros());
         let sdirk = NonSmoothMethod::EventDriven {
             method: SmoothMethod::Sdirk4,

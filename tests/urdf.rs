@@ -146,7 +146,10 @@ fn hand_written_pandas_have_the_urdf_kinematics() {
             _ => None,
         })
         .collect();
-    assert_eq!(stops, [(1, upper("panda_joint2")), (3, upper("panda_joint4"))]);
+    assert_eq!(
+        stops,
+        [(1, upper("panda_joint2")), (3, upper("panda_joint4"))]
+    );
 }
 
 #[test]

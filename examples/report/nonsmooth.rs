@@ -718,14 +718,7 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
     // A stiff spring inside the mechanism: two blocks with friction, the second on a
     // spring of stiffness k2 relative to the first (k1 = 1): stiffness ratio k2/k1.
     for k2 in [1e3, 1e6, 1e9, 1e12] {
-        let s = filippov_scenes::FrictionChain {
-            m1: 1.0,
-            m2: 1.0,
-            k1: 1.0,
-            k2,
-            f1: 0.1,
-            f2: 0.2,
-        };
+        let s = filippov_scenes::FrictionChain::stiff(k2);
         type V2 = SVector<f64, 2>;
         let none = |_t: f64, _q: &V2, _v: &V2| V2::zeros();
         let p = NonSmoothProblem::new(0.0, short, V2::new(1.0, 1e-3 / k2.sqrt()), V2::zeros());

@@ -286,7 +286,9 @@ impl Solution {
             return;
         }
         let seg = self.seg[len - 1];
-        if seg.degree == 0 || seg.degree >= 5 || seg.offset + (seg.degree + 1) * nd != self.coeffs.len()
+        if seg.degree == 0
+            || seg.degree >= 5
+            || seg.offset + (seg.degree + 1) * nd != self.coeffs.len()
         {
             return;
         }

@@ -153,6 +153,21 @@ pub struct FrictionChain {
     pub f2: f64,
 }
 
+impl FrictionChain {
+    /// The stiff chain of the extreme suite: unit masses, `k1 = 1`, friction levels 0.1
+    /// and 0.2, and the second block on a spring `k2` times stiffer than the first.
+    pub fn stiff(k2: f64) -> Self {
+        FrictionChain {
+            m1: 1.0,
+            m2: 1.0,
+            k1: 1.0,
+            k2,
+            f1: 0.1,
+            f2: 0.2,
+        }
+    }
+}
+
 /// A hardening (Duffing) spring declared by its potential, `U = ½ k x² + ¼ k3 x⁴`, with a
 /// linear Bingham dash-pot: the spring force `−dU/dx` is derived symbolically.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]

@@ -241,9 +241,10 @@ impl Sdirk4Stepper {
         for i in 0..SDIRK4.stages() {
             // Increments: `base` and `z` are `Y − y`, `y1` holds the point `y + z`.
             for k in 0..n {
-                self.base[k] = h * (0..i)
-                    .map(|j| SDIRK4.a(i, j) * self.stage_f[j][k])
-                    .sum::<f64>();
+                self.base[k] = h
+                    * (0..i)
+                        .map(|j| SDIRK4.a(i, j) * self.stage_f[j][k])
+                        .sum::<f64>();
                 // Predictor: the previous stage's derivative (f(t, y) for the first).
                 let guess = if i == 0 {
                     self.s.f[k]
@@ -310,4 +311,3 @@ impl Sdirk4Stepper {
         StageOutcome::Converged { theta_max }
     }
 }
-

@@ -541,7 +541,11 @@ fn sdirk4_follows_the_tolerance_to_1e_12_over_thousands_of_steps() {
             .solve(&quaternion_free_body(), &problem)
             .unwrap();
         let y = traj.last().unwrap().1;
-        let err = y.iter().zip(&r).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let err = y
+            .iter()
+            .zip(&r)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
         eprintln!("tol {tol:e}: error {err:e}, {}", traj.stats);
         assert!(err <= 10.0 * tol, "tol {tol:e}: error {err:e}");
     }
@@ -574,7 +578,10 @@ fn the_first_step_reads_back_as_accurately_as_the_steps() {
                 .map(|i| (traj.state(i)[0] - traj.times()[i].cos()).abs())
                 .fold(0.0, f64::max);
             eprintln!("{m:?}: first step read back {first:e}, rows {rows:e}");
-            assert!(first <= 2.0 * rows.max(1e-15), "{m:?}: {first:e} vs {rows:e}");
+            assert!(
+                first <= 2.0 * rows.max(1e-15),
+                "{m:?}: {first:e} vs {rows:e}"
+            );
         }
     }
 }

@@ -693,80 +693,91 @@ const MARGIN_TOL: f64 = 1e-9;
 /// it and the root finder's tolerance together.
 const EVENT_STATE_ERROR: f64 = 10.0;
 
-/// The least margin over the elements in `choices` of the combination `modes`, with the
-/// forces and accelerations evaluated at `(qe, ve)` and the element states (which
-/// decide a margin's form) taken at `(q, v)`; `None` where the mode's constraints are
-/// dependent.
-#[allow(clippy::too_many_arguments)]
-fn least_margin<S: NonSmooth<N>, const N: usize>(
-    system: &S,
-    elements: &[Element],
-    branches: &[Branches],
-    modes: &[Mode],
-    choices: &Choices,
-    qe: &SVector<f64, N>,
-    ve: &SVector<f64, N>,
-    q: &SVector<f64, N>,
-    v: &SVector<f64, N>,
-    tau: &SVector<f64, N>,
-    w: &SMatrix<f64, N, N>,
-) -> Option<f64> {
-    let ev = evaluate(system, elements, branches, modes, qe, ve, tau)?;
-    Some(
-        choices
-            .iter()
-            .map(|(e, _)| {
-                let c = elements[*e].coordinate;
-                margin(
-                    &elements[*e],
-                    &branches[*e],
-                    modes[*e],
-                    q[c],
-                    v[c],
-                    ev.a[c],
-                    ev.f[*e],
-                    w[(c, c)],
-                )
-            })
-            .fold(f64::INFINITY, f64::min),
-    )
+/// What a mode selection evaluates combinations against: the system and its elements,
+/// which elements choose, the input and `W = M⁻¹` at the selection's state.
+struct Selection<'a, S, const N: usize> {
+    system: &'a S,
+    elements: &'a [Element],
+    branches: &'a [Branches],
+    choices: &'a Choices,
+    tau: &'a SVector<f64, N>,
+    w: SMatrix<f64, N, N>,
 }
 
-/// How much the least margin of `modes` can move when the state moves within its
-/// error at an event: `Σ_i |Δm_i|`, each `Δm_i` the change when coordinate or velocity
-/// `i` alone moves by `EVENT_STATE_ERROR · (atol + rtol |x_i|)` (a first-order bound,
-/// by one-sided differences). A stiff spring makes it large in force units — on the
-/// two-block chain with k₂/k₁ = 1e9 a position error of 1e-13 moves the stuck force by
-/// 1e-4 — where a slack relative to the force scale alone would refuse every mode.
-#[allow(clippy::too_many_arguments)]
-fn margin_uncertainty<S: NonSmooth<N>, const N: usize>(
-    system: &S,
-    elements: &[Element],
-    branches: &[Branches],
-    modes: &[Mode],
-    choices: &Choices,
-    q: &SVector<f64, N>,
-    v: &SVector<f64, N>,
-    tau: &SVector<f64, N>,
-    w: &SMatrix<f64, N, N>,
-    (atol, rtol): (f64, f64),
-) -> f64 {
-    let at = |qe: &SVector<f64, N>, ve: &SVector<f64, N>| {
-        least_margin(system, elements, branches, modes, choices, qe, ve, q, v, tau, w)
-    };
-    let Some(m0) = at(q, v).filter(|m| m.is_finite()) else {
-        return 0.0;
-    };
-    let mut sum = 0.0;
-    for i in 0..2 * N {
-        let (mut qe, mut ve) = (*q, *v);
-        let x = if i < N { &mut qe[i] } else { &mut ve[i - N] };
-        *x += EVENT_STATE_ERROR * (atol + rtol * x.abs());
-        if let Some(m) = at(&qe, &ve).filter(|m| m.is_finite()) {
-            sum += (m - m0).abs();
-        }
+impl<S: NonSmooth<N>, const N: usize> Selection<'_, S, N> {
+    /// The least margin over the elements in `choices` of the combination `modes`, with
+    /// the forces and accelerations evaluated at `(qe, ve)` and the element states (which
+    /// decide a margin's form) taken at `(q, v)`; `None` where the mode's constraints are
+    /// dependent.
+    fn least_margin(
+        &self,
+        modes: &[Mode],
+        (qe, ve): (&SVector<f64, N>, &SVector<f64, N>),
+        (q, v): (&SVector<f64, N>, &SVector<f64, N>),
+    ) -> Option<f64> {
+        let ev = evaluate(
+            self.system,
+            self.elements,
+            self.branches,
+            modes,
+            qe,
+            ve,
+            self.tau,
+        )?;
+        Some(
+            self.choices
+                .iter()
+                .map(|(e, _)| {
+                    let c = self.elements[*e].coordinate;
+                    margin(
+                        &self.elements[*e],
+                        &self.branches[*e],
+                        modes[*e],
+                        q[c],
+                        v[c],
+                        ev.a[c],
+                        ev.f[*e],
+                        self.w[(c, c)],
+                    )
+                })
+                .fold(f64::INFINITY, f64::min),
+        )
     }
-    sum
+
+    /// How much the least margin of `modes` can move when the state `(q, v)` moves
+    /// within its error at an event: `Σ_i |Δm_i|`, each `Δm_i` the change when coordinate
+    /// or velocity `i` alone moves by `EVENT_STATE_ERROR · (atol + rtol |x_i|)` (a
+    /// first-order bound, by one-sided differences). A stiff spring makes it large in
+    /// force units — on the two-block chain with k₂/k₁ = 1e9 a position error of 1e-13
+    /// moves the stuck force by 1e-4 — where a slack relative to the force scale alone
+    /// would refuse every mode.
+    fn margin_uncertainty(
+        &self,
+        modes: &[Mode],
+        q: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        (atol, rtol): (f64, f64),
+    ) -> f64 {
+        let Some(m0) = self
+            .least_margin(modes, (q, v), (q, v))
+            .filter(|m| m.is_finite())
+        else {
+            return 0.0;
+        };
+        let mut sum = 0.0;
+        for i in 0..2 * N {
+            let (mut qe, mut ve) = (*q, *v);
+            let x = if i < N { &mut qe[i] } else { &mut ve[i - N] };
+            *x += EVENT_STATE_ERROR * (atol + rtol * x.abs());
+            if let Some(m) = self
+                .least_margin(modes, (&qe, &ve), (q, v))
+                .filter(|m| m.is_finite())
+            {
+                sum += (m - m0).abs();
+            }
+        }
+        sum
+    }
 }
 
 /// Largest number of mode combinations enumerated (`3^k`, so up to 9 dash-pots at once).
@@ -781,7 +792,7 @@ const MAX_COMBINATIONS: usize = 20_000;
 /// an error (the text of [`ErrorKind::IllPosedMode`](crate::ErrorKind)) is returned;
 /// otherwise the largest margin wins; when none is consistent, the least violated one
 /// is taken if it misses by less than the state's error can move its margin
-/// ([`margin_uncertainty`] with the integrator's `accuracy = (atol, rtol)`; at a
+/// (`Selection::margin_uncertainty` with the integrator's `accuracy = (atol, rtol)`; at a
 /// switching instant located to round-off, the old mode and the new one may both sit on
 /// the boundary; the new one has the larger margin on the far side of the located root).
 #[allow(clippy::too_many_arguments)]
@@ -809,6 +820,14 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
         ));
     }
     let w = system.inverse_mass_matrix(q);
+    let selection = Selection {
+        system,
+        elements,
+        branches,
+        choices,
+        tau,
+        w,
+    };
     // Scale of the margins: the largest critical force and the largest force needed
     // to hold a switching coordinate at rest.
     let mut free_modes = modes.to_vec();
@@ -840,8 +859,7 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
             trial[*e] = cands[rest % cands.len()];
             rest /= cands.len();
         }
-        let Some(m) = least_margin(system, elements, branches, &trial, choices, q, v, q, v, tau, &w)
-        else {
+        let Some(m) = selection.least_margin(&trial, (q, v), (q, v)) else {
             continue;
         };
         if m >= -tol {
@@ -876,8 +894,7 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
         // that error does to its margin. It is taken when it misses by less than that
         // (`margin_uncertainty`); beyond it, no mode fits.
         None if best_violation.as_ref().is_some_and(|(m, ms)| {
-            *m >= -tol
-                - margin_uncertainty(system, elements, branches, ms, choices, q, v, tau, &w, accuracy)
+            *m >= -tol - selection.margin_uncertainty(ms, q, v, accuracy)
         }) =>
         {
             Ok(best_violation.map(|(_, ms)| ms).unwrap_or_default())

@@ -518,7 +518,10 @@ fn free_body_global_error_follows_the_tolerance_to_1e_12() {
             .unwrap();
         let (_, y) = traj.last().unwrap();
         let err = distance(&y, &r);
-        eprintln!("LieSdirk rtol {rtol:e}: final error {err:.2e} ({})", traj.stats());
+        eprintln!(
+            "LieSdirk rtol {rtol:e}: final error {err:.2e} ({})",
+            traj.stats()
+        );
         assert!(err <= 100.0 * rtol, "rtol {rtol:e}: final error {err:e}");
     }
 }

@@ -17,7 +17,7 @@ use filippov_scenes::{
 use super::config::Config;
 use super::markdown::{Page, sci};
 use super::support::{Scale, Series, line_plot};
-use super::timing::median;
+use super::timing::{Timing, timed};
 use super::workprecision::Section;
 
 type V1 = SVector<f64, 1>;
@@ -47,11 +47,11 @@ const METHODS: [(SmoothMethod, &str); 3] = [
     (SmoothMethod::Bdf, "BDF"),
 ];
 
-/// One measured run: (method, rtol, error at its rows, error on the grid, median time).
+/// One measured run: (method, rtol, error at its rows, error on the grid, its time).
 struct Run {
     method: &'static str,
     rtol: f64,
-    outcome: Result<(f64, f64, f64), String>,
+    outcome: Result<(f64, f64, Timing), String>,
 }
 
 /// Max |x − x_ref| at the run's own rows and on the 0.01 grid of `[t0, tf]`.
@@ -112,7 +112,7 @@ fn scene<S: NonSmooth<1>>(
             &ref_dopri
         };
         for &rtol in config.tolerances.iter().filter(|t| **t >= 1e-10) {
-            let (time, result) = median(config.repeats, || run(m, rtol));
+            let (time, result) = timed(config.repeats, || run(m, rtol));
             let outcome = result
                 .map(|sol| {
                     let (rows, grid) = errors(&sol, reference, problem.t0, problem.tf);
@@ -126,7 +126,7 @@ fn scene<S: NonSmooth<1>>(
                     sci(*rows),
                     sci(*grid),
                     format!("{:.2}", grid / rows),
-                    format!("{:.3}", time * 1e3),
+                    time.scaled(1e3).show(3),
                 ],
                 Err(e) => vec![
                     label.to_string(),
@@ -152,7 +152,7 @@ fn scene<S: NonSmooth<1>>(
             "max error at its steps",
             "max error on the 0.01 grid",
             "grid / steps",
-            "time [ms]",
+            "time [ms], median (min–max)",
         ],
         &body,
     );
@@ -399,14 +399,14 @@ pub fn dense_output(config: &Config) -> Section {
             .flat_map(|(_, runs)| runs.iter())
             .filter_map(|r| r.outcome.as_ref().ok().map(|o| (r, o)))
             .filter(|(_, (_, grid, _))| *grid <= 1e-9)
-            .min_by(|a, b| a.1.2.total_cmp(&b.1.2));
+            .min_by(|a, b| a.1.2.median.total_cmp(&b.1.2.median));
         summary.push(match best {
             Some((r, (_, grid, time))) => format!(
-                "{name}: fastest to a max grid error ≤ 1e-9 on the 0.01 grid: event-driven {} at rtol {:.0e}, {} in {:.3} ms",
+                "{name}: fastest to a max grid error ≤ 1e-9 on the 0.01 grid: event-driven {} at rtol {:.0e}, {} in {} ms",
                 r.method,
                 r.rtol,
                 sci(*grid),
-                time * 1e3
+                time.scaled(1e3).show(3)
             ),
             None => format!("{name}: no run reaches a max grid error ≤ 1e-9 in this sweep"),
         });

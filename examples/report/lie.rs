@@ -22,7 +22,7 @@ use super::config::Config;
 use super::lie_support::{flip_period, s10_initial, s10_run};
 use super::markdown::{Page, sci};
 use super::support::{Scale, Series, line_plot};
-use super::timing::{median, ns_per_call};
+use super::timing::{Timing, ns_per_call, timed};
 use super::workprecision::Section;
 
 /// The embedded reference: state `(w, x, y, z, ω)`.
@@ -83,7 +83,7 @@ fn errors(traj: &LieTrajectory, reference: &Solution, t_end: f64) -> (f64, f64) 
 
 struct Point {
     label: String,
-    time: f64,
+    time: Timing,
     steps: usize,
     rejected: usize,
     evals: usize,
@@ -102,7 +102,7 @@ pub fn lie(config: &Config) -> Section {
 
     // Work-precision: tolerance sweeps (explicit Rkmk5, implicit LieSdirk) and fixed
     // steps.
-    let point = |label: String, time: f64, run: Result<LieTrajectory, SolveError>| match run {
+    let point = |label: String, time: Timing, run: Result<LieTrajectory, SolveError>| match run {
         Ok(traj) => {
             let (final_err, dense_err) = errors(&traj, &reference, t_end);
             let s = traj.stats();
@@ -142,10 +142,10 @@ pub fn lie(config: &Config) -> Section {
     for &tol in &tolerances {
         let options = Options::tolerances(tol, tol * 1e-3);
         let method = Rkmk5::new(options);
-        let (time, run) = median(config.repeats, || method.solve(&sys, &problem));
+        let (time, run) = timed(config.repeats, || method.solve(&sys, &problem));
         adaptive.push(point(format!("rtol {tol:.0e}"), time, run));
         let method = LieSdirk::new(options);
-        let (time, run) = median(config.repeats, || method.solve(&sys, &problem));
+        let (time, run) = timed(config.repeats, || method.solve(&sys, &problem));
         implicit.push(point(format!("rtol {tol:.0e}"), time, run));
     }
     let mut fixed = Vec::new();
@@ -153,7 +153,7 @@ pub fn lie(config: &Config) -> Section {
         let h = t_end / n as f64;
         let method = Rkmk5::fixed(h);
         let problem = LieProblem::new(0.0, t_end, s10_initial());
-        let (time, run) = median(config.repeats, || method.solve(&sys, &problem));
+        let (time, run) = timed(config.repeats, || method.solve(&sys, &problem));
         fixed.push(match run {
             Ok(traj) => {
                 let (final_err, dense_err) = errors(&traj, &reference, t_end);
@@ -213,7 +213,7 @@ pub fn lie(config: &Config) -> Section {
             vec![
                 m.into(),
                 p.label.clone(),
-                format!("{:.3}", p.time * 1e3),
+                p.time.scaled(1e3).show(3),
                 p.steps.to_string(),
                 p.rejected.to_string(),
                 p.evals.to_string(),
@@ -226,7 +226,7 @@ pub fn lie(config: &Config) -> Section {
         &[
             "method",
             "setting",
-            "time [ms]",
+            "time [ms], median (min–max)",
             "steps",
             "rejected",
             "evaluations",
@@ -240,19 +240,19 @@ pub fn lie(config: &Config) -> Section {
             "Rkmk5 adaptive",
             adaptive
                 .iter()
-                .map(|p| (p.time * 1e3, p.dense_err))
+                .map(|p| (p.time.median * 1e3, p.dense_err))
                 .collect(),
         ),
         Series::new(
             "LieSdirk adaptive",
             implicit
                 .iter()
-                .map(|p| (p.time * 1e3, p.dense_err))
+                .map(|p| (p.time.median * 1e3, p.dense_err))
                 .collect(),
         ),
         Series::new(
             "Rkmk5 fixed step",
-            fixed.iter().map(|p| (p.time * 1e3, p.dense_err)).collect(),
+            fixed.iter().map(|p| (p.time.median * 1e3, p.dense_err)).collect(),
         ),
     ];
     line_plot(
@@ -271,7 +271,7 @@ pub fn lie(config: &Config) -> Section {
     {
         summary.push(format!(
             "S10 (free body, Lie group): error ≤ 1e-6 over three flips in {:.3} ms ({}, {} steps)",
-            p.time * 1e3,
+            p.time.median * 1e3,
             p.label,
             p.steps
         ));
@@ -283,7 +283,7 @@ pub fn lie(config: &Config) -> Section {
             sci(p.final_err),
             sci(p.dense_err),
             p.steps,
-            p.time * 1e3,
+            p.time.median * 1e3,
             adaptive.last().map_or("—".into(), |a| sci(a.final_err)),
             adaptive.last().map_or("—".into(), |a| sci(a.dense_err)),
         ));

@@ -14,7 +14,7 @@ use filippov_scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
 use super::config::Config;
 use super::markdown::{Page, sci};
 use super::support::{Scale, Series, line_plot};
-use super::timing::median;
+use super::timing::{Timing, timed};
 
 #[derive(Default)]
 pub struct Section {
@@ -25,7 +25,7 @@ pub struct Section {
 /// One run of a sweep.
 struct Point {
     label: String,
-    time: f64,
+    time: Timing,
     steps: usize,
     rejected: usize,
     evals: usize,
@@ -151,7 +151,7 @@ fn scene<S: Mechanism<N>, const N: usize>(
         let mut points = Vec::new();
         for x in params {
             let m = make(x);
-            let (time, result) = median(config.repeats, || run(&m));
+            let (time, result) = timed(config.repeats, || run(&m));
             let label = if fixed {
                 format!("h = {}", sci(x))
             } else {
@@ -190,7 +190,7 @@ fn scene<S: Mechanism<N>, const N: usize>(
                 p.label.clone(),
                 sci(p.final_err),
                 sci(p.dense_err),
-                format!("{:.3}", p.time * 1e3),
+                p.time.scaled(1e3).show(3),
                 format!("{} ({} rej.)", p.steps, p.rejected),
                 format!("{} / {}", p.evals, p.jacobians),
             ]);
@@ -207,13 +207,13 @@ fn scene<S: Mechanism<N>, const N: usize>(
         if let Some(p) = points
             .iter()
             .filter(|p| p.final_err <= 1e-8)
-            .min_by(|a, b| a.time.total_cmp(&b.time))
+            .min_by(|a, b| a.time.median.total_cmp(&b.time.median))
         {
-            best_at.push((method, p.time));
+            best_at.push((method, p.time.median));
         }
         curves.push(Series::new(
             method,
-            points.iter().map(|p| (p.time * 1e3, p.final_err)).collect(),
+            points.iter().map(|p| (p.time.median * 1e3, p.final_err)).collect(),
         ));
     }
     page.table(
@@ -222,7 +222,7 @@ fn scene<S: Mechanism<N>, const N: usize>(
             "setting",
             "final error",
             "max error (dense)",
-            "time [ms]",
+            "time [ms], median (min–max)",
             "steps",
             "rhs evals / Jacobians",
         ],

@@ -3,7 +3,7 @@
 //! and for passivity. Shared by `tests/agreement.rs` (a few dozen scenes) and the report
 //! (a thousand and more).
 //!
-//! A scene (from its seed): a planar or spatial chain of 1–5 revolute or prismatic
+//! A scene (from its seed): a planar or spatial chain of 1–7 revolute or prismatic
 //! joints (rod-like links, random masses and lengths), gravity or not, springs and
 //! dampers on some joints; one or two elements — Coulomb friction, linear or cubic
 //! Bingham, a rigid stop with restitution or a spring-backed stop — and a sinusoidal
@@ -85,7 +85,7 @@ struct Description {
 
 fn describe(seed: u64) -> Description {
     let mut r = Rng::new(seed);
-    let n = 1 + r.below(5);
+    let n = 1 + r.below(7);
     let planar = r.below(2) == 0;
     let gravity = if r.below(3) == 0 {
         Vector3::zeros()
@@ -458,7 +458,11 @@ pub fn run(seed: u64) -> Verdict {
         (4, 1),
         (4, 2),
         (5, 1),
-        (5, 2)
+        (5, 2),
+        (6, 1),
+        (6, 2),
+        (7, 1),
+        (7, 2)
     )
 }
 

@@ -17,7 +17,7 @@ pub fn agreement(config: &Config) -> Section {
     page.h2("Randomized agreement suite");
     page.para(&format!(
         "{count} random scenes (seeds 1–{count}): planar or spatial chains of 1–7 revolute or prismatic joints with gravity, springs and dampers at random, \
-         one or two non-smooth elements (Coulomb friction, linear or cubic Bingham, rigid stops with restitution, spring-backed stops) and a sinusoidal force or none; \
+         one or two non-smooth elements (Coulomb friction, linear, cubic or non-monotone Bingham — S4's law under either selection —, rigid stops with restitution, spring-backed stops) and a sinusoidal force or none; \
          initial states moving, stuck, at rest on a stop, or penetrating a rigid stop (which both integrators must refuse). \
          Each runs event-driven (DOPRI5, rtol 1e-8, ≤ 20,000 step attempts) and time-stepping (θ = 1) over [0, 1] at h = 1e-3, 2.5e-4, … refined by 4× down to 3.9e-6 while \
          the runs are pre-asymptotic; it passes when both complete, time-stepping converges to the event-driven end state (a refinement that shrinks the distance to ≤ 0.6× \

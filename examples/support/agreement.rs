@@ -5,8 +5,9 @@
 //!
 //! A scene (from its seed): a planar or spatial chain of 1–7 revolute or prismatic
 //! joints (rod-like links, random masses and lengths), gravity or not, springs and
-//! dampers on some joints; one or two elements — Coulomb friction, linear or cubic
-//! Bingham, a rigid stop with restitution or a spring-backed stop — and a sinusoidal
+//! dampers on some joints; one or two elements — Coulomb friction, linear, cubic or
+//! non-monotone Bingham (S4's law, either selection), a rigid stop with restitution or a
+//! spring-backed stop — and a sinusoidal
 //! force on one joint or none. The initial state: moving, stuck (an element's coordinate
 //! at rest), at rest on a stop, or penetrating a rigid stop (which both integrators must
 //! refuse).
@@ -20,7 +21,7 @@
 //! error of event-driven counts apart, with its message; anything else is a failure.
 
 use filippov::nalgebra::{Matrix3, SVector, Vector3};
-use filippov::runtime::nonsmooth::{Element, ElementKind, Law, Side, StopKind};
+use filippov::runtime::nonsmooth::{Element, ElementKind, Law, Selection, Side, StopKind};
 use filippov::runtime::numeric::{Damper, JointKind, Link, Model, Scene, Spring};
 use filippov::runtime::{
     ErrorKind, NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, solve_nonsmooth,
@@ -61,6 +62,14 @@ impl Rng {
 /// The cubic Bingham law of theory S2/S3 (f_crit = 1): v = f² (f − 1) for f > 1.
 fn cubic(f: f64) -> (f64, f64) {
     (f * f * (f - 1.0), 3.0 * f * f - 2.0 * f)
+}
+
+/// The non-monotone law of theory S4 (f_crit = 1): v = (1 + 0.1 (f² − 4)(f² − 9)) (f − 1)
+/// for f > 1, which folds back between f ≈ 2 and 3.
+fn non_monotone(f: f64) -> (f64, f64) {
+    let g = 1.0 + 0.1 * (f * f - 4.0) * (f * f - 9.0);
+    let dg = 0.1 * (2.0 * f * (f * f - 9.0) + 2.0 * f * (f * f - 4.0));
+    (g * (f - 1.0), dg * (f - 1.0) + g)
 }
 
 /// How the initial state is chosen.
@@ -175,7 +184,7 @@ fn describe(seed: u64) -> Description {
         if elements.iter().any(|e| e.coordinate == c) {
             continue;
         }
-        let kind = match r.below(5) {
+        let kind = match r.below(6) {
             0 => ElementKind::DashPot {
                 law: Law::Coulomb,
                 f_crit: r.uniform(0.1, 2.0),
@@ -190,7 +199,17 @@ fn describe(seed: u64) -> Description {
                 law: Law::BinghamMonotone,
                 f_crit: 1.0,
             },
-            3 => ElementKind::Stop {
+            3 => ElementKind::DashPot {
+                law: Law::BinghamNonMonotone {
+                    selection: if r.below(2) == 0 {
+                        Selection::NoVelocityJumps
+                    } else {
+                        Selection::MaximalDissipation
+                    },
+                },
+                f_crit: 1.0,
+            },
+            4 => ElementKind::Stop {
                 side: Side::Lower,
                 position: q0[c] - r.uniform(0.05, 0.4),
                 kind: StopKind::Rigid {
@@ -287,6 +306,15 @@ fn check<const N: usize, const E: usize>(d: Description) -> Verdict {
             }
         ) {
             scene.laws[k] = Some(cubic);
+        }
+        if matches!(
+            el.kind,
+            ElementKind::DashPot {
+                law: Law::BinghamNonMonotone { .. },
+                ..
+            }
+        ) {
+            scene.laws[k] = Some(non_monotone);
         }
     }
     let (fc, amp, w) = d.force;

@@ -252,7 +252,10 @@ pub fn lie(config: &Config) -> Section {
         ),
         Series::new(
             "Rkmk5 fixed step",
-            fixed.iter().map(|p| (p.time.median * 1e3, p.dense_err)).collect(),
+            fixed
+                .iter()
+                .map(|p| (p.time.median * 1e3, p.dense_err))
+                .collect(),
         ),
     ];
     line_plot(

@@ -213,7 +213,10 @@ fn scene<S: Mechanism<N>, const N: usize>(
         }
         curves.push(Series::new(
             method,
-            points.iter().map(|p| (p.time.median * 1e3, p.final_err)).collect(),
+            points
+                .iter()
+                .map(|p| (p.time.median * 1e3, p.final_err))
+                .collect(),
         ));
     }
     page.table(

@@ -379,7 +379,9 @@ impl LieSdirk {
                 run.traj
                     .push_chart(h, &w.theta1, &w.k_start, &w.k_end, &w.r5);
                 w.prev = Some(t_start);
-                w.prev_y.clone_from(&w.next);
+                // `w.next` is scratch from here on (the next step's stages overwrite it):
+                // swap instead of copying the state each step.
+                std::mem::swap(&mut w.prev_y, &mut w.next);
                 run.traj.flat.stats.steps += 1;
                 if matches!(non_finite_ahead, Some(ErrorKind::NonFinite { t: bad, .. }) if bad <= t)
                 {

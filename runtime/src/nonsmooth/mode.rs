@@ -753,7 +753,7 @@ impl<S: NonSmooth<N>, const N: usize> Selection<'_, S, N> {
         )
     }
 
-    /// How much the least margin of `modes` can move when the state `(q, v)` moves
+    /// How much the least margin `m0` of `modes` at `(q, v)` can move when the state moves
     /// within its error at an event: `Σ_i |Δm_i|`, each `Δm_i` the change when coordinate
     /// or velocity `i` alone moves by `EVENT_STATE_ERROR · (atol + rtol |x_i|)` (a
     /// first-order bound, by one-sided differences). A stiff spring makes it large in
@@ -763,16 +763,14 @@ impl<S: NonSmooth<N>, const N: usize> Selection<'_, S, N> {
     fn margin_uncertainty(
         &self,
         modes: &[Mode],
+        m0: f64,
         q: &SVector<f64, N>,
         v: &SVector<f64, N>,
         (atol, rtol): (f64, f64),
     ) -> f64 {
-        let Some(m0) = self
-            .least_margin(modes, (q, v), (q, v))
-            .filter(|m| m.is_finite())
-        else {
+        if !m0.is_finite() {
             return 0.0;
-        };
+        }
         let mut sum = 0.0;
         for i in 0..2 * N {
             let (mut qe, mut ve) = (*q, *v);
@@ -907,7 +905,7 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
         None if best_violation.as_ref().is_some_and(|(m, ms)| {
             *m >= -tol
                 - TANGENTIAL_ACCURACY * accuracy.1 * scale
-                - selection.margin_uncertainty(ms, q, v, accuracy)
+                - selection.margin_uncertainty(ms, *m, q, v, accuracy)
         }) =>
         {
             Ok(best_violation.map(|(_, ms)| ms).unwrap_or_default())

@@ -15,7 +15,7 @@ use filippov::nalgebra::SVector;
 
 use super::config::Config;
 use super::markdown::Page;
-use super::timing::{median, ns_per_call};
+use super::timing::{Timing, ns_timed, timed};
 use super::workprecision::Section;
 
 /// Planar 2-link rod chain (the SymPy peer's chain: m_i = 1 − 0.1 i, l_i = 0.5 + 0.05 i).
@@ -104,11 +104,11 @@ pub struct Chain7;
 
 /// Forward dynamics ns per call of a chain at the SymPy harness's state
 /// (`q_i = 0.3 + 0.17 i`, `u_i = 0.5 − 0.23 i`, zero torque).
-fn fd_ns<S: Mechanism<N>, const N: usize>(s: &S, config: &Config) -> f64 {
+fn fd_ns<S: Mechanism<N>, const N: usize>(s: &S, config: &Config) -> Timing {
     let q = SVector::<f64, N>::from_fn(|i, _| 0.3 + 0.17 * i as f64);
     let v = SVector::<f64, N>::from_fn(|i, _| 0.5 - 0.23 * i as f64);
     let tau = SVector::<f64, N>::zeros();
-    ns_per_call(config.repeats.max(3), config.kernel_calls, || {
+    ns_timed(config.repeats.max(3), config.kernel_calls, || {
         s.forward_dynamics(bb(&q), bb(&v), bb(&tau))
     })
 }
@@ -163,9 +163,10 @@ pub fn chains(config: &Config) -> Section {
     for (k, item) in items.iter().enumerate() {
         let n = k + 2;
         let tokens = quote::ToTokens::to_token_stream(item);
-        let (t, e) = median(config.repeats.max(3), || {
+        let (t, e) = timed(config.repeats.max(3), || {
             filippov_codegen::expand_with_stats(tokens.clone())
         });
+        let t = t.scaled(1e3);
         let ops = e.ok().and_then(|e| {
             e.functions
                 .iter()
@@ -176,9 +177,9 @@ pub fn chains(config: &Config) -> Section {
         have_sympy |= peer.is_some();
         rows.push(vec![
             n.to_string(),
-            format!("{:.2}", t * 1e3),
+            t.show(2),
             ops.map_or("—".into(), |o| o.to_string()),
-            format!("{:.1}", ns[k]),
+            ns[k].show(1),
             peer.map_or("not run".into(), |p| format!("{:.0}", p.0 * 1e3)),
             peer.map_or("—".into(), |p| format!("{:.0}", p.1)),
             peer.map_or("—".into(), |p| format!("{:.1}", p.2)),
@@ -188,24 +189,24 @@ pub fn chains(config: &Config) -> Section {
         {
             super::markdown::headline(
                 "Expansion of a 7-link planar chain is faster than SymPy's derivation and code generation",
-                format!("{:.1} ms", t * 1e3),
+                format!("{} ms", t.show(1)),
                 format!("{:.0} ms (SymPy Kane + cse)", p.0 * 1e3),
-                format!("{:.0}×", p.0 / t),
-                "medians; SymPy measured by peers/run.sh",
+                format!("{:.0}×", p.0 * 1e3 / t.median),
+                "ours median (min–max); SymPy's derivation one run, its ns the median of 21 batches (peers/run.sh)",
             );
             super::markdown::headline(
                 "Generated forward dynamics of the 7-link chain against SymPy's compiled code",
-                format!("{:.1} ns", ns[k]),
+                format!("{} ns", ns[k].show(1)),
                 format!("{:.1} ns (M + forcing + Cholesky, gcc -O3)", p.2),
-                format!("{:.2}×", p.2 / ns[k]),
-                "medians; SymPy measured by peers/run.sh",
+                format!("{:.2}×", p.2 / ns[k].median),
+                "ours median (min–max); SymPy's derivation one run, its ns the median of 21 batches (peers/run.sh)",
             );
             summary.push(format!(
                 "7-link chain vs SymPy (Kane + cse + gcc -O3): expansion {:.1} ms vs derivation + codegen {:.0} ms; \
                  forward dynamics {:.1} ns vs {:.1} ns (M + forcing + Cholesky); {} vs {:.0} operations",
-                t * 1e3,
+                t.median,
                 p.0 * 1e3,
-                ns[k],
+                ns[k].median,
                 p.2,
                 ops.map_or("—".into(), |o| o.to_string()),
                 p.1
@@ -215,10 +216,11 @@ pub fn chains(config: &Config) -> Section {
     page.h2("Planar chains: filippov against SymPy mechanics");
     page.para(&format!(
         "The chains SymPy's `KanesMethod` derives in `peers/sympy_chain.py` (rods, m_i = 1 − 0.1 i, l_i = 0.5 + 0.05 i, \
-         relative angles), declared with the derive in `examples/report/chains.rs`. Ours: expansion (median), operation \
-         count of the generated forward dynamics (add + mul + div; sin/cos pairs not counted), ns per call (median). \
+         relative angles), declared with the derive in `examples/report/chains.rs`. Ours: expansion, operation \
+         count of the generated forward dynamics (add + mul + div; sin/cos pairs not counted), ns per call; times are \
+         median (min–max) of the repetitions. \
          SymPy: derivation + `cse` + `ccode` wall time, operation count (`count_ops` after `cse` of M and forcing), and \
-         ns per call of the gcc -O3 compiled M + forcing + Cholesky solve. {}",
+         ns per call of the gcc -O3 compiled M + forcing + Cholesky solve (one derivation; ns the median of 21 batches). {}",
         if have_sympy {
             "SymPy figures are from the last `bash peers/run.sh` (`target/report/peers/peers.tsv`), not from this run."
         } else {

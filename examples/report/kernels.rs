@@ -13,7 +13,7 @@ use filippov_scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
 
 use super::config::Config;
 use super::markdown::{Page, sci};
-use super::timing::{Timing, median, ns_timed};
+use super::timing::{Timing, ns_timed, timed};
 use super::workprecision::Section;
 
 fn row<S: Mechanism<N> + Coriolis<N> + Gravity<N>, const N: usize>(
@@ -181,9 +181,10 @@ pub fn expansion(config: &Config) -> Section {
     let mut summary = Vec::new();
     for (_, src) in scene_sources() {
         for (name, tokens) in structs(&src) {
-            let (t, e) = median(config.repeats.max(3), || {
+            let (t, e) = timed(config.repeats.max(3), || {
                 filippov_codegen::expand_with_stats(tokens.clone())
             });
+            let t = t.scaled(1e3);
             let Ok(e) = e else { continue };
             let get = |n: &str| e.functions.iter().find(|f| f.name == n).map(|f| f.ops);
             let ops = |n: &str| {
@@ -194,7 +195,7 @@ pub fn expansion(config: &Config) -> Section {
             rows.push(vec![
                 name.clone(),
                 e.dof.to_string(),
-                format!("{:.2}", t * 1e3),
+                t.show(2),
                 e.graph_nodes.to_string(),
                 ops("mass_matrix"),
                 ops("coriolis_matrix"),
@@ -202,16 +203,16 @@ pub fn expansion(config: &Config) -> Section {
                 ops("forward_dynamics"),
                 ops("forward_dynamics_jacobian"),
             ]);
-            summary.push(format!("{name}: expansion {:.2} ms (median)", t * 1e3));
+            summary.push(format!("{name}: expansion {} ms", t.show(2)));
         }
     }
     page.h2("Expansion and operation counts");
-    page.para("Expansion = the derive's engine on the scene's source (parse, validate, symbolic mechanics, emission), median of repeated runs. Operation counts of the emitted code: add / mul / div / sin-cos pairs, each shared subexpression once.");
+    page.para("Expansion = the derive's engine on the scene's source (parse, validate, symbolic mechanics, emission), median (min–max) of repeated runs. Operation counts of the emitted code: add / mul / div / sin-cos pairs, each shared subexpression once.");
     page.table(
         &[
             "scene",
             "dof",
-            "expansion [ms]",
+            "expansion [ms], median (min–max)",
             "DAG nodes",
             "M",
             "C",
@@ -362,17 +363,28 @@ pub fn compile_times(config: &Config) -> Section {
             .filter_map(|i| build(&format!("{lib}\n// rebuild {i}\n")))
             .collect();
         times.sort_by(f64::total_cmp);
-        if let Some(t) = times.get(times.len() / 2) {
-            rows.push(vec![file.clone(), format!("{t:.2}")]);
+        if let (Some(&t), Some(&lo), Some(&hi)) =
+            (times.get(times.len() / 2), times.first(), times.last())
+        {
+            let t = Timing {
+                median: t,
+                min: lo,
+                max: hi,
+            };
+            rows.push(vec![file.clone(), t.show(2)]);
             if file == "panda.rs" {
                 summary.push(format!(
-                    "Panda: release compile of the scene's crate {t:.2} s (median of 3)"
+                    "Panda: release compile of the scene's crate {} s (median (min–max) of 3)",
+                    t.show(2)
                 ));
             }
         }
     }
-    page.para("`cargo build --release` of a crate holding only the scene (dependencies prebuilt), median of 3 rebuilds. The generated methods are `#[inline]`, so rustc compiles their code in the crate that calls them: the `.rs` rows (a crate declaring the bundled scenes and calling nothing) measure expansion and type checking, little code generation. The `.urdf` rows are a crate with `#[derive(Mechanism)] #[mechanism(urdf = …)]` on that file of `robots/` (feature `urdf`; default kernels; Solo12 and the humanoid with `base = free`, the Panda's fingers locked) and a public function calling its mass matrix, forward dynamics and Jacobian, so they include code generation.");
-    page.table(&["scene file", "release compile [s]"], &rows);
+    page.para("`cargo build --release` of a crate holding only the scene (dependencies prebuilt), median (min–max) of 3 rebuilds. The generated methods are `#[inline]`, so rustc compiles their code in the crate that calls them: the `.rs` rows (a crate declaring the bundled scenes and calling nothing) measure expansion and type checking, little code generation. The `.urdf` rows are a crate with `#[derive(Mechanism)] #[mechanism(urdf = …)]` on that file of `robots/` (feature `urdf`; default kernels; Solo12 and the humanoid with `base = free`, the Panda's fingers locked) and a public function calling its mass matrix, forward dynamics and Jacobian, so they include code generation.");
+    page.table(
+        &["scene file", "release compile [s], median (min–max)"],
+        &rows,
+    );
     let _ = sci(0.0);
     Section { page, summary }
 }

@@ -22,7 +22,7 @@ use super::config::Config;
 use super::lie_support::{flip_period, s10_initial, s10_run};
 use super::markdown::{Page, sci};
 use super::support::{Scale, Series, line_plot};
-use super::timing::{Timing, ns_per_call, timed};
+use super::timing::{Timing, ns_timed, timed};
 use super::workprecision::Section;
 
 /// The embedded reference: state `(w, x, y, z, ω)`.
@@ -382,7 +382,7 @@ pub fn lie(config: &Config) -> Section {
         &mut summary,
     );
     page.h3("Kernels of the Lie-group scenes");
-    page.para("ns per call, generated / numeric (speed-up); the numeric Coriolis matrix differentiates M along exponential directions.");
+    page.para("ns per call, generated / numeric (speed-up), each median (min–max) of batches; a ratio's range pairs the slowest batch of one with the fastest of the other; the numeric Coriolis matrix differentiates M along exponential directions.");
     page.table(&["scene", "dof", "M", "C", "forward dynamics"], &rows);
     Section { page, summary }
 }
@@ -412,22 +412,23 @@ fn lie_row<S: LieMechanism<N, NQ> + Coriolis<N, NQ>, const N: usize, const NQ: u
     );
     let (r, c) = (config.repeats.max(3), config.kernel_calls);
     let m = (
-        ns_per_call(r, c, || s.mass_matrix(bb(&q))),
-        ns_per_call(r, c / 10, || numeric::crba(&model, bb(&qd))),
+        ns_timed(r, c, || s.mass_matrix(bb(&q))),
+        ns_timed(r, c / 10, || numeric::crba(&model, bb(&qd))),
     );
     let cor = (
-        ns_per_call(r, c, || s.coriolis_matrix(bb(&q), bb(&v))),
-        ns_per_call(r, c / 50, || {
+        ns_timed(r, c, || s.coriolis_matrix(bb(&q), bb(&v))),
+        ns_timed(r, c / 50, || {
             numeric::lie_coriolis_matrix(&model, bb(&qd), bb(&vd))
         }),
     );
     let fd = (
-        ns_per_call(r, c, || s.forward_dynamics(bb(&q), bb(&v), bb(&tau))),
-        ns_per_call(r, c / 10, || {
+        ns_timed(r, c, || s.forward_dynamics(bb(&q), bb(&v), bb(&tau))),
+        ns_timed(r, c / 10, || {
             numeric::forward_dynamics(&model, bb(&qd), bb(&vd), bb(&td))
         }),
     );
-    let cell = |(a, b): (f64, f64)| format!("{a:.1} / {b:.1} ({:.1}×)", b / a);
+    let cell =
+        |(a, b): (Timing, Timing)| format!("{} / {} ({})", a.show(1), b.show(1), b.ratio_to(&a, 1));
     rows.push(vec![
         name.into(),
         N.to_string(),
@@ -436,9 +437,9 @@ fn lie_row<S: LieMechanism<N, NQ> + Coriolis<N, NQ>, const N: usize, const NQ: u
         cell(fd),
     ]);
     summary.push(format!(
-        "{name}: generated forward dynamics {:.1} ns vs numeric {:.1} ns per call ({:.1}× faster)",
-        fd.0,
-        fd.1,
-        fd.1 / fd.0
+        "{name}: generated forward dynamics {} ns vs numeric {} ns per call ({} faster)",
+        fd.0.show(1),
+        fd.1.show(1),
+        fd.1.ratio_to(&fd.0, 1)
     ));
 }

@@ -21,6 +21,7 @@ use filippov_scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
 use super::config::Config;
 use super::markdown::{Page, sci};
 use super::support::{Scale, Series, line_plot};
+use super::timing::Timing;
 use super::workprecision::Section;
 
 /// Writes the scene models for the peer script.
@@ -97,7 +98,8 @@ struct Row {
     scene: String,
     solver: String,
     setting: String,
-    time_ms: f64,
+    /// Wall time in milliseconds, median (min–max) of the peer's repetitions.
+    time: Timing,
     steps: String,
     final_error: f64,
     max_grid_error: f64,
@@ -124,8 +126,10 @@ fn parse(text: &str) -> (Vec<String>, Vec<Row>) {
             header.push(h.trim().to_string());
             continue;
         }
+        // scene, solver, setting, time_ms, time_min_ms, time_max_ms, steps, final_error,
+        // max_grid_error, notes (peers/diffsol/README.md).
         let f: Vec<&str> = line.split('\t').collect();
-        if f.len() != 8 || f[0] == "scene" {
+        if f.len() != 10 || f[0] == "scene" {
             continue;
         }
         let num = |s: &str| s.trim().parse::<f64>().unwrap_or(f64::NAN);
@@ -133,11 +137,15 @@ fn parse(text: &str) -> (Vec<String>, Vec<Row>) {
             scene: f[0].into(),
             solver: f[1].into(),
             setting: f[2].into(),
-            time_ms: num(f[3]),
-            steps: f[4].into(),
-            final_error: num(f[5]),
-            max_grid_error: num(f[6]),
-            notes: f[7].into(),
+            time: Timing {
+                median: num(f[3]),
+                min: num(f[4]),
+                max: num(f[5]),
+            },
+            steps: f[6].into(),
+            final_error: num(f[7]),
+            max_grid_error: num(f[8]),
+            notes: f[9].into(),
         });
     }
     (header, rows)
@@ -307,9 +315,12 @@ pub fn diffsol_series(config: &Config, scene: &str, ours: bool) -> Vec<Series> {
                 .collect();
             let done: Vec<&&Row> = runs
                 .iter()
-                .filter(|r| r.time_ms.is_finite() && r.max_grid_error.is_finite())
+                .filter(|r| r.time.median.is_finite() && r.max_grid_error.is_finite())
                 .collect();
-            let pts = done.iter().map(|r| (r.time_ms, r.max_grid_error)).collect();
+            let pts = done
+                .iter()
+                .map(|r| (r.time.median, r.max_grid_error))
+                .collect();
             // The settings the curve spans, and those whose run failed.
             let span = match (done.first(), done.last()) {
                 (Some(a), Some(b)) if done.len() > 1 => format!(
@@ -360,8 +371,8 @@ fn smooth_series(d: &Diffsol, scene: &str) -> Vec<Series> {
                 .rows
                 .iter()
                 .filter(|r| r.scene == scene && r.solver == *solver)
-                .filter(|r| r.time_ms.is_finite() && r.max_grid_error.is_finite())
-                .map(|r| (r.time_ms, r.max_grid_error))
+                .filter(|r| r.time.median.is_finite() && r.max_grid_error.is_finite())
+                .map(|r| (r.time.median, r.max_grid_error))
                 .collect();
             Series::new(solver.to_string(), pts)
         })
@@ -373,21 +384,21 @@ fn diffsol_headline(claim: String, f: &Row, g: &Row, basis: String) {
     super::markdown::headline(
         claim,
         format!(
-            "{} at {}: {:.3} ms",
+            "{} at {}: {} ms",
             f.solver.trim_start_matches("filippov "),
             f.setting,
-            f.time_ms
+            f.time.show(3)
         ),
         format!(
-            "diffsol {} at {}: {:.3} ms",
+            "diffsol {} at {}: {} ms",
             g.solver.trim_start_matches("diffsol "),
             g.setting,
-            g.time_ms
+            g.time.show(3)
         ),
         format!(
-            "{:.2}× ({})",
-            g.time_ms / f.time_ms,
-            if f.time_ms <= g.time_ms {
+            "{} ({})",
+            g.time.ratio_to(&f.time, 2),
+            if f.time.median <= g.time.median {
                 "filippov faster"
             } else {
                 "diffsol faster"
@@ -470,7 +481,7 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
                     r.scene.clone(),
                     r.solver.clone(),
                     r.setting.clone(),
-                    format!("{:.3}", r.time_ms),
+                    r.time.show(3),
                     r.steps.clone(),
                     sci(r.final_error),
                     sci(r.max_grid_error),
@@ -498,7 +509,7 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
         "from an earlier run"
     };
     fn ok(r: &Row) -> bool {
-        r.time_ms.is_finite() && r.max_grid_error.is_finite()
+        r.time.median.is_finite() && r.max_grid_error.is_finite()
     }
     for scene in ["DoublePendulum", "Panda"] {
         let rows: Vec<&Row> = d
@@ -528,14 +539,14 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
                     == Some(tight)
             })
             .collect();
-        at.sort_by(|a, b| a.time_ms.total_cmp(&b.time_ms));
+        at.sort_by(|a, b| a.time.median.total_cmp(&b.time.median));
         let list: Vec<String> = at
             .iter()
             .map(|r| {
                 format!(
                     "{} {:.3} ms (error {})",
                     r.solver,
-                    r.time_ms,
+                    r.time.median,
                     sci(r.max_grid_error)
                 )
             })
@@ -545,7 +556,7 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
         let best = |prefix: &str| {
             rows.iter()
                 .filter(|r| r.solver.starts_with(prefix) && r.max_grid_error <= 1e-2)
-                .min_by(|a, b| a.time_ms.total_cmp(&b.time_ms))
+                .min_by(|a, b| a.time.median.total_cmp(&b.time.median))
         };
         if let (Some(f), Some(g)) = (best("filippov"), best("diffsol")) {
             diffsol_headline(
@@ -553,20 +564,20 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
                 f,
                 g,
                 format!(
-                    "same problem and harness in the peer program ({when}), medians of 5 runs; error against filippov DOPRI5 at rtol 1e-13"
+                    "same problem and harness in the peer program ({when}), median (min–max) of 5 runs; error against filippov DOPRI5 at rtol 1e-13"
                 ),
             );
         }
         match (best("filippov"), best("diffsol")) {
             (Some(f), Some(g)) => summary.push(format!(
                 "{scene}: fastest to a max grid error ≤ 1e-2 — filippov {} at {} ({:.3} ms) vs diffsol {} at {} ({:.3} ms): {:.1}× {}",
-                f.solver.trim_start_matches("filippov "), f.setting, f.time_ms,
-                g.solver.trim_start_matches("diffsol "), g.setting, g.time_ms,
-                if f.time_ms <= g.time_ms { g.time_ms / f.time_ms } else { f.time_ms / g.time_ms },
-                if f.time_ms <= g.time_ms { "faster (filippov)" } else { "faster (diffsol)" }
+                f.solver.trim_start_matches("filippov "), f.setting, f.time.median,
+                g.solver.trim_start_matches("diffsol "), g.setting, g.time.median,
+                if f.time.median <= g.time.median { g.time.median / f.time.median } else { f.time.median / g.time.median },
+                if f.time.median <= g.time.median { "faster (filippov)" } else { "faster (diffsol)" }
             )),
-            (Some(f), None) => summary.push(format!("{scene}: filippov reaches a max grid error ≤ 1e-2 ({} at {}, {:.3} ms); no diffsol run of the sweep does", f.solver, f.setting, f.time_ms)),
-            (None, Some(g)) => summary.push(format!("{scene}: diffsol reaches a max grid error ≤ 1e-2 ({} at {}, {:.3} ms); no filippov run of the sweep does", g.solver, g.setting, g.time_ms)),
+            (Some(f), None) => summary.push(format!("{scene}: filippov reaches a max grid error ≤ 1e-2 ({} at {}, {:.3} ms); no diffsol run of the sweep does", f.solver, f.setting, f.time.median)),
+            (None, Some(g)) => summary.push(format!("{scene}: diffsol reaches a max grid error ≤ 1e-2 ({} at {}, {:.3} ms); no filippov run of the sweep does", g.solver, g.setting, g.time.median)),
             (None, None) => {}
         }
         // The stiff solvers alone (filippov SDIRK4; diffsol BDF, ESDIRK34, TR-BDF2): where
@@ -582,7 +593,7 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
                     .filter(|r| {
                         r.solver.starts_with(prefix) && implicit(r) && r.max_grid_error <= threshold
                     })
-                    .min_by(|a, b| a.time_ms.total_cmp(&b.time_ms))
+                    .min_by(|a, b| a.time.median.total_cmp(&b.time.median))
             };
             if let (Some(f), Some(g)) = (best("filippov"), best("diffsol")) {
                 diffsol_headline(
@@ -591,7 +602,7 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
                     ),
                     f,
                     g,
-                    format!("same problem and harness ({when}), medians of 5 runs"),
+                    format!("same problem and harness ({when}), median (min–max) of 5 runs"),
                 );
             }
             match (best("filippov"), best("diffsol")) {
@@ -599,20 +610,20 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
                     "{scene}, stiff solvers, fastest to a max grid error ≤ {threshold:.0e}: filippov {} at {} ({:.3} ms) vs diffsol {} at {} ({:.3} ms): {:.1}× faster ({})",
                     f.solver.trim_start_matches("filippov "),
                     f.setting,
-                    f.time_ms,
+                    f.time.median,
                     g.solver.trim_start_matches("diffsol "),
                     g.setting,
-                    g.time_ms,
-                    f.time_ms.max(g.time_ms) / f.time_ms.min(g.time_ms),
-                    if f.time_ms <= g.time_ms { "filippov" } else { "diffsol" }
+                    g.time.median,
+                    f.time.median.max(g.time.median) / f.time.median.min(g.time.median),
+                    if f.time.median <= g.time.median { "filippov" } else { "diffsol" }
                 )),
                 (Some(f), None) => summary.push(format!(
                     "{scene}, stiff solvers: only filippov reaches a max grid error ≤ {threshold:.0e} ({} at {}, {:.3} ms)",
-                    f.solver, f.setting, f.time_ms
+                    f.solver, f.setting, f.time.median
                 )),
                 (None, Some(g)) => summary.push(format!(
                     "{scene}, stiff solvers: only diffsol reaches a max grid error ≤ {threshold:.0e} ({} at {}, {:.3} ms)",
-                    g.solver, g.setting, g.time_ms
+                    g.solver, g.setting, g.time.median
                 )),
                 (None, None) => {}
             }
@@ -627,7 +638,7 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
             .min_by(|a, b| {
                 a.max_grid_error
                     .total_cmp(&b.max_grid_error)
-                    .then(a.time_ms.total_cmp(&b.time_ms))
+                    .then(a.time.median.total_cmp(&b.time.median))
             });
         let event: Vec<&&Row> = rows
             .iter()
@@ -649,22 +660,22 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
             sci(reg.max_grid_error),
             reg.solver.trim_end_matches(" tanh(v/eps)"),
             reg.setting.replace("eps=", "ε = "),
-            reg.time_ms
+            reg.time.median
         );
         // The fastest regularised run within 10 % of that error, when another one is.
         if let Some(fast) = rows
             .iter()
             .filter(|r| r.solver.contains("tanh"))
             .filter(|r| ok(r) && r.max_grid_error <= 1.1 * reg.max_grid_error)
-            .min_by(|a, b| a.time_ms.total_cmp(&b.time_ms))
-            .filter(|f| f.time_ms < reg.time_ms)
+            .min_by(|a, b| a.time.median.total_cmp(&b.time.median))
+            .filter(|f| f.time.median < reg.time.median)
         {
             line += &format!(
                 " (within 10 % of it fastest: {} at {}, {} in {:.3} ms)",
                 fast.solver.trim_end_matches(" tanh(v/eps)"),
                 fast.setting.replace("eps=", "ε = "),
                 sci(fast.max_grid_error),
-                fast.time_ms
+                fast.time.median
             );
         }
         if let Some(e) = event
@@ -675,19 +686,19 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
                 "; filippov event-driven reaches {} (at {}, {:.3} ms)",
                 sci(e.max_grid_error),
                 e.setting,
-                e.time_ms
+                e.time.median
             );
         }
         if let Some(e) = event
             .iter()
             .filter(|e| e.max_grid_error <= reg.max_grid_error)
-            .min_by(|a, b| a.time_ms.total_cmp(&b.time_ms))
+            .min_by(|a, b| a.time.median.total_cmp(&b.time.median))
         {
             line += &format!(
                 ", and beats diffsol's best error already at {} ({} in {:.3} ms)",
                 e.setting,
                 sci(e.max_grid_error),
-                e.time_ms
+                e.time.median
             );
         }
         if failed > 0 {

@@ -1,7 +1,7 @@
 //! Medians of repeated timings, after a warm-up, with their spread; the machine and its
 //! load.
 //!
-//! Every timing taken through [`timed`] (and so [`median`] and [`ns_per_call`]) is also
+//! Every timing taken through [`timed`] (and so [`ns_timed`]) is also
 //! recorded, so that the report can say how much the repetitions of this run spread
 //! ([`spread_note`]): on a shared machine that is the honest error bar of every time.
 
@@ -83,13 +83,6 @@ pub fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (Timing, T) {
     (timing, out)
 }
 
-/// Median wall time in seconds of `f` over `repeats` runs after one warm-up run; also
-/// returns the last result. The spread is recorded (see [`spread_note`]).
-pub fn median<T>(repeats: usize, f: impl FnMut() -> T) -> (f64, T) {
-    let (t, out) = timed(repeats, f);
-    (t.median, out)
-}
-
 /// ns per call of `f` over batches of `calls` calls: median, min and max over batches.
 pub fn ns_timed<T>(repeats: usize, calls: usize, mut f: impl FnMut() -> T) -> Timing {
     let calls = calls.max(1);
@@ -99,11 +92,6 @@ pub fn ns_timed<T>(repeats: usize, calls: usize, mut f: impl FnMut() -> T) -> Ti
         }
     });
     t.scaled(1e9 / calls as f64)
-}
-
-/// Median ns per call of `f` over batches of `calls` calls.
-pub fn ns_per_call<T>(repeats: usize, calls: usize, f: impl FnMut() -> T) -> f64 {
-    ns_timed(repeats, calls, f).median
 }
 
 /// How much the repetitions of this run's timings spread: `(max − min) / median` over

@@ -17,7 +17,7 @@ use filippov::runtime::numeric::{self, Model};
 use super::agreement_support::Rng;
 use super::config::Config;
 use super::markdown::{Page, sci};
-use super::timing::{Timing, median, ns_timed};
+use super::timing::{Timing, ns_timed, timed};
 
 #[derive(Mechanism)]
 #[mechanism(
@@ -325,7 +325,7 @@ fn pinocchio_aba(out_dir: &Path, robot: &str) -> Option<Timing> {
     })
 }
 
-fn expansion_ms(config: &Config, robot: &Robot) -> (f64, usize) {
+fn expansion_ms(config: &Config, robot: &Robot) -> (Timing, usize) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(robot.file);
     let src = format!(
         "#[derive(Mechanism)] #[mechanism(urdf = {:?}, {}gravity = [0.0, 0.0, -9.81])] struct R;",
@@ -333,10 +333,10 @@ fn expansion_ms(config: &Config, robot: &Robot) -> (f64, usize) {
         robot.options
     );
     let tokens: proc_macro2::TokenStream = src.parse().expect("tokens");
-    let (t, e) = median(config.repeats.min(5), || {
+    let (t, e) = timed(config.repeats.min(5), || {
         filippov_codegen::expand_with_stats(tokens.clone()).expect("expands")
     });
-    (t * 1e3, e.functions.iter().map(|f| f.lets).sum())
+    (t.scaled(1e3), e.functions.iter().map(|f| f.lets).sum())
 }
 
 pub fn urdf(config: &Config) -> Section {
@@ -423,7 +423,7 @@ pub fn urdf(config: &Config) -> Section {
         rows.push(vec![
             format!("`{}`", robot.file),
             format!("{dof}{}", if robot.free_base { " (free base)" } else { "" }),
-            format!("{exp_ms:.1}"),
+            exp_ms.show(1),
             lets.to_string(),
             fd_ns.show(0),
             sci(err),
@@ -516,7 +516,7 @@ pub fn urdf(config: &Config) -> Section {
         &[
             "robot",
             "dof",
-            "expansion ms",
+            "expansion ms, median (min–max)",
             "lets",
             "FD ns",
             "vs numeric",

@@ -28,7 +28,7 @@ use filippov_scenes::{CoulombOscillator, DoublePendulum, Panda};
 
 use exact::CoulombFreeDecay;
 use ode::{Mechanical, Regularised};
-use run::{Solver, median};
+use run::{Solver, Wall, median};
 
 /// Timed repetitions after one warm-up.
 const REPEATS: usize = 5;
@@ -50,7 +50,8 @@ struct Row {
     scene: &'static str,
     solver: String,
     setting: String,
-    time_ms: f64,
+    /// Wall time in milliseconds, median (min–max) of the repetitions.
+    time: Wall,
     steps: Option<usize>,
     final_error: f64,
     max_grid_error: f64,
@@ -63,7 +64,7 @@ impl Row {
             scene,
             solver: solver.into(),
             setting,
-            time_ms: f64::NAN,
+            time: Wall::NONE,
             steps: None,
             final_error: f64::NAN,
             max_grid_error: f64::NAN,
@@ -162,7 +163,7 @@ fn smooth<S: Mechanism<N>, const N: usize>(
                         scene,
                         solver: solver.name().into(),
                         setting,
-                        time_ms: time * 1e3,
+                        time,
                         steps: Some(r.steps),
                         final_error: fin,
                         max_grid_error: max,
@@ -200,7 +201,7 @@ fn smooth<S: Mechanism<N>, const N: usize>(
                         scene,
                         solver: name.into(),
                         setting,
-                        time_ms: time * 1e3,
+                        time,
                         steps: Some(s.steps),
                         final_error: fin,
                         max_grid_error: max,
@@ -281,7 +282,7 @@ fn regularised(
                         scene,
                         solver: format!("{} tanh(v/eps)", solver.name()),
                         setting,
-                        time_ms: time * 1e3,
+                        time,
                         steps: Some(r.steps),
                         final_error: fin,
                         max_grid_error: max,
@@ -331,7 +332,7 @@ fn regularised(
                     scene,
                     solver: name.into(),
                     setting,
-                    time_ms: time * 1e3,
+                    time,
                     steps: Some(s.steps),
                     final_error: fin,
                     max_grid_error: max,
@@ -566,16 +567,18 @@ fn main() {
     }
     let _ = writeln!(
         text,
-        "scene\tsolver\tsetting\ttime_ms\tsteps\tfinal_error\tmax_grid_error\tnotes"
+        "scene\tsolver\tsetting\ttime_ms\ttime_min_ms\ttime_max_ms\tsteps\tfinal_error\tmax_grid_error\tnotes"
     );
     for r in &rows {
         let _ = writeln!(
             text,
-            "{}\t{}\t{}\t{:.4}\t{}\t{}\t{}\t{}",
+            "{}\t{}\t{}\t{:.4}\t{:.4}\t{:.4}\t{}\t{}\t{}\t{}",
             r.scene,
             r.solver,
             r.setting,
-            r.time_ms,
+            r.time.median,
+            r.time.min,
+            r.time.max,
             r.steps.map_or("-".into(), |s| s.to_string()),
             sci(r.final_error),
             sci(r.max_grid_error),

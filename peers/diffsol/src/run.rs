@@ -176,23 +176,47 @@ where
     Ok((values, zeros))
 }
 
-/// Median wall time in seconds of `repeats` calls after one warm-up, and the last result.
-pub fn median<T>(repeats: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+/// Wall time of `repeats` calls after one warm-up, in milliseconds: the median and the
+/// fastest and slowest call.
+#[derive(Clone, Copy, Debug)]
+pub struct Wall {
+    pub median: f64,
+    pub min: f64,
+    pub max: f64,
+}
+
+impl Wall {
+    /// No time (a run that failed).
+    pub const NONE: Wall = Wall {
+        median: f64::NAN,
+        min: f64::NAN,
+        max: f64::NAN,
+    };
+}
+
+/// The wall time of `repeats` calls after one warm-up, and the last result.
+pub fn median<T>(repeats: usize, mut f: impl FnMut() -> T) -> (Wall, T) {
     let mut out = f();
     let mut times = Vec::with_capacity(repeats);
     for _ in 0..repeats {
         let start = Instant::now();
         out = std::hint::black_box(f());
-        times.push(start.elapsed().as_secs_f64());
+        times.push(start.elapsed().as_secs_f64() * 1e3);
     }
     times.sort_by(f64::total_cmp);
     let n = times.len();
-    let med = if n == 0 {
-        f64::NAN
-    } else if n % 2 == 1 {
+    if n == 0 {
+        return (Wall::NONE, out);
+    }
+    let median = if n % 2 == 1 {
         times[n / 2]
     } else {
         0.5 * (times[n / 2 - 1] + times[n / 2])
     };
-    (med, out)
+    let wall = Wall {
+        median,
+        min: times[0],
+        max: times[n - 1],
+    };
+    (wall, out)
 }

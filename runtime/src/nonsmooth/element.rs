@@ -19,6 +19,7 @@ pub enum Selection {
 /// The constitutive law of a dash-pot (friction-type) element: a dead zone
 /// `|f| ≤ f_crit` where the coordinate sticks (`v = 0`), and outside it a slip law.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Law {
     /// Coulomb friction: `|f| ≤ f_crit`, and `v ≠ 0 ⇒ f = f_crit sgn v`.
     Coulomb,
@@ -35,6 +36,7 @@ pub enum Law {
 
 /// What a unilateral stop is made of.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum StopKind {
     /// A rigid stop with Newton's impact law `v⁺ = −e v⁻`.
     Rigid { restitution: f64 },
@@ -54,6 +56,7 @@ pub enum Side {
 
 /// What an element is, with its parameters evaluated.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum ElementKind {
     /// A dash-pot or friction element with critical force `f_crit ≥ 0`.
     DashPot { law: Law, f_crit: f64 },

@@ -55,6 +55,56 @@ pub struct Line {
     pub w: f64,
 }
 
+/// The weight `θ_q` of the new velocity in a time-step's position update
+/// `q_{n+1} = q_n + h ((1 − θ_q) v_n + θ_q v_{n+1})`: `max(θ, 1 − θ)`, so that θ = 1 is
+/// implicit Euler, θ = ½ the implicit midpoint rule and θ = 0 symplectic Euler.
+pub fn position_weight(theta: f64) -> f64 {
+    theta.max(1.0 - theta)
+}
+
+/// The force `λ ≥ 0` of a support of stiffness `k` (energy `V(g) = ½ k ((−g)₊)²` in the
+/// gap `g`) over a step from gap `g_a` to `g_b = g_free + c λ` (`c > 0`): the root of
+/// `λ = −(V(g_b) − V(g_a)) / (g_b − g_a)`, the discrete gradient (O. Gonzalez, "Time
+/// integration and discrete Hamiltonian systems", J. Nonlinear Sci. 6 (1996) 449–467).
+/// With positions advanced by the mean velocity, the work of `λ` over the step equals the
+/// change of `V` exactly, whatever the step: a support hit within one step gives back
+/// what it stored. The right side falls as `λ` grows (`V` is convex), so the root is
+/// unique; each piece of `V` gives it in closed form.
+fn support_discrete_gradient(k: f64, g_a: f64, g_free: f64, c: f64) -> f64 {
+    if g_a < 0.0 {
+        // Pressed in at the start. Still pressed in at the end: λ = −½k (g_a + g_b).
+        let lambda = -0.5 * k * (g_a + g_free) / (1.0 + 0.5 * k * c);
+        if lambda >= 0.0 && g_free + c * lambda < 0.0 {
+            return lambda;
+        }
+        // Released within the step: λ (g_b − g_a) = ½ k g_a², g_b ≥ 0, so
+        // c λ² + (g_free − g_a) λ − ½ k g_a² = 0, the positive root.
+        let b = g_free - g_a;
+        let d = (b * b + 2.0 * c * k * g_a * g_a).sqrt();
+        if b > 0.0 {
+            k * g_a * g_a / (b + d)
+        } else {
+            (d - b) / (2.0 * c)
+        }
+    } else if g_free >= 0.0 {
+        0.0
+    } else {
+        // Free at the start, pressed in at the end: λ (g_a − g_b) = ½ k g_b², g_b < 0:
+        // with λ = (g_b − g_free)/c, (1 + ½kc) g_b² − (g_a + g_free) g_b + g_a g_free = 0,
+        // whose negative root (the product of the roots is ≤ 0) is g_b; λ from g_b by the
+        // balance itself (g_b − g_free cancels when kc ≪ 1).
+        let a = 1.0 + 0.5 * k * c;
+        let s = g_a + g_free;
+        let d = (s * s - 4.0 * a * g_a * g_free).sqrt();
+        let g_b = if s >= 0.0 {
+            2.0 * g_a * g_free / (s + d)
+        } else {
+            (s - d) / (2.0 * a)
+        };
+        (0.5 * k * g_b * g_b / (g_a - g_b)).max(0.0)
+    }
+}
+
 /// What one step knows about the element's coordinate at its start `t_n`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepState {
@@ -62,14 +112,21 @@ pub struct StepState {
     pub q: f64,
     /// Coordinate velocity `v_c(t_n)` (rigid stops: the pre-impact velocity).
     pub v: f64,
-    /// Step size (spring-backed stops: penetration at `q + h v_{n+1}`).
+    /// Step size.
     pub h: f64,
+    /// The weight of `v_{n+1}` in the coordinate's position update
+    /// `q_{n+1} = q_n + h ((1 − θ_q) v_n + θ_q v_{n+1})` (see
+    /// [`crate::nonsmooth::time_stepping`] and [`position_weight`]). A spring-backed stop
+    /// takes its force where the coordinate is `(1 − θ_q) q_n + θ_q q_{n+1}`: θ_q = 1 at
+    /// the step's end, θ_q = ½ at the midpoint of the trapezoidal displacement.
+    pub theta_q: f64,
     /// The element's force at `t_n` (approach 1: the current branch).
     pub force: f64,
 }
 
 /// Which part of the graph a point lies on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Mode {
     /// Dash-pot in its dead zone: `v = 0` exactly, `|f| ≤ f_crit`.
     Stick,
@@ -132,6 +189,7 @@ pub struct Branches {
 
 /// Why a graph could not be built or evaluated.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum LawError {
     /// The element's parameters are invalid (message names the element).
     InvalidElement(String),
@@ -397,13 +455,24 @@ impl Graph {
                         })
                     }
                     StopKind::SpringBacked { stiffness } => {
-                        // λ = k (−g_n − h u)₊ with u = u_free + w λ: implicit in the
-                        // penetration at the end of the step, so any k is stable.
-                        let pen = -gap - state.h * u_free;
-                        if pen <= 0.0 {
+                        // u = u_free + w λ; the gap at the step's end is
+                        // g_end = g_n + h((1 − θ_q) u_n + θ_q u) = g_free + c λ.
+                        let th = state.theta_q;
+                        let u_n = sigma * state.v;
+                        let g_free = gap + state.h * ((1.0 - th) * u_n + th * u_free);
+                        let c = state.h * th * w;
+                        let lambda = if th >= 1.0 {
+                            // θ_q = 1: λ = k (−g_end)₊, implicit Euler: any k is stable,
+                            // and a contact loses energy, more the larger h√(k/m).
+                            stiffness * (-g_free).max(0.0) / (1.0 + stiffness * c)
+                        } else {
+                            // θ_q < 1: the discrete gradient of the support's energy
+                            // between the step's ends, exact in energy at θ_q = ½.
+                            support_discrete_gradient(stiffness, gap, g_free, c)
+                        };
+                        if lambda <= 0.0 {
                             return Ok(open);
                         }
-                        let lambda = stiffness * pen / (1.0 + stiffness * state.h * w);
                         Ok(Point {
                             v: sigma * (u_free + w * lambda),
                             f: -sigma * lambda,
@@ -964,6 +1033,7 @@ mod tests {
             q: 0.0,
             v: 0.0,
             h: 0.01,
+            theta_q: 1.0,
             force,
         }
     }
@@ -1151,6 +1221,7 @@ mod tests {
             q: -0.001,
             v: -2.0,
             h: 0.01,
+            theta_q: 1.0,
             force: 0.0,
         };
         let p = g
@@ -1198,6 +1269,7 @@ mod tests {
             q: 0.5,
             v: 1.0,
             h: 0.01,
+            theta_q: 1.0,
             force: 0.0,
         };
         let p = g
@@ -1212,6 +1284,26 @@ mod tests {
             .unwrap();
         assert!(
             (p.f - 1e6 * (0.5 + 0.01 * p.v - 0.5)).abs() < 1e-6
+                && (p.v - (1.0 - 0.01 * p.f)).abs() < 1e-12
+        );
+        // θ_q = ½: the discrete gradient; pressed in over the whole step (q_n = 0.5 at
+        // the support, q_{n+1} = q_n + h (v_n + v)/2 beyond it) it is the force at the
+        // midpoint, k ((q_n + q_{n+1})/2 − L).
+        let st = StepState { theta_q: 0.5, ..st };
+        let p = g
+            .on_line(
+                &spring,
+                Line {
+                    v_free: 1.0,
+                    w: 0.01,
+                },
+                &st,
+            )
+            .unwrap();
+        let q_next = 0.5 + 0.01 * 0.5 * (1.0 + p.v);
+        assert!(
+            q_next > 0.5
+                && (p.f - 1e6 * (0.5 * (0.5 + q_next) - 0.5)).abs() < 1e-6
                 && (p.v - (1.0 - 0.01 * p.f)).abs() < 1e-12
         );
         // Invalid parameters name the element.
@@ -1232,6 +1324,51 @@ mod tests {
                 assert!(msg.contains("floor") && msg.contains("[0, 1]"))
             }
             other => panic!("{other:?}"),
+        }
+    }
+
+    /// The discrete gradient's force balances the support's energy over the step,
+    /// `λ (g_b − g_a) = −(V(g_b) − V(g_a))`, is ≥ 0, and is the only root: the residual
+    /// changes sign there (random gaps on both sides of the support, stiffnesses 1…1e12).
+    #[test]
+    fn support_discrete_gradient_balances_energy() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..10_000 {
+            let k = 10f64.powf(12.0 * uniform());
+            let g_a = 2e-3 * (uniform() - 0.5);
+            let g_free = 2e-3 * (uniform() - 0.5);
+            let c = 10f64.powf(-8.0 + 6.0 * uniform());
+            let lambda = support_discrete_gradient(k, g_a, g_free, c);
+            let g_b = g_free + c * lambda;
+            let v = |g: f64| 0.5 * k * (-g).max(0.0).powi(2);
+            let scale = v(g_a).max(v(g_b)).max(v(g_free)) + 1e-300;
+            assert!(lambda >= 0.0 && lambda.is_finite(), "λ = {lambda}");
+            assert!(
+                (lambda * (g_b - g_a) + v(g_b) - v(g_a)).abs() <= 1e-9 * scale,
+                "k {k:e}, g_a {g_a:e}, g_free {g_free:e}, c {c:e}: λ {lambda:e}"
+            );
+            // The right side falls as λ grows: r(λ) = λ − DG(λ) < 0 below the root and
+            // > 0 above it.
+            let dg = |l: f64| {
+                let g = g_free + c * l;
+                if (g - g_a).abs() < 1e-300 {
+                    k * (-g).max(0.0)
+                } else {
+                    -(v(g) - v(g_a)) / (g - g_a)
+                }
+            };
+            let up = lambda * (1.0 + 1e-6) + 1e-300;
+            assert!(up - dg(up) > 0.0, "above the root");
+            if lambda > 0.0 {
+                let down = lambda * (1.0 - 1e-6);
+                assert!(down - dg(down) < 0.0, "below the root");
+            }
         }
     }
 }

@@ -25,6 +25,7 @@ use super::{Element, ElementKind, Law, NonSmooth, Side, StopKind};
 /// The state of one element's constitutive relation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum Mode {
     /// Dash-pot stuck: `v_c = 0`, force from the constraint, `|f| ≤ f_crit`.
     Stick,

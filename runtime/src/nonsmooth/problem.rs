@@ -60,6 +60,7 @@ pub enum SmoothMethod {
 
 /// How to integrate a non-smooth problem.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum NonSmoothMethod {
     /// Event-driven: adaptive high order between switches, switches located on dense
     /// output, exact mode transitions; accumulating events hand over to time-stepping.
@@ -69,7 +70,10 @@ pub enum NonSmoothMethod {
     },
     /// Implicit (Moreau-type) θ-method time-stepping with fixed step `h`: each step
     /// intersects the discrete momentum line with the constitutive graphs. First order,
-    /// robust, never chatters.
+    /// robust, never chatters. `theta = 1.0`: implicit Euler, numerically dissipative
+    /// (a stiff support hit at `h ≫ √(m/k)` loses much of its energy); `theta = 0.5`:
+    /// implicit midpoint, which keeps the energy of springs and stiff supports at any
+    /// `h` (see [`time_stepping`](crate::nonsmooth::time_stepping)).
     TimeStepping { h: f64, theta: f64 },
 }
 

@@ -645,8 +645,9 @@ fn s4_distance(ed: &Solution, ts: &Solution) -> f64 {
 }
 
 /// S4 with both selection rules: event-driven at tight tolerance against time-stepping
-/// (θ = 1/2) at h = 2e-3 and 1e-3. The time-stepping error is O(h), so the largest
-/// distance of x over the grid must halve with h (both converge to one solution); the
+/// (θ = 1/2) at h = 2e-3 and 1e-3. The time-stepping error is at least O(h), so the
+/// largest distance of x over the grid must fall at least by half with h (both converge
+/// to one solution; measured 3.3×: between switches θ = ½ is the midpoint rule); the
 /// two rules end on opposite sides (theory.md §3); no chattering and no Zeno hand-over.
 #[test]
 fn s4_non_monotone_event_driven_agrees_with_time_stepping() {
@@ -681,7 +682,7 @@ fn s4_non_monotone_event_driven_agrees_with_time_stepping() {
             ed.stats
         );
         let ratio = dist[0] / dist[1];
-        assert!((1.6..2.6).contains(&ratio), "{dist:?}");
+        assert!((1.6..8.0).contains(&ratio), "{dist:?}");
         assert!(dist[1] < 2e-3, "{dist:?}");
         assert_eq!(ed.stats.zeno_detected, 0);
         assert_eq!(ed.stats.zeno_handovers, 0);

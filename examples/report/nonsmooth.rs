@@ -1038,10 +1038,19 @@ fn outcome(
 /// against the closed-form accumulation time `t_acc` when there is one.
 fn settled(sol: &Solution, t_acc: f64) -> String {
     match sol.switches.iter().find(|s| s.kind == SwitchKind::Settled) {
-        Some(s) if t_acc.is_finite() => {
-            format!("settled at {:.6} (error {:.1e})", s.t, (s.t - t_acc).abs())
+        Some(s) => {
+            let located = match s.accumulation {
+                Some(a) if t_acc.is_finite() => {
+                    format!(
+                        ", accumulation located at {a:.9} (error {:.1e})",
+                        (a - t_acc).abs()
+                    )
+                }
+                Some(a) => format!(", accumulation located at {a:.6}"),
+                None => String::new(),
+            };
+            format!("settled at {:.6}{located}", s.t)
         }
-        Some(s) => format!("settled at {:.6}", s.t),
         None => "no settle event".into(),
     }
 }

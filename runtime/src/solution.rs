@@ -76,6 +76,7 @@ pub enum SwitchKind {
 /// One entry of a non-smooth solution's switch log.
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub struct Switch {
     pub t: f64,
     pub kind: SwitchKind,
@@ -86,6 +87,11 @@ pub struct Switch {
     pub to: Option<Mode>,
     /// Force jump or impulse (see [`SwitchKind`]); `0` for hand-overs.
     pub jump: f64,
+    /// For [`SwitchKind::Settled`]: the accumulation time of the rebounds taken as
+    /// settled, the Zeno limit `t + 2w / (a (1 − e))` of rebounds at speed `w = e |v⁻|`
+    /// under the acceleration `a` pressing the coordinate onto its stop (`None` for
+    /// `e = 1`, and for every other kind).
+    pub accumulation: Option<f64>,
 }
 
 /// Whether an accepted step's row is kept whatever the [`Output`] says.

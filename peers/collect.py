@@ -25,6 +25,14 @@ def chain_check(n, ddq):
     return float(np.abs(a - np.array(ddq)).max())
 
 
+def spread(r, key, lo, hi, fmt):
+    """`median (min–max)` of r[key] when the range was recorded, else the median."""
+    m = fmt.format(r[key])
+    if lo in r and hi in r:
+        return f"{m} ({fmt.format(r[lo])}–{fmt.format(r[hi])})"
+    return m
+
+
 def g(x, fmt="{:.3g}"):
     return "n/a" if x is None or (isinstance(x, float) and np.isnan(x)) else fmt.format(x)
 
@@ -48,7 +56,7 @@ def main():
                   "link (RX/RY/RZ, RevoluteUnaligned, PX/PY/PZ), fixed links merged into their parent body. "
                   + ("Timed in C++ (`peers/pin_bench.cpp`, compiled against the headers the `pin` wheel ships with "
                      f"`{hdr.get('cxxflags', '')}`; templates instantiated in the benchmark itself, not through the shipped "
-                     "`libpinocchio_default.so`): median over 21 batches of ns per call at a fixed state, after warm-up. "
+                     "`libpinocchio_default.so`): median (min–max) over 21 batches of ns per call at a fixed state, after warm-up; the Python column is a median. "
                      if cpp else
                      "C++ build failed or was skipped, so these are Python-binding timings minus the measured call "
                      f"overhead of a trivial bound function ({p['py_overhead_ns']:.0f} ns). ")
@@ -65,8 +73,12 @@ def main():
         peer = "pinocchio" if cpp else "pinocchio-python"
         for s, r in p["scenes"].items():
             t = r["cpp"] if cpp else {k: v - p["py_overhead_ns"] for k, v in r["py"].items()}
-            md.append(f"| {s} | {r['nq']} | {' '.join(r['joints'])} | {t['crba_ns']:.0f} | {t['rnea_ns']:.0f} | "
-                      f"{t['aba_ns']:.0f} | {t['coriolis_ns']:.0f} | {r['py']['aba_ns']:.0f} |")
+            rng = r.get("cpp_range", {}) if cpp else {}
+
+            def ns(k):
+                return f"{t[k]:.0f}" + (f" ({rng[k][0]:.0f}–{rng[k][1]:.0f})" if k in rng else "")
+            md.append(f"| {s} | {r['nq']} | {' '.join(r['joints'])} | {ns('crba_ns')} | {ns('rnea_ns')} | "
+                      f"{ns('aba_ns')} | {ns('coriolis_ns')} | {r['py']['aba_ns']:.0f} |")
             for k in ("crba_ns", "rnea_ns", "aba_ns", "coriolis_ns"):
                 tsv.append(f"{peer}\t{s}\t{k}\t{t[k]:.3f}\tns")
             tsv.append(f"pinocchio-python\t{s}\taba_call_ns\t{r['py']['aba_ns']:.3f}\tns")
@@ -86,11 +98,11 @@ def main():
                   "S6 errors against the closed-form turning points (−1)ⁿ(1 − 0.2n) at nπ, n = 1…5, and x(30) = 0; "
                   "S5 error of x(30) against a piecewise closed form (linear modes, switch times by root bracketing, "
                   f"{s['s5_reference']['switches']} switches, x(30) = {s['s5_reference']['x_end']:.10f}). atol = rtol/100; "
-                  "time is the median of 5 runs after a warm-up.\n")
+                  "time is the median (min–max) of 5 runs after a warm-up.\n")
         md.append("| scene | method | rtol | s | nfev | turning points | turning-point x error | turning-point t error | x(30) error |")
         md.append("|---|---|---|---|---|---|---|---|---|")
         for r in s["event"]:
-            md.append(f"| {r['scene']} | {r['method']} | {r['rtol']:.0e} | {r['s']:.4f} | {r['nfev']} | {r['turns']} | "
+            md.append(f"| {r['scene']} | {r['method']} | {r['rtol']:.0e} | {spread(r, 's', 's_min', 's_max', '{:.4f}')} | {r['nfev']} | {r['turns']} | "
                       f"{g(r.get('err_turn_x'))} | {g(r.get('err_turn_t'))} | {g(r['err_end'])} |")
             tag = f"event_{r['method'].split(',')[0]}{'_nomaxstep' if ',' in r['method'] else ''}_rtol{r['rtol']:.0e}"
             tsv.append(f"scipy\t{r['scene']}\t{tag}_s\t{r['s']:.6f}\ts")
@@ -102,11 +114,11 @@ def main():
             md.append(f"\nThe naive variant (no `max_step` in the stick phase, whose right-hand side is zero) lets the "
                       f"step grow until the release event is stepped over: x(30) error {naive[0]['err_end']:.3g}.\n")
         md.append("Regularised friction f_crit·tanh(v/ε), rtol = 1e-8, atol = 1e-10, one `solve_ivp` call over t ∈ [0, 30] "
-                  "(median of 3 runs):\n")
+                  "(median (min–max) of 3 runs):\n")
         md.append("| scene | ε | method | s | nfev | x error at nπ (S6) | x(30) error |")
         md.append("|---|---|---|---|---|---|---|")
         for r in s["tanh"]:
-            md.append(f"| {r['scene']} | {r['eps']:.0e} | {r['method']} | {r['s']:.4f} | {r['nfev']} | "
+            md.append(f"| {r['scene']} | {r['eps']:.0e} | {r['method']} | {spread(r, 's', 's_min', 's_max', '{:.4f}')} | {r['nfev']} | "
                       f"{g(r.get('err_turn_x'))} | {g(r['err_end'])} |")
             tag = f"tanh_{r['method']}_eps{r['eps']:.0e}"
             tsv.append(f"scipy\t{r['scene']}\t{tag}_s\t{r['s']:.6f}\ts")
@@ -124,17 +136,19 @@ def main():
     md.append("### SymPy mechanics (Kane's method) on planar n-link rod chains\n")
     md.append("Derivation (`KanesMethod.kanes_equations`, no simplification), `sympy.cse` over M and forcing, `sympy.ccode` "
               "into one C function, compiled with `gcc -O3 -march=native` together with a Cholesky solve; ns per call of "
-              "M + forcing + solve, median of 21 batches. ops = `count_ops` over the CSE output. The accelerations are "
+              "M + forcing + solve, median (min–max) of 21 batches. ops = `count_ops` over the CSE output. The accelerations are "
               "checked against Pinocchio's ABA on the same chain.\n")
     md.append("| n | derivation s | codegen s | gcc s | ops after CSE | M + forcing + solve ns | max abs ddq diff vs Pinocchio |")
     md.append("|---|---|---|---|---|---|---|")
     for r in rows:
         diff = chain_check(r["n"], r["ddq"])
         md.append(f"| {r['n']} | {r['derive_s']:.2f} | {r['codegen_s']:.2f} | {r['compile_s']:.2f} | {r['ops']} | "
-                  f"{r['solve_ns']:.0f} | {diff:.1e} |")
+                  f"{r['solve_ns']:.0f} ({r.get('solve_ns_min', float('nan')):.0f}–{r.get('solve_ns_max', float('nan')):.0f}) | {diff:.1e} |")
         sc = f"chain{r['n']}"
         tsv += [f"sympy\t{sc}\tderive_s\t{r['derive_s']:.4f}\ts", f"sympy\t{sc}\tcodegen_s\t{r['codegen_s']:.4f}\ts",
                 f"sympy\t{sc}\tops\t{r['ops']}\tops", f"sympy\t{sc}\tsolve_ns\t{r['solve_ns']:.3f}\tns",
+                f"sympy\t{sc}\tsolve_ns_min\t{r.get('solve_ns_min', float('nan')):.3f}\tns",
+                f"sympy\t{sc}\tsolve_ns_max\t{r.get('solve_ns_max', float('nan')):.3f}\tns",
                 f"sympy\t{sc}\tddq_maxdiff_vs_pinocchio\t{diff:.3e}\t-"]
     note = open(os.path.join(tmp, "sympy_note.txt")).read().strip() if os.path.exists(os.path.join(tmp, "sympy_note.txt")) else ""
     if note:

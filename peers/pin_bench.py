@@ -106,6 +106,8 @@ def main():
                 np.abs(np.array(vals["aba"]) - pin.aba(model, data, q, v, tau)).max(),
             )
             r["cpp"] = {k: vals[k][0] for k in ("crba_ns", "rnea_ns", "aba_ns", "coriolis_ns")}
+            # fastest and slowest batch of each timing
+            r["cpp_range"] = {k: vals[k + "_range"] for k in r["cpp"] if k + "_range" in vals}
         out["scenes"][scene] = r
         print(scene, json.dumps(r), flush=True)
     with open(out_json, "w") as f:

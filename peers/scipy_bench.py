@@ -123,13 +123,19 @@ def s5_reference():
             mode = stick_or_slip(F(t), x, f)
 
 
+TIMES = []  # (median, min, max) of every timing, in the order taken
+
+
 def timed(fn, reps=5):
+    """Median wall time of `reps` runs after a warm-up, and the last result; the fastest
+    and slowest run are kept in TIMES (and written beside each row as s_min, s_max)."""
     fn()
     ts = []
     for _ in range(reps):
         t0 = time.perf_counter()
         r = fn()
         ts.append(time.perf_counter() - t0)
+    TIMES.append((float(np.median(ts)), float(min(ts)), float(max(ts))))
     return float(np.median(ts)), r
 
 
@@ -148,18 +154,18 @@ def main():
         else:
             err_x = max(abs(x - xr) for (_, x), (_, xr) in zip(turns, s6_turns))
             err_t = max(abs(t - tr) for (t, _), (tr, _) in zip(turns, s6_turns))
-        out["event"].append({"scene": "S6", "method": method, "rtol": rtol, "atol": atol, "s": sec,
+        out["event"].append({"scene": "S6", "method": method, "rtol": rtol, "atol": atol, "s": sec, "s_min": TIMES[-1][1], "s_max": TIMES[-1][2],
                              "nfev": r["nfev"], "turns": len(r["turns"]), "err_turn_x": err_x, "err_turn_t": err_t,
                              "err_end": abs(r["x_end"] - 0.0)})
         sec, r = timed(lambda: event_driven(S5, rtol, atol, method))
-        out["event"].append({"scene": "S5", "method": method, "rtol": rtol, "atol": atol, "s": sec,
+        out["event"].append({"scene": "S5", "method": method, "rtol": rtol, "atol": atol, "s": sec, "s_min": TIMES[-1][1], "s_max": TIMES[-1][2],
                              "nfev": r["nfev"], "turns": len(r["turns"]),
                              "err_end": abs(r["x_end"] - s5_ref["x_end"])})
         print(out["event"][-2:], flush=True)
     # the naive version (no max_step in the stick phase) at one tolerance, to show the pitfall
     sec, r = timed(lambda: event_driven(S5, 1e-6, 1e-8, "RK45", np.inf))
     out["event"].append({"scene": "S5", "method": "RK45, stick phase without max_step", "rtol": 1e-6, "atol": 1e-8,
-                         "s": sec, "nfev": r["nfev"], "turns": len(r["turns"]),
+                         "s": sec, "s_min": TIMES[-1][1], "s_max": TIMES[-1][2], "nfev": r["nfev"], "turns": len(r["turns"]),
                          "err_end": abs(r["x_end"] - s5_ref["x_end"])})
     t_eval_6 = np.array([t for t, _ in s6_turns] + [30.0])
     for eps in [1e-1, 1e-2, 1e-3, 1e-4]:
@@ -169,11 +175,11 @@ def main():
             ok = sol.success and sol.y.shape[1] == len(t_eval_6)
             err_x = max(abs(sol.y[0, i] - xr) for i, (_, xr) in enumerate(s6_turns)) if ok else float("nan")
             err_end = abs(sol.y[0, -1]) if ok else float("nan")
-            out["tanh"].append({"scene": "S6", "eps": eps, "method": method, "rtol": rtol, "s": sec,
+            out["tanh"].append({"scene": "S6", "eps": eps, "method": method, "rtol": rtol, "s": sec, "s_min": TIMES[-1][1], "s_max": TIMES[-1][2],
                                 "nfev": int(sol.nfev), "err_turn_x": err_x, "err_end": err_end, "ok": bool(ok)})
             sec, sol = timed(lambda: regularised(S5, eps, rtol, atol, method, np.array([30.0])), reps=3)
             ok = sol.success and sol.y.shape[1] == 1
-            out["tanh"].append({"scene": "S5", "eps": eps, "method": method, "rtol": rtol, "s": sec,
+            out["tanh"].append({"scene": "S5", "eps": eps, "method": method, "rtol": rtol, "s": sec, "s_min": TIMES[-1][1], "s_max": TIMES[-1][2],
                                 "nfev": int(sol.nfev), "err_end": abs(sol.y[0, -1] - s5_ref["x_end"]) if ok else float("nan"),
                                 "ok": bool(ok)})
             print(out["tanh"][-2:], flush=True)

@@ -86,7 +86,7 @@ int main(void) {
     per[k] = (now() - t0) / reps;
   }
   qsort(per, 21, sizeof(double), cmp);
-  printf("solve_ns %%.3f\n", per[10]);
+  printf("solve_ns %%.3f %%.3f %%.3f\n", per[10], per[0], per[20]);
   fprintf(stderr, "(sink %%g)\n", sink);
   return 0;
 }
@@ -137,7 +137,8 @@ def main():
         k, *x = line.split()
         vals[k] = [float(t) for t in x]
     out = {"n": n, "derive_s": derive_s, "codegen_s": codegen_s, "compile_s": compile_s, "ops": ops,
-           "cse_terms": len(repl), "solve_ns": vals["solve_ns"][0], "ddq": vals["ddq"]}
+           "cse_terms": len(repl), "solve_ns": vals["solve_ns"][0], "solve_ns_min": vals["solve_ns"][1],
+           "solve_ns_max": vals["solve_ns"][2], "ddq": vals["ddq"]}
     with open(out_json, "w") as f:
         json.dump(out, f)
     print(json.dumps(out), flush=True)

@@ -113,8 +113,9 @@ fn fd_ns<S: Mechanism<N>, const N: usize>(s: &S, config: &Config) -> Timing {
     })
 }
 
-/// `(derive + codegen seconds, ops, solve ns)` of SymPy's chain `n`, if measured.
-fn sympy(tsv: &str, n: usize) -> Option<(f64, f64, f64)> {
+/// `(derive + codegen seconds, ops, solve ns)` of SymPy's chain `n`, if measured; the
+/// solve's spread over its batches where the peer recorded it.
+fn sympy(tsv: &str, n: usize) -> Option<(f64, f64, Timing)> {
     let get = |q: &str| {
         tsv.lines().find_map(|l| {
             let f: Vec<&str> = l.split('\t').collect();
@@ -123,10 +124,15 @@ fn sympy(tsv: &str, n: usize) -> Option<(f64, f64, f64)> {
                 .flatten()
         })
     };
+    let median = get("solve_ns")?;
     Some((
         get("derive_s")? + get("codegen_s")?,
         get("ops")?,
-        get("solve_ns")?,
+        Timing {
+            median,
+            min: get("solve_ns_min").unwrap_or(median),
+            max: get("solve_ns_max").unwrap_or(median),
+        },
     ))
 }
 
@@ -182,7 +188,7 @@ pub fn chains(config: &Config) -> Section {
             ns[k].show(1),
             peer.map_or("not run".into(), |p| format!("{:.0}", p.0 * 1e3)),
             peer.map_or("—".into(), |p| format!("{:.0}", p.1)),
-            peer.map_or("—".into(), |p| format!("{:.1}", p.2)),
+            peer.map_or("—".into(), |p| p.2.show(1)),
         ]);
         if n == 7
             && let Some(p) = peer
@@ -192,14 +198,14 @@ pub fn chains(config: &Config) -> Section {
                 format!("{} ms", t.show(1)),
                 format!("{:.0} ms (SymPy Kane + cse)", p.0 * 1e3),
                 format!("{:.0}×", p.0 * 1e3 / t.median),
-                "ours median (min–max); SymPy's derivation one run, its ns the median of 21 batches (peers/run.sh)",
+                "ours median (min–max); SymPy's derivation one run (peers/run.sh)",
             );
             super::markdown::headline(
                 "Generated forward dynamics of the 7-link chain against SymPy's compiled code",
                 format!("{} ns", ns[k].show(1)),
-                format!("{:.1} ns (M + forcing + Cholesky, gcc -O3)", p.2),
-                format!("{:.2}×", p.2 / ns[k].median),
-                "ours median (min–max); SymPy's derivation one run, its ns the median of 21 batches (peers/run.sh)",
+                format!("{} ns (M + forcing + Cholesky, gcc -O3)", p.2.show(1)),
+                p.2.ratio_to(&ns[k], 2),
+                "median (min–max); SymPy's of 21 batches (peers/run.sh)",
             );
             summary.push(format!(
                 "7-link chain vs SymPy (Kane + cse + gcc -O3): expansion {:.1} ms vs derivation + codegen {:.0} ms; \
@@ -207,7 +213,7 @@ pub fn chains(config: &Config) -> Section {
                 t.median,
                 p.0 * 1e3,
                 ns[k].median,
-                p.2,
+                p.2.median,
                 ops.map_or("—".into(), |o| o.to_string()),
                 p.1
             ));
@@ -220,7 +226,7 @@ pub fn chains(config: &Config) -> Section {
          count of the generated forward dynamics (add + mul + div; sin/cos pairs not counted), ns per call; times are \
          median (min–max) of the repetitions. \
          SymPy: derivation + `cse` + `ccode` wall time, operation count (`count_ops` after `cse` of M and forcing), and \
-         ns per call of the gcc -O3 compiled M + forcing + Cholesky solve (one derivation; ns the median of 21 batches). {}",
+         ns per call of the gcc -O3 compiled M + forcing + Cholesky solve (one derivation; ns median (min–max) of 21 batches). {}",
         if have_sympy {
             "SymPy figures are from the last `bash peers/run.sh` (`target/report/peers/peers.tsv`), not from this run."
         } else {

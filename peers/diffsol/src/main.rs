@@ -538,7 +538,7 @@ fn main() {
     let started = std::time::Instant::now();
     let mut rows = Vec::new();
     let mut header = vec![format!(
-        "diffsol {} (dense nalgebra matrices, NalgebraLU); medians of {REPEATS} runs after a warm-up; errors over {} grid times",
+        "diffsol {} (dense nalgebra matrices, NalgebraLU); times median (min–max) of {REPEATS} runs after a warm-up; errors over {} grid times",
         diffsol_version(),
         GRID + 1
     )];

@@ -1265,23 +1265,22 @@ mod tests {
             cubic,
         );
         let g = Graph::new(&spring, 0).unwrap();
-        let st = StepState {
-            q: 0.5,
-            v: 1.0,
-            h: 0.01,
-            theta_q: 1.0,
-            force: 0.0,
+        // Arriving at the support at v = 1, for the step's position weight θ_q.
+        let arrive = |theta_q: f64| {
+            let st = StepState {
+                q: 0.5,
+                v: 1.0,
+                h: 0.01,
+                theta_q,
+                force: 0.0,
+            };
+            let line = Line {
+                v_free: 1.0,
+                w: 0.01,
+            };
+            g.on_line(&spring, line, &st).unwrap()
         };
-        let p = g
-            .on_line(
-                &spring,
-                Line {
-                    v_free: 1.0,
-                    w: 0.01,
-                },
-                &st,
-            )
-            .unwrap();
+        let p = arrive(1.0);
         assert!(
             (p.f - 1e6 * (0.5 + 0.01 * p.v - 0.5)).abs() < 1e-6
                 && (p.v - (1.0 - 0.01 * p.f)).abs() < 1e-12
@@ -1289,17 +1288,7 @@ mod tests {
         // θ_q = ½: the discrete gradient; pressed in over the whole step (q_n = 0.5 at
         // the support, q_{n+1} = q_n + h (v_n + v)/2 beyond it) it is the force at the
         // midpoint, k ((q_n + q_{n+1})/2 − L).
-        let st = StepState { theta_q: 0.5, ..st };
-        let p = g
-            .on_line(
-                &spring,
-                Line {
-                    v_free: 1.0,
-                    w: 0.01,
-                },
-                &st,
-            )
-            .unwrap();
+        let p = arrive(0.5);
         let q_next = 0.5 + 0.01 * 0.5 * (1.0 + p.v);
         assert!(
             q_next > 0.5

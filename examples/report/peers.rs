@@ -384,16 +384,18 @@ fn diffsol_headline(claim: String, f: &Row, g: &Row, basis: String) {
     super::markdown::headline(
         claim,
         format!(
-            "{} at {}: {} ms",
+            "{} at {}: {} ms (error {})",
             f.solver.trim_start_matches("filippov "),
             f.setting,
-            f.time.show(3)
+            f.time.show(3),
+            sci(f.max_grid_error)
         ),
         format!(
-            "diffsol {} at {}: {} ms",
+            "diffsol {} at {}: {} ms (error {})",
             g.solver.trim_start_matches("diffsol "),
             g.setting,
-            g.time.show(3)
+            g.time.show(3),
+            sci(g.max_grid_error)
         ),
         format!(
             "{} ({})",

@@ -760,40 +760,47 @@ where
     ) -> Result<(), ErrorKind> {
         let mut q = SVector::<f64, N>::from_column_slice(&y[..N]);
         let mut v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
-        // A slipping element's event is its velocity reaching zero (or, on a branch of a
-        // non-monotone law, a fold's velocity or approach 2's plateau speed): the located
-        // state has it up to the root finder's round-off, which must not show (as a
-        // negative f·v, or a velocity jump) in the pre-switch row, and the plateau speed
-        // must hold exactly.
-        for &e in triggered {
-            let el = self.elements[e];
-            if let (ElementKind::DashPot { .. }, Some((d, k))) = (el.kind, self.modes[e].slip()) {
-                let c = el.coordinate;
-                v[c] = d * mode::branch_end(&self.branches[e], k, d * v[c]);
-            }
-            // Likewise a rigid stop reached: the located state touches it up to the
-            // root finder's bracket; the row shows the contact position exactly. The
-            // located time is past the root by up to the bracket's width, so its
-            // velocities lean towards the stop by a·Δt; a rebound would keep that lean,
-            // and a series of rebounds at restitution e sums it 1/(1 − e) times over: the
-            // velocities are taken at the root, Δt = (q_c − position)/v_c earlier on the
-            // step's dense output.
-            if let (
+        // A rigid stop reached: the located time is past the root by up to the root
+        // finder's bracket, so the velocities lean towards the stop by a·Δt; a rebound
+        // would keep that lean, and a series of rebounds at restitution e sums it
+        // 1/(1 − e) times over. The velocities are taken at the root, Δt = (q_c −
+        // position)/v_c earlier on the step's dense output (the largest Δt when several
+        // stops are reached at once), before any element sets its velocity below.
+        let rigid_free = |e: usize| match (self.elements[e].kind, self.modes[e]) {
+            (
                 ElementKind::Stop {
                     kind: StopKind::Rigid { .. },
                     position,
                     ..
                 },
                 Mode::Free,
-            ) = (el.kind, self.modes[e])
-            {
+            ) => Some((self.elements[e].coordinate, position)),
+            _ => None,
+        };
+        let dt = triggered
+            .iter()
+            .filter_map(|&e| rigid_free(e))
+            .map(|(c, position)| (q[c] - position) / v[c])
+            .filter(|dt| dt.is_finite() && *dt > 0.0)
+            .fold(0.0, f64::max);
+        if dt > 0.0 && t - dt >= dense.t0() {
+            let mut at_root = vec![0.0; y.len()];
+            dense.eval(t - dt, &mut at_root);
+            v.copy_from_slice(&at_root[N..2 * N]);
+        }
+        // A slipping element's event is its velocity reaching zero (or, on a branch of a
+        // non-monotone law, a fold's velocity or approach 2's plateau speed): the located
+        // state has it up to the root finder's round-off, which must not show (as a
+        // negative f·v, or a velocity jump) in the pre-switch row, and the plateau speed
+        // must hold exactly. Likewise a rigid stop reached touches it up to the bracket:
+        // the row shows the contact position exactly.
+        for &e in triggered {
+            let el = self.elements[e];
+            if let (ElementKind::DashPot { .. }, Some((d, k))) = (el.kind, self.modes[e].slip()) {
                 let c = el.coordinate;
-                let dt = (q[c] - position) / v[c];
-                if dt > 0.0 && t - dt >= dense.t0() {
-                    let mut at_root = vec![0.0; y.len()];
-                    dense.eval(t - dt, &mut at_root);
-                    v.copy_from_slice(&at_root[N..2 * N]);
-                }
+                v[c] = d * mode::branch_end(&self.branches[e], k, d * v[c]);
+            }
+            if let Some((c, position)) = rigid_free(e) {
                 q[c] = position;
             }
         }
@@ -884,9 +891,13 @@ where
             [(e, _)] if changes == 0 && settled.is_empty() => Some(*e),
             _ => None,
         };
-        if !settled.is_empty() {
-            // The Zeno point of those rebounds is computed: nothing left to hand over.
-            self.event_times.clear();
+        if let (Some(stop), n) = self.bounces
+            && settled.iter().any(|(e, _)| *e == stop)
+        {
+            // The rebounds of the run that just settled have their Zeno point computed:
+            // their times leave the Zeno tests (events at one instant stay counted).
+            let keep = self.event_times.len().saturating_sub(n);
+            self.event_times.truncate(keep);
         }
         self.bounces = match (rebound, self.bounces) {
             (Some(e), (Some(last), n)) if e == last => (Some(e), n + 1),

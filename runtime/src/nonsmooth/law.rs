@@ -117,8 +117,10 @@ pub struct StepState {
     /// The weight of `v_{n+1}` in the coordinate's position update
     /// `q_{n+1} = q_n + h ((1 − θ_q) v_n + θ_q v_{n+1})` (see
     /// [`crate::nonsmooth::time_stepping`] and [`position_weight`]). A spring-backed stop
-    /// takes its force where the coordinate is `(1 − θ_q) q_n + θ_q q_{n+1}`: θ_q = 1 at
-    /// the step's end, θ_q = ½ at the midpoint of the trapezoidal displacement.
+    /// takes its force at the step's end when θ_q = 1 (implicit Euler); when θ_q < 1 its
+    /// force is the discrete gradient of its energy between `q_n` and `q_{n+1}`, exact in
+    /// energy at θ_q = ½ (pressed in over the whole step, it is the force at the
+    /// midpoint).
     pub theta_q: f64,
     /// The element's force at `t_n` (approach 1: the current branch).
     pub force: f64,

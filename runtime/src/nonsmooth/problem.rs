@@ -73,7 +73,8 @@ pub enum NonSmoothMethod {
     /// robust, never chatters. `theta = 1.0`: implicit Euler, numerically dissipative
     /// (a stiff support hit at `h ≫ √(m/k)` loses much of its energy); `theta = 0.5`:
     /// implicit midpoint, which keeps the energy of springs and stiff supports at any
-    /// `h` (see [`time_stepping`](crate::nonsmooth::time_stepping)).
+    /// `h`, except on coordinates carrying a rigid stop, which keep implicit Euler's
+    /// positions (see [`time_stepping`](crate::nonsmooth::time_stepping)).
     TimeStepping { h: f64, theta: f64 },
 }
 

@@ -25,7 +25,8 @@
 //! - θ = 1 (implicit Euler): stiff springs and dampers are stable for every `h`, with
 //!   numerical damping `O(h)`. The robust default.
 //! - θ = ½ (implicit midpoint): stable for every `h` and without numerical damping — a
-//!   linear spring keeps its energy; second order on smooth arcs. A spring-backed stop's
+//!   linear spring keeps its energy; second order on smooth arcs (except on coordinates
+//!   carrying a rigid stop, below). A spring-backed stop's
 //!   force is taken at the same midpoint, so a stiff support hit within one step returns
 //!   the energy it stored (for `k → ∞` an elastic reflection), where θ = 1 loses a
 //!   fraction growing with `h√(k/m)`. Coordinates with a rigid stop keep θ_q = 1:
@@ -79,7 +80,7 @@ const SWEEP_TOL_V: f64 = 1e-13;
 /// `input(t, q, v)` gives the applied generalised forces `τ`. The solution has one row
 /// per step with components `[q (N); v (N); f_e (one per element)]`, named `q_<joint>`,
 /// `v_<joint>`, `f_<element name>`; each row's stored derivative is the backward difference of the
-/// step that ends there (`q̇ = v_{n+1}`, `(v_{n+1} − v_n)/h`, `(f_{n+1} − f_n)/h`; the
+/// step that ends there (`(q_{n+1} − q_n)/h`, `(v_{n+1} − v_n)/h`, `(f_{n+1} − f_n)/h`; the
 /// first row has `v0` and zeros). The forces of the first row are `problem.forces0`, or
 /// for missing entries the force of a slipping dash-pot's velocity, else `0` (the first
 /// step determines them; for approach-1 laws they seed the branch).

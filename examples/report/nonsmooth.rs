@@ -943,8 +943,13 @@ fn stiff_support(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
                     Some(x) => x.points.push((time.median, err)),
                     None => series.push(Series::new(method.clone(), vec![(time.median, err)])),
                 }
-                if err <= 1e-2 && best.iter().all(|b| b.0 != method) {
-                    best.push((method.clone(), time.median, err));
+                // The fastest run of each method that reaches the threshold.
+                if err <= 1e-2 {
+                    match best.iter_mut().find(|b| b.0 == method) {
+                        Some(b) if time.median < b.1 => *b = (method.clone(), time.median, err),
+                        Some(_) => {}
+                        None => best.push((method.clone(), time.median, err)),
+                    }
                 }
                 rows.push(vec![
                     method,

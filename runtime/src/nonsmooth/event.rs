@@ -215,7 +215,7 @@ where
         v: problem.v0,
         out,
         event_times: VecDeque::new(),
-        bounces: (None, 0),
+        bounces: None,
         options: *options,
         span: problem.tf - problem.t0,
     };
@@ -344,10 +344,11 @@ struct Driver<'a, S, F, const N: usize> {
     /// Times of the recent events, for the Zeno test.
     event_times: VecDeque<f64>,
     /// The rigid stop of the latest run of events that were each one rebound of it and
-    /// nothing else, and the run's length: a ball bouncing towards rest. The Zeno test
+    /// nothing else, and the run's length (`None` after any other event): a ball bouncing
+    /// towards rest. The Zeno test
     /// leaves such a run to [`rebound_invisible`](Self::rebound_invisible), which
     /// settles it at its computed accumulation time, for up to [`MAX_BOUNCES`] events.
-    bounces: (Option<usize>, usize),
+    bounces: Option<(usize, usize)>,
     options: Options,
     span: f64,
 }
@@ -891,7 +892,7 @@ where
             [(e, _)] if changes == 0 && settled.is_empty() => Some(*e),
             _ => None,
         };
-        if let (Some(stop), n) = self.bounces
+        if let Some((stop, n)) = self.bounces
             && settled.iter().any(|(e, _)| *e == stop)
         {
             // The rebounds of the run that just settled have their Zeno point computed:
@@ -900,9 +901,9 @@ where
             self.event_times.truncate(keep);
         }
         self.bounces = match (rebound, self.bounces) {
-            (Some(e), (Some(last), n)) if e == last => (Some(e), n + 1),
-            (Some(e), _) => (Some(e), 1),
-            (None, _) => (None, 0),
+            (Some(e), Some((last, n))) if e == last => Some((e, n + 1)),
+            (Some(e), _) => Some((e, 1)),
+            (None, _) => None,
         };
         for (e, impulse) in impacts {
             match settled.iter().find(|(s, _)| *s == e) {
@@ -1303,7 +1304,8 @@ where
         // accumulation time (`rebound_invisible`): not handed over while the run covers
         // the window a test looks at.
         let bouncing = |window: usize| {
-            self.bounces.0.is_some() && self.bounces.1 >= window && self.bounces.1 <= MAX_BOUNCES
+            self.bounces
+                .is_some_and(|(_, n)| (window..=MAX_BOUNCES).contains(&n))
         };
         let mut end = None;
         if k > ZENO_GEOMETRIC + 1 && !bouncing(ZENO_GEOMETRIC + 2) {
@@ -1341,7 +1343,7 @@ where
     ) -> Result<(), ErrorKind> {
         self.out.stats.zeno_detected += 1;
         self.event_times.clear();
-        self.bounces = (None, 0);
+        self.bounces = None;
         if end <= self.t {
             return Ok(());
         }

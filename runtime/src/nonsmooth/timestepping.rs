@@ -26,9 +26,10 @@
 //!   numerical damping `O(h)`. The robust default.
 //! - θ = ½ (implicit midpoint): stable for every `h` and without numerical damping — a
 //!   linear spring keeps its energy; second order on smooth arcs (except on coordinates
-//!   carrying a rigid stop, below). A spring-backed stop's
-//!   force is taken at the same midpoint, so a stiff support hit within one step returns
-//!   the energy it stored (for `k → ∞` an elastic reflection), where θ = 1 loses a
+//!   carrying a rigid stop, below). A spring-backed stop's force is the discrete
+//!   gradient of its energy between the step's ends (the force at the midpoint while it
+//!   stays pressed in), so a stiff support hit within one step returns the energy it
+//!   stored (for `k → ∞` an elastic reflection), where θ = 1 loses a
 //!   fraction growing with `h√(k/m)`. Coordinates with a rigid stop keep θ_q = 1:
 //!   Moreau's velocity-level impact law needs positions advanced by the new velocity to
 //!   come to rest (with θ_q = ½ a ball on a floor under gravity bounces for ever in a

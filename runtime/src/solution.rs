@@ -326,6 +326,9 @@ impl Solution {
         dense: Option<&DenseStep>,
         keep: bool,
     ) {
+        if !keep && !self.requested_by(t, true) {
+            return;
+        }
         let Output::Times(ts) = std::mem::take(&mut self.output) else {
             unreachable!("called for Output::Times only")
         };
@@ -384,6 +387,29 @@ impl Solution {
             self.store(t, y, dy, HERMITE);
         }
         self.output = Output::Times(ts);
+    }
+
+    /// Whether a row is wanted at a requested time up to `t` (up to and including `t`
+    /// with `inclusive`) not yet stored ([`Output::Times`] only).
+    fn requested_by(&self, t: f64, inclusive: bool) -> bool {
+        match &self.output {
+            Output::Times(ts) => ts
+                .get(self.recorder.next)
+                .is_some_and(|&tau| tau < t || (inclusive && tau == t)),
+            _ => false,
+        }
+    }
+
+    /// Whether [`push_step`](Self::push_step) of a step ending at `t` reads the step's
+    /// dense output: always for [`Output::Steps`], for [`Output::Times`] when a
+    /// requested time falls inside the step, never for [`Output::Every`]. A stepper that
+    /// builds its extension on demand need not build it otherwise.
+    pub(crate) fn needs_dense(&self, t: f64) -> bool {
+        match self.output {
+            Output::Steps => true,
+            Output::Every(_) => false,
+            Output::Times(_) => self.requested_by(t, false),
+        }
     }
 
     /// A row at the same time as the previous one, after a jump (the second row of an

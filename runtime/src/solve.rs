@@ -125,7 +125,12 @@ where
         stepper.step(&mut Eval::new(system, &mut sol.stats), tf)?;
         let t = stepper.t();
         let keep = if t >= tf { Keep::Last } else { Keep::AsAsked };
-        sol.push_step(t, stepper.y(), stepper.f(), Some(stepper.dense()), keep);
+        let needs_dense = sol.needs_dense(t);
+        if needs_dense {
+            stepper.prepare_dense();
+        }
+        let dense = needs_dense.then(|| stepper.dense());
+        sol.push_step(t, stepper.y(), stepper.f(), dense, keep);
         if observer.observe(t, stepper.y()).is_break() {
             return Err(ErrorKind::Cancelled { t });
         }

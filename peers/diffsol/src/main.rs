@@ -206,8 +206,12 @@ fn smooth<S: Mechanism<N>, const N: usize>(
                         final_error: fin,
                         max_grid_error: max,
                         notes: format!(
-                            "atol={atol:.0e}; {} rejected, {} rhs calls, {} Jacobians",
-                            s.rejected_steps, s.rhs_evaluations, s.jacobian_evaluations
+                            "atol={atol:.0e}; {} rejected, {} rhs calls, {} Jacobians ({} LU setups, {} Newton iterations)",
+                            s.rejected_steps,
+                            s.rhs_evaluations,
+                            s.jacobian_evaluations,
+                            s.lu_factorisations,
+                            s.newton_iterations
                         ),
                     }
                 }

@@ -217,7 +217,13 @@ pub trait Stepper {
     fn f(&self) -> &[f64] {
         &self.state().f
     }
-    /// The continuous extension over the last accepted step.
+    /// Builds the continuous extension of the last accepted step, for a method that
+    /// builds it on demand (BDF: from its differences, which stay valid until the next
+    /// step). A driver calls it after [`step`](Self::step) before reading
+    /// [`dense`](Self::dense); steps whose extension nobody reads skip its cost.
+    fn prepare_dense(&mut self) {}
+    /// The continuous extension over the last accepted step (after
+    /// [`prepare_dense`](Self::prepare_dense)).
     fn dense(&self) -> &DenseStep {
         &self.state().dense
     }

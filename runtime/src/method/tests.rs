@@ -370,6 +370,7 @@ fn dense_output_has_the_order_of_its_method() {
         );
         let mut y = [0.0; 2];
         let tm = t0 + 0.5 * h;
+        stepper.prepare_dense();
         stepper.dense().eval(tm, &mut y);
         (y[0] - tm.cos()).abs().max((y[1] + tm.sin()).abs())
     }
@@ -440,6 +441,7 @@ fn dense_output_after_a_first_step_has_the_local_order_of_its_method() {
             "{}: two steps to the end",
             stepper.name()
         );
+        stepper.prepare_dense();
         assert_eq!(stepper.dense().degree(), 5, "{}", stepper.name());
         let mut y = [0.0; 2];
         let tm = t0 + 1.5 * h;

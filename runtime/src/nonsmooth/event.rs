@@ -448,6 +448,8 @@ where
                 let stepped = stepper.step(&mut Eval::new(&sys, &mut self.out.stats), tf);
                 stepped.map_err(|kind| self.explain(kind))?;
             }
+            // Events are located on the step's extension: always needed here.
+            stepper.prepare_dense();
             let (t1, y1) = (stepper.t(), stepper.y());
             match self.scan(stepper.dense(), t1, y1, &mut arming, &mut buf) {
                 None => {

@@ -110,6 +110,18 @@ impl NewtonMatrix {
         }
     }
 
+    /// Like [`factor`](Self::factor), but keeps a factorisation of the current `J` whose
+    /// `s` is within the relative distance `keep` of the wanted one (the simplified
+    /// Newton iteration converges with it, a little slower; CVODE and diffsol do the
+    /// same for BDF). Returns whether the factorised `s` is exactly `s`.
+    pub fn factor_near(&mut self, s: f64, keep: f64, lu_count: &mut usize) -> bool {
+        if self.factored && (s / self.scale - 1.0).abs() <= keep {
+            return self.scale == s;
+        }
+        self.factor(s, lu_count);
+        true
+    }
+
     /// The factorised matrix (after [`factor`](Self::factor)).
     pub fn lu(&self) -> &DenseLu {
         debug_assert!(self.factored, "factorised before use");

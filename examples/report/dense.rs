@@ -166,7 +166,7 @@ pub fn dense_output(config: &Config) -> Section {
     page.para("Event-driven runs of every non-smooth scene with DOPRI5, SDIRK4 and BDF between the switches, over the tolerance sweep. \
                For each run: the largest error in x at the integrator's own rows and on a 0.01 grid of the whole interval (the solution's `at`, i.e. the method's dense output cut at the events), \
                both against a reference run of a *different* method at rtol 1e-12 (DOPRI5 rows against SDIRK4, SDIRK4 and BDF rows against DOPRI5). \
-               BDF's dense output is its interpolating polynomial; DOPRI5's and SDIRK4's the quintic Hermite through their last three points (one order above their steps), on the first step after a switch DOPRI5's fourth-order continuous extension and SDIRK4's cubic Hermite.");
+               BDF's dense output is its interpolating polynomial; DOPRI5's and SDIRK4's the quintic Hermite through their last three points (one order above their steps), on the first step after a switch DOPRI5's fourth-order continuous extension and SDIRK4's cubic Hermite — except for the positions, which they read back on every step with the quintic in q, q̇ and q̈ = a on the step's own two ends (the state is [q; v] with q̇ = v).");
     let horizon = 30.0 * config.horizon.max(0.34);
     let p_free = NonSmoothProblem::new(0.0, horizon, V1::new(1.0), V1::new(0.0));
     let mut all = Vec::new();

@@ -107,6 +107,11 @@ where
         crate::system::state_names(&S::JOINTS)
     }
 
+    /// `y = [q; v]`, `q̇ = v`.
+    fn second_order(&self) -> Option<usize> {
+        Some(N)
+    }
+
     /// The mechanism's parameters ([`Mechanism::validate`]), and no non-smooth elements
     /// unless they are to be ignored.
     fn validate(&self) -> Result<(), String> {
@@ -168,6 +173,11 @@ impl<F: Fn(f64, &DVector<f64>, &DVector<f64>) -> DVector<f64>> OdeSystem for Num
         let a = numeric::forward_dynamics(self.model, &q, &v, &tau);
         dy[..n].copy_from_slice(v.as_slice());
         dy[n..2 * n].copy_from_slice(a.as_slice());
+    }
+
+    /// `y = [q; v]`, `q̇ = v`.
+    fn second_order(&self) -> Option<usize> {
+        Some(self.dof)
     }
 
     fn names(&self) -> Vec<String> {

@@ -28,6 +28,16 @@ pub trait OdeSystem {
         (0..self.dim()).map(|i| format!("y{i}")).collect()
     }
 
+    /// `Some(n)` when the state is `y = [q; v]` with `q, v` of `n` components each and
+    /// `q̇ = v` exactly (the first `n` components of `f(t, y)` are `y[n..2n]`): the form of
+    /// a mechanical system. The methods then know `q̈ = f(t, y)[n..2n]` at every point and
+    /// read positions back between steps with the quintic Hermite in `q, q̇, q̈` on the
+    /// step's two ends ([`DenseStep`](crate::DenseStep)). `None` (the default) promises
+    /// nothing.
+    fn second_order(&self) -> Option<usize> {
+        None
+    }
+
     /// Checks the system's own parameters before anything is integrated; an error
     /// message becomes [`ErrorKind::InvalidInput`](crate::ErrorKind::InvalidInput).
     fn validate(&self) -> Result<(), String> {

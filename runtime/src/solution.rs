@@ -113,11 +113,16 @@ struct Segment {
     offset: usize,
     /// Degree of its polynomial; `0`: cubic Hermite on the two rows.
     degree: usize,
+    /// A one-step method's own extension (no earlier point), to be rewritten as the
+    /// two-step quintic when the next step continues smoothly (`refine_previous`).
+    #[cfg_attr(feature = "serde", serde(default))]
+    one_step: bool,
 }
 
 const HERMITE: Segment = Segment {
     offset: 0,
     degree: 0,
+    one_step: false,
 };
 
 /// The result of an integration (see the module documentation).
@@ -160,6 +165,10 @@ pub struct Solution {
     pub switches: Vec<Switch>,
     output: Output,
     recorder: Recorder,
+    /// The system's [`OdeSystem::second_order`](crate::OdeSystem::second_order): the
+    /// positions of a refined step are the quintic in `q, q̇, q̈`.
+    #[cfg_attr(feature = "serde", serde(default))]
+    second_order: Option<usize>,
 }
 
 /// What the row filter of [`Output`] remembers between steps.
@@ -194,7 +203,15 @@ impl Solution {
             switches: Vec::new(),
             output,
             recorder: Recorder::default(),
+            second_order: None,
         }
+    }
+
+    /// States are `[q; v]` with `q̇ = v` over the first `2n` columns (see
+    /// [`OdeSystem::second_order`](crate::OdeSystem::second_order)).
+    pub(crate) fn with_second_order(mut self, n: Option<usize>) -> Self {
+        self.second_order = n;
+        self
     }
 
     /// Stores a row as it is, interpolated from the previous row by `segment`.
@@ -261,6 +278,7 @@ impl Solution {
                         Segment {
                             offset,
                             degree: d.degree(),
+                            one_step: d.third_node().is_none(),
                         }
                     }
                     None => HERMITE,
@@ -293,7 +311,7 @@ impl Solution {
         }
         let seg = self.seg[len - 1];
         if seg.degree == 0
-            || seg.degree >= 5
+            || !seg.one_step
             || seg.offset + (seg.degree + 1) * nd != self.coeffs.len()
         {
             return;
@@ -311,9 +329,19 @@ impl Solution {
             &self.state(len - 1)[..nd],
             &self.derivative(len - 1)[..nd],
         );
+        if let Some(n) = self.second_order {
+            refined.set_positions_quintic(
+                n,
+                &self.state(len - 2)[..nd],
+                &self.derivative(len - 2)[..nd],
+                &self.state(len - 1)[..nd],
+                &self.derivative(len - 1)[..nd],
+            );
+        }
         self.coeffs.truncate(seg.offset);
         self.coeffs.extend_from_slice(refined.coefficients());
         self.seg[len - 1].degree = 5;
+        self.seg[len - 1].one_step = false;
     }
 
     /// [`Output::Times`]: the requested times inside the step, then the row itself if

@@ -80,7 +80,8 @@ where
     S: OdeSystem + ?Sized,
     O: Observer + ?Sized,
 {
-    let mut sol = Solution::new(system.names(), system.dim(), problem.output.clone());
+    let mut sol = Solution::new(system.names(), system.dim(), problem.output.clone())
+        .with_second_order(system.second_order());
     let checked = if sol.dim() != system.dim() {
         Err(format!(
             "the system names {} components but has dimension {}",

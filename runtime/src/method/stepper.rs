@@ -55,6 +55,9 @@ pub struct StepState {
     pub prev_y: Vec<f64>,
     /// `f` at the previous point (meaningful while `prev` is `Some`).
     pub prev_f: Vec<f64>,
+    /// The system's [`OdeSystem::second_order`] (set at the start): positions are then
+    /// read back with [`DenseStep::set_positions_quintic`].
+    pub second_order: Option<usize>,
 }
 
 impl StepState {
@@ -69,6 +72,7 @@ impl StepState {
             prev: None,
             prev_y: vec![0.0; dim],
             prev_f: vec![0.0; dim],
+            second_order: None,
         }
     }
 
@@ -96,6 +100,10 @@ impl StepState {
                 f1,
             ),
             None => own(&mut self.dense, &self.y, &self.f),
+        }
+        if let Some(n) = self.second_order {
+            self.dense
+                .set_positions_quintic(n, &self.y, &self.f, y1, f1);
         }
     }
 
@@ -127,6 +135,7 @@ impl StepState {
     ) -> Result<(), ErrorKind> {
         self.options.validate().map_err(ErrorKind::InvalidInput)?;
         self.forget();
+        self.second_order = ev.system.second_order();
         self.t = t;
         self.y.copy_from_slice(y);
         ev.rhs(t, y, &mut self.f)?;

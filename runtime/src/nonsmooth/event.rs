@@ -159,7 +159,8 @@ where
     if let Err(e) = system.validate() {
         return Err(SolveError::new(
             ErrorKind::InvalidInput(e.to_string()),
-            Solution::new(names::<S, N>(system), 2 * N, problem.output.clone()),
+            Solution::new(names::<S, N>(system), 2 * N, problem.output.clone())
+                .with_second_order(Some(N)),
         ));
     }
     match *method {
@@ -201,7 +202,8 @@ where
     F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
     O: Observer + ?Sized,
 {
-    let out = Solution::new(names::<S, N>(system), 2 * N, problem.output.clone());
+    let out = Solution::new(names::<S, N>(system), 2 * N, problem.output.clone())
+        .with_second_order(Some(N));
     let elements: Vec<Element> = (0..S::ELEMENTS).map(|e| system.element(e)).collect();
     let mut driver = Driver {
         system,
@@ -323,6 +325,11 @@ where
             // Dependent constraints: reported by the smooth method as non-finite.
             None => dy.fill(f64::NAN),
         }
+    }
+
+    /// `y = [q; v]`, `q̇ = v` in every mode.
+    fn second_order(&self) -> Option<usize> {
+        Some(N)
     }
 }
 

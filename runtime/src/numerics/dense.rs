@@ -11,7 +11,7 @@
 //! | BDF of order k | the interpolating polynomial through its `k + 1` last points | k | `O(h^{k+1})` |
 //! | RK4, SDIRK4, first step after a (re)start | cubic Hermite on the step's ends ([`set_hermite`](DenseStep::set_hermite)) | 3 | `O(h⁴)` |
 //! | DOPRI5, RK4, SDIRK4 after their first step since a (re)start | quintic Hermite through the last three points ([`set_hermite5`](DenseStep::set_hermite5)) | 5 | `O(h⁶)` |
-//!
+//! | DOPRI5, RK4, SDIRK4: the positions `q` of a second-order system `[q; v]` ([`OdeSystem::second_order`](crate::OdeSystem::second_order)), every step | quintic Hermite in `q, q̇, q̈` on the step's ends ([`set_positions_quintic`](DenseStep::set_positions_quintic)) | 5 | `O(h⁶)`, a ninth of the two-step quintic's constant |
 //!
 //! The first two rows serve event location inside that first step; a stored
 //! [`Solution`](crate::Solution) (`Output::Steps`) rewrites that step as the quintic
@@ -178,6 +178,47 @@ impl DenseStep {
         self.third_node = Some(tm);
     }
 
+    /// Rewrites components `0..n` (the positions `q` of a state `[q; v]` with `q̇ = v`) as
+    /// the quintic Hermite in value, first and second derivative on the step's two ends:
+    /// `q`, `q̇ = v = y[n + i]` and `q̈ = f[n + i]`. Its interpolation error
+    /// `q⁽⁶⁾(ξ)/6! · (t − t0)³(t − t0 − h)³` is at most `h⁶/46080 · |q⁽⁶⁾|`, a ninth of the
+    /// two-step quintic's on the same step (`(t − tm)²(t − t0)²(t − t0 − h)²` with
+    /// `tm = t0 − h`), and it needs no earlier point: the first step after a restart
+    /// reads positions as accurately as the others. Raises the degree to 5 (the other
+    /// components keep their polynomial, padded with zero coefficients).
+    pub(crate) fn set_positions_quintic(
+        &mut self,
+        n: usize,
+        y0: &[f64],
+        f0: &[f64],
+        y1: &[f64],
+        f1: &[f64],
+    ) {
+        let dim = self.dim;
+        if n == 0 || 2 * n > dim {
+            return;
+        }
+        if self.degree < 5 {
+            self.coeffs.resize(6 * dim, 0.0);
+            self.degree = 5;
+        }
+        let (h, c) = (self.h, &mut self.coeffs);
+        for i in 0..n {
+            // θ-derivatives: d/dθ = h d/dt.
+            let (p0, d0, s0) = (y0[i], h * y0[n + i], h * h * f0[n + i]);
+            let (p1, d1, s1) = (y1[i], h * y1[n + i], h * h * f1[n + i]);
+            let big_delta = p1 - p0 - d0 - 0.5 * s0;
+            let big_d = d1 - d0 - s0;
+            let big_s = s1 - s0;
+            c[i] = p0;
+            c[dim + i] = d0;
+            c[2 * dim + i] = 0.5 * s0;
+            c[3 * dim + i] = 10.0 * big_delta - 4.0 * big_d + 0.5 * big_s;
+            c[4 * dim + i] = -15.0 * big_delta + 7.0 * big_d - big_s;
+            c[5 * dim + i] = 6.0 * big_delta - 3.0 * big_d + 0.5 * big_s;
+        }
+    }
+
     /// The Dormand–Prince continuous extension (Hairer, Nørsett & Wanner, *Solving ODEs
     /// I*, §II.6, and the `CONTD5` routine of `dopri5.f`):
     /// `y0 + θ (r₂ + (1 − θ)(r₃ + θ (r₄ + (1 − θ) r₅)))` with `r₂ = y1 − y0`,
@@ -286,6 +327,71 @@ mod tests {
             assert!((out[0] - y(t)).abs() < 1e-13, "{t}");
             d.eval_derivative(t, &mut out);
             assert!((out[0] - dy(t)).abs() < 1e-12, "{t}");
+        }
+    }
+
+    /// Positions `q = sin t` of the state `[q; v]` (`v = cos t`, `q̈ = −sin t`): the
+    /// quintic in `q, q̇, q̈` reproduces quintics exactly, keeps the other components'
+    /// polynomial, converges at order 6 and stays within its error bound
+    /// `h⁶/46080 · max |q⁽⁶⁾|` (here `max |sin| ≤ 1`).
+    #[test]
+    fn positions_quintic_is_exact_for_quintics_and_of_order_six() {
+        // A quintic q with its v = q̇ and a = q̈: reproduced to round-off.
+        let q = |t: f64| 0.3 * t.powi(5) - t.powi(4) + 2.0 * t.powi(3) - t + 0.5;
+        let v = |t: f64| 1.5 * t.powi(4) - 4.0 * t.powi(3) + 6.0 * t * t - 1.0;
+        let a = |t: f64| 6.0 * t.powi(3) - 12.0 * t * t + 12.0 * t;
+        let (t0, h) = (0.4, 1.3);
+        let (t1, mut d) = (t0 + h, DenseStep::new(2));
+        d.set_hermite(
+            t0,
+            h,
+            &[q(t0), v(t0)],
+            &[v(t0), a(t0)],
+            &[q(t1), v(t1)],
+            &[v(t1), a(t1)],
+        );
+        let before = d.clone();
+        d.set_positions_quintic(
+            1,
+            &[q(t0), v(t0)],
+            &[v(t0), a(t0)],
+            &[q(t1), v(t1)],
+            &[v(t1), a(t1)],
+        );
+        assert_eq!(d.degree(), 5);
+        let (mut out, mut old) = ([0.0; 2], [0.0; 2]);
+        for k in 0..=20 {
+            let t = t0 + h * k as f64 / 20.0;
+            d.eval(t, &mut out);
+            before.eval(t, &mut old);
+            assert!((out[0] - q(t)).abs() < 1e-13, "q at {t}");
+            assert_eq!(out[1], old[1], "v keeps its cubic at {t}");
+            d.eval_derivative(t, &mut out);
+            assert!((out[0] - v(t)).abs() < 1e-12, "q̇ at {t}");
+        }
+        // sin: order 6 and the bound.
+        let worst = |h: f64| {
+            let t0 = 0.7;
+            let t1 = t0 + h;
+            let (y0, f0) = ([t0.sin(), t0.cos()], [t0.cos(), -t0.sin()]);
+            let (y1, f1) = ([t1.sin(), t1.cos()], [t1.cos(), -t1.sin()]);
+            let mut d = DenseStep::new(2);
+            d.set_hermite(t0, h, &y0, &f0, &y1, &f1);
+            d.set_positions_quintic(1, &y0, &f0, &y1, &f1);
+            let mut out = [0.0; 2];
+            (0..=50)
+                .map(|k| {
+                    let t = t0 + h * k as f64 / 50.0;
+                    d.eval(t, &mut out);
+                    (out[0] - t.sin()).abs()
+                })
+                .fold(0.0, f64::max)
+        };
+        for h in [0.4, 0.2, 0.1] {
+            let (e, e2) = (worst(h), worst(h / 2.0));
+            assert!(e <= h.powi(6) / 46080.0, "h {h}: {e:e} above the bound");
+            let order = (e / e2).log2();
+            assert!((5.8..6.2).contains(&order), "h {h}: observed order {order}");
         }
     }
 

@@ -356,7 +356,7 @@ impl LieSdirk {
                 let mut est = DVector::from_fn(d, |i, _| {
                     h * (0..e.len()).map(|j| e[j] * w.k[j][i]).sum::<f64>()
                 });
-                if !newton.m.lu().solve(est.as_mut_slice()) {
+                if !newton.m.solve(est.as_mut_slice()) {
                     est.fill(f64::INFINITY);
                 }
                 magnitudes(&y, &mut w.mag0);
@@ -427,7 +427,7 @@ impl LieSdirk {
     ) -> StageOutcome {
         let d = 2 * w.n;
         let hg = h * SDIRK4.a(0, 0);
-        let lu = newton.m.lu();
+        let lu = &newton.m;
         magnitudes(y, &mut w.mag0);
         let newton_tol = dirk_stage_tolerance();
         // Stop once a correction is down to ten round-offs of the state (see `Sdirk4`).

@@ -451,7 +451,7 @@ impl BdfStepper {
         c: f64,
     ) -> NewtonOutcome {
         let n = self.y1.len();
-        let lu = self.newton.lu();
+        let lu = &self.newton;
         let (predictor, fz, delta) = (&mut self.predictor, &mut self.fz, &mut self.delta);
         let weights = &mut self.weights;
         let (y1, correction, psi) = (&mut self.y1, &mut self.correction, &self.psi);

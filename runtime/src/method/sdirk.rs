@@ -184,7 +184,7 @@ impl Stepper for Sdirk4Stepper {
                     let mut err = DVector::from_fn(n, |i, _| {
                         h * (0..s).map(|j| e[j] * stage_f[j][i]).sum::<f64>()
                     });
-                    if !self.newton.lu().solve(err.as_mut_slice()) {
+                    if !self.newton.solve(err.as_mut_slice()) {
                         err.fill(f64::INFINITY);
                     }
                     let err = error_norm(err.as_slice(), &self.s.y, &self.y1, &self.s.options);
@@ -233,7 +233,7 @@ impl Sdirk4Stepper {
         let hg = h * gamma;
         let y = &self.s.y;
         let mut theta_max: f64 = 0.0;
-        let lu = self.newton.lu();
+        let lu = &self.newton;
         // …and stop once a correction is down to ten round-offs of the state: stiff
         // components evaluated at `y + z` carry the round-off of `y`, so no iteration
         // gets below it (measured: S4 at rtol 1e-12 failed Newton without this stop).

@@ -50,6 +50,22 @@ impl DenseLu {
         self.factor_in_place();
     }
 
+    /// Factorises the Schur complement `I − s A_v − s² A_q` of `I − s J` for
+    /// `J = [[0, I], [A_q, A_v]]` (`2n × 2n`, this LU `n × n`): the Newton matrix of a
+    /// second-order system `y = [q; v]`, `q̇ = v` (see `NewtonMatrix`).
+    pub fn factor_second_order(&mut self, jac: &DMatrix<f64>, s: f64) {
+        let n = self.n;
+        debug_assert_eq!(jac.shape(), (2 * n, 2 * n));
+        let s2 = s * s;
+        for j in 0..n {
+            for i in 0..n {
+                self.a[j * n + i] = -s * jac[(n + i, n + j)] - s2 * jac[(n + i, j)];
+            }
+            self.a[j * n + j] += 1.0;
+        }
+        self.factor_in_place();
+    }
+
     fn factor_in_place(&mut self) {
         let n = self.n;
         let a = &mut self.a;

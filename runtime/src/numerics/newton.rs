@@ -49,6 +49,12 @@ pub(crate) fn dirk_amplification() -> f64 {
 }
 
 /// `J`, what it was built from, and the factorised `I − s J`.
+///
+/// For a second-order system (`y = [q; v]` with `q̇ = v`, [`OdeSystem::second_order`]),
+/// `J = [[0, I], [A_q, A_v]]` and `(I − sJ) [x; z] = [r; w]` reduces to
+/// `(I − s A_v − s² A_q) z = w + s A_q r`, `x = r + s z`: an LU of half the size (an
+/// eighth of the work) and a solve of half the work. The same Newton iteration, to
+/// round-off.
 #[derive(Debug)]
 pub(crate) struct NewtonMatrix {
     pub jac: DMatrix<f64>,
@@ -56,6 +62,8 @@ pub(crate) struct NewtonMatrix {
     pub jac_current: bool,
     /// `J` must be (re)evaluated before the next attempt.
     pub jac_needed: bool,
+    /// `Some(n)`: `lu` holds the `n × n` Schur complement (see above).
+    second_order: Option<usize>,
     lu: DenseLu,
     /// `lu` holds `I − s J` for the current `J` and `s = scale`.
     factored: bool,
@@ -69,6 +77,7 @@ impl NewtonMatrix {
             jac: DMatrix::zeros(n, n),
             jac_current: false,
             jac_needed: true,
+            second_order: None,
             lu: DenseLu::new(n),
             factored: false,
             scale: f64::NAN,
@@ -86,6 +95,14 @@ impl NewtonMatrix {
     ) -> Result<(), ErrorKind> {
         if self.jac_needed {
             jacobian(ev, t, y, f, fresh, &mut self.jac)?;
+            let reduced = ev
+                .system
+                .second_order()
+                .filter(|&n| n > 0 && 2 * n == y.len());
+            if reduced != self.second_order {
+                self.second_order = reduced;
+                self.lu = DenseLu::new(reduced.unwrap_or(y.len()));
+            }
             self.jacobian_updated();
         }
         Ok(())
@@ -103,7 +120,10 @@ impl NewtonMatrix {
     /// (counted in `lu`).
     pub fn factor(&mut self, s: f64, lu_count: &mut usize) {
         if !self.factored || self.scale != s {
-            self.lu.factor_shifted(&self.jac, s);
+            match self.second_order {
+                Some(_) => self.lu.factor_second_order(&self.jac, s),
+                None => self.lu.factor_shifted(&self.jac, s),
+            }
             self.factored = true;
             self.scale = s;
             *lu_count += 1;
@@ -122,10 +142,31 @@ impl NewtonMatrix {
         true
     }
 
-    /// The factorised matrix (after [`factor`](Self::factor)).
-    pub fn lu(&self) -> &DenseLu {
+    /// Solves `(I − s J) x = b` in place with the factorised matrix (after
+    /// [`factor`](Self::factor)); `false` if it is singular.
+    pub fn solve(&self, b: &mut [f64]) -> bool {
         debug_assert!(self.factored, "factorised before use");
-        &self.lu
+        let Some(n) = self.second_order else {
+            return self.lu.solve(b);
+        };
+        let s = self.scale;
+        let (r, w) = b.split_at_mut(n);
+        // w + s A_q r, then z, then x = r + s z.
+        for (j, &rj) in r.iter().enumerate() {
+            if rj != 0.0 {
+                let column = &self.jac.as_slice()[j * 2 * n + n..(j + 1) * 2 * n];
+                for (wi, a) in w.iter_mut().zip(column) {
+                    *wi += s * a * rj;
+                }
+            }
+        }
+        if !self.lu.solve(w) {
+            return false;
+        }
+        for (ri, zi) in r.iter_mut().zip(w.iter()) {
+            *ri += s * zi;
+        }
+        true
     }
 
     /// After a failure with a stale `J`: refresh it before the next attempt.
@@ -179,5 +220,102 @@ pub(crate) fn jacobian<S: OdeSystem + ?Sized>(
             component: p % y.len(),
         }),
         None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Stats;
+
+    /// `y = [q; v]`, `q̇ = v`, `v̇ = A_q q + A_v v` with random `A_q, A_v`: declared
+    /// second-order or not.
+    struct Linear {
+        n: usize,
+        a: DMatrix<f64>,
+        second_order: bool,
+    }
+
+    impl OdeSystem for Linear {
+        fn dim(&self) -> usize {
+            2 * self.n
+        }
+        fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) {
+            let n = self.n;
+            dy[..n].copy_from_slice(&y[n..]);
+            for i in 0..n {
+                dy[n + i] = (0..2 * n).map(|j| self.a[(i, j)] * y[j]).sum();
+            }
+        }
+        fn jacobian(&self, _t: f64, _y: &[f64], jac: &mut DMatrix<f64>) -> bool {
+            let n = self.n;
+            jac.fill(0.0);
+            jac.view_mut((0, n), (n, n)).fill_with_identity();
+            jac.view_mut((n, 0), (n, 2 * n)).copy_from(&self.a);
+            true
+        }
+        fn second_order(&self) -> Option<usize> {
+            self.second_order.then_some(self.n)
+        }
+    }
+
+    /// The reduced solve of a second-order system equals the full LU solve of
+    /// `I − sJ` to round-off, for random `J`, `s` and right-hand sides.
+    #[test]
+    fn second_order_reduction_solves_the_full_system() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut r = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for n in [1, 2, 3, 7, 12] {
+            for s in [1e-4, 0.03, 1.0, 50.0] {
+                let a = DMatrix::from_fn(n, 2 * n, |_, _| 10.0 * r());
+                let y: Vec<f64> = (0..2 * n).map(|_| r()).collect();
+                let b: Vec<f64> = (0..2 * n).map(|_| r()).collect();
+                let mut solved = Vec::new();
+                for second_order in [false, true] {
+                    let sys = Linear {
+                        n,
+                        a: a.clone(),
+                        second_order,
+                    };
+                    let mut stats = Stats::default();
+                    let mut ev = Eval::new(&sys, &mut stats);
+                    let mut m = NewtonMatrix::new(2 * n);
+                    let mut f = vec![0.0; 2 * n];
+                    m.update_jacobian(&mut ev, 0.0, &y, &mut f, false).unwrap();
+                    assert_eq!(m.second_order.is_some(), second_order);
+                    m.factor(s, &mut stats.lu_factorisations);
+                    let mut x = b.clone();
+                    assert!(m.solve(&mut x));
+                    solved.push(x);
+                }
+                // Residual of the reduced solution in the full system.
+                let jac = {
+                    let mut j = DMatrix::zeros(2 * n, 2 * n);
+                    j.view_mut((0, n), (n, n)).fill_with_identity();
+                    j.view_mut((n, 0), (n, 2 * n)).copy_from(&a);
+                    j
+                };
+                let m = DMatrix::identity(2 * n, 2 * n) - &jac * s;
+                let x = nalgebra::DVector::from_column_slice(&solved[1]);
+                let residual = (&m * &x - nalgebra::DVector::from_column_slice(&b)).norm();
+                let scale = m.norm() * x.norm();
+                assert!(
+                    residual <= 1e-13 * scale,
+                    "n {n}, s {s}: residual {residual:e}"
+                );
+                let diff = solved[0]
+                    .iter()
+                    .zip(&solved[1])
+                    .map(|(p, q)| (p - q).abs())
+                    .fold(0.0, f64::max);
+                let size = solved[0].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                assert!(diff <= 1e-10 * size.max(1.0), "n {n}, s {s}: {diff:e}");
+            }
+        }
     }
 }

@@ -22,10 +22,12 @@
 //! * [`liegroup`]: Lie-group integration on SO(3)ᵐ × ℝⁿ ([`LieSystem`]; explicit
 //!   [`Rkmk5`], stiff [`LieSdirk`]; event location with [`LieEvent`]), and the trait of
 //!   scenes with spherical and free joints ([`LieMechanism`]) with its adapter
-//!   [`LieMechanical`]. These keep their own trait and result ([`LieTrajectory`], which
-//!   holds a flat [`Solution`]): their states are not vectors — configurations move by
-//!   `g · exp(h v̂)` and the dense output lives in the local coordinates of each step —
-//!   so a [`Stepper`] over slices cannot carry them without losing the group.
+//!   [`LieMechanical`]. These keep their own step-level trait (`LieStepper`: start, one
+//!   accepted step, under one driver that also locates [`LieEvent`]s) and result
+//!   ([`LieTrajectory`], which holds a flat [`Solution`]): their states are not vectors
+//!   — configurations move by `g · exp(h v̂)` and the dense output lives in the local
+//!   coordinates of each step — so a [`Stepper`] over slices cannot carry them without
+//!   losing the group.
 //!
 //! # Running a simulation and reading it back
 //!

@@ -32,7 +32,7 @@ pub trait OdeSystem {
     /// `q̇ = v` exactly (the first `n` components of `f(t, y)` are `y[n..2n]`): the form of
     /// a mechanical system. The methods then know `q̈ = f(t, y)[n..2n]` at every point and
     /// read positions back between steps with the quintic Hermite in `q, q̇, q̈` on the
-    /// step's two ends ([`DenseStep`](crate::DenseStep)). `None` (the default) promises
+    /// step's two ends ([`DenseStep`](crate::method::DenseStep)). `None` (the default) promises
     /// nothing.
     fn second_order(&self) -> Option<usize> {
         None

@@ -7,7 +7,7 @@
 //! crossing, `g(t₀) < 0 ≤ g(t₁)` a rising one) in the event's [`EventDirection`], the
 //! crossing is located on the step's dense output ([`LieTrajectory::at`], on the group)
 //! by the Anderson–Björck bracketing method of
-//! [`nonsmooth::rootfind`](crate::nonsmooth::rootfind) to
+//! [`numerics::rootfind`](crate::numerics::rootfind) to
 //! `|Δt| ≤ 1e-12 · max(1, |t₁|)`. The reported time is the end of the final bracket
 //! on the crossed side (where the sign has changed, or `g = 0`).
 //!

@@ -78,8 +78,10 @@
 
 use nalgebra::{DMatrix, DVector, Vector3};
 
-use super::events::{EventTracker, LieEvent, LieEventHit};
-use super::rkmk::{LieMethod, LieRun, chart_field, drive, initial_step, magnitudes, retract};
+use super::events::{LieEvent, LieEventHit};
+use super::rkmk::{
+    LieMethod, LieRun, LieStepper, chart_field, drive, initial_step, magnitudes, retract,
+};
 use super::so3::{self, UnitQuat};
 use super::{LieProblem, LieState, LieSystem, LieTrajectory};
 use crate::numerics::newton::{
@@ -192,7 +194,198 @@ impl Work {
     }
 }
 
+/// The stepping state of a [`LieSdirk`] integration (see [`LieStepper`]).
+pub(super) struct LieSdirkStepper {
+    method: LieSdirk,
+    w: Work,
+    t: f64,
+    y: LieState,
+    /// `f(t, y)`.
+    f: Vec<f64>,
+    /// The next step to try.
+    h: f64,
+    controller: PiController,
+    newton: Newton,
+    /// Consecutive Newton failures.
+    failures: usize,
+    /// Attempts so far (bounded by `max_steps`).
+    attempts: usize,
+    /// A non-finite rhs value met ahead of the current time (as in `Sdirk4`).
+    non_finite_ahead: Option<ErrorKind>,
+}
+
+impl LieStepper for LieSdirkStepper {
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn start<S: LieSystem + ?Sized>(
+        &mut self,
+        run: &mut LieRun<'_, S>,
+        problem: &LieProblem,
+    ) -> Result<(), ErrorKind> {
+        self.t = problem.t0;
+        self.y.clone_from(&problem.y0);
+        run.rhs(self.t, &self.y, &mut self.f)?;
+        run.traj.push(&self.y, self.t, &self.f);
+        if problem.tf > problem.t0 {
+            self.h = match self.method.fixed_step {
+                Some(h) => h,
+                None => initial_step(run, problem, &self.f, 4, &self.method.options)?,
+            };
+        }
+        Ok(())
+    }
+
+    fn step<S: LieSystem + ?Sized>(
+        &mut self,
+        run: &mut LieRun<'_, S>,
+        tf: f64,
+    ) -> Result<(), ErrorKind> {
+        let opts = self.method.options;
+        let fixed_step = self.method.fixed_step;
+        let d = 2 * self.w.n;
+        let gamma = SDIRK4.a(0, 0);
+        let e = SDIRK4.error_weights();
+        let t = self.t;
+        loop {
+            if self.attempts >= opts.max_steps {
+                return Err(ErrorKind::MaxSteps { t });
+            }
+            self.attempts += 1;
+            let mut h = self.h;
+            let last = match fixed_step {
+                Some(h_fixed) => {
+                    h = h_fixed;
+                    t + h * (1.0 + 1e-9) >= tf
+                }
+                None => {
+                    h = h.min(opts.h_max);
+                    t + 1.01 * h >= tf
+                }
+            };
+            if last {
+                h = tf - t;
+            }
+            self.h = h;
+            if underflow(t, h, &opts) {
+                return Err(self
+                    .non_finite_ahead
+                    .clone()
+                    .unwrap_or(ErrorKind::StepSizeUnderflow { t, h }));
+            }
+            let (w, newton) = (&mut self.w, &mut self.newton);
+            if newton.m.jac_needed {
+                newton_jacobian(run, t, &self.y, w, &mut newton.m.jac)?;
+                newton.m.jacobian_updated();
+            }
+            newton
+                .m
+                .factor(h * gamma, &mut run.traj.flat.stats.lu_factorisations);
+            chart_field(&w.zeros, &self.y, &self.f, &mut w.k_start);
+            let outcome = self.method.stages(run, newton, t, h, &self.y, w);
+            let theta_max = match outcome {
+                StageOutcome::Converged { theta_max } => theta_max,
+                StageOutcome::TooFar if fixed_step.is_some() => {
+                    return Err(ErrorKind::InvalidInput(format!(
+                        "fixed step h = {h} turns a body by more than π in one step at t = {t}"
+                    )));
+                }
+                StageOutcome::Failed { .. } | StageOutcome::TooFar => {
+                    run.traj.flat.stats.rejected_steps += 1;
+                    self.failures += 1;
+                    if let StageOutcome::Failed {
+                        non_finite: Some(kind),
+                    } = outcome
+                    {
+                        self.non_finite_ahead = Some(kind);
+                    }
+                    let give_up = match fixed_step {
+                        // Fixed steps: one retry with a fresh Jacobian.
+                        Some(_) => newton.m.jac_current,
+                        None => self.failures >= MAX_NEWTON_FAILURES,
+                    };
+                    if give_up {
+                        return Err(self
+                            .non_finite_ahead
+                            .clone()
+                            .unwrap_or(ErrorKind::NewtonDivergence { t }));
+                    }
+                    if !newton.m.jac_current {
+                        newton.m.jac_needed = true;
+                    }
+                    if fixed_step.is_none() {
+                        self.h *= 0.5;
+                        self.controller.reject(f64::INFINITY);
+                    }
+                    continue;
+                }
+            };
+            self.failures = 0;
+            let err = if fixed_step.is_some() {
+                0.0
+            } else {
+                // h Σ (b_i − b̂_i) K_i through (I − hγJ)⁻¹ (Shampine's filter).
+                let mut est = DVector::from_fn(d, |i, _| {
+                    h * (0..e.len()).map(|j| e[j] * w.k[j][i]).sum::<f64>()
+                });
+                if !newton.m.solve(est.as_mut_slice()) {
+                    est.fill(f64::INFINITY);
+                }
+                magnitudes(&self.y, &mut w.mag0);
+                magnitudes(&w.next, &mut w.mag1);
+                error_norm(est.as_slice(), &w.mag0, &w.mag1, &opts)
+            };
+            if err <= 1.0 {
+                self.t = if last { tf } else { t + h };
+                let t1 = self.t;
+                // The normalisation policy of `Rkmk5`.
+                for q in &mut w.next.rotations {
+                    *q = q.normalised();
+                }
+                std::mem::swap(&mut self.y, &mut w.next);
+                run.rhs(t1, &self.y, &mut self.f)?;
+                chart_field(&w.theta1, &self.y, &self.f, &mut w.k_end);
+                run.traj.push(&self.y, t1, &self.f);
+                // `w.next` is now the step's start: the chart of its dense output.
+                let t_start = t1 - h;
+                quartic_term(w, t_start, h);
+                run.traj
+                    .push_chart(h, &w.theta1, &w.k_start, &w.k_end, &w.r5);
+                w.prev = Some(t_start);
+                // `w.next` is scratch from here on (the next step's stages overwrite it):
+                // swap instead of copying the state each step.
+                std::mem::swap(&mut w.prev_y, &mut w.next);
+                run.traj.flat.stats.steps += 1;
+                if matches!(self.non_finite_ahead, Some(ErrorKind::NonFinite { t: bad, .. }) if bad <= t1)
+                {
+                    self.non_finite_ahead = None;
+                }
+                if !last {
+                    newton.m.jac_current = false;
+                    newton.m.jac_needed = theta_max > THETA_REUSE_JACOBIAN;
+                    if fixed_step.is_none() {
+                        let fac = self.controller.accept(err);
+                        // Keep h (and the LU) when it would grow only a little.
+                        if !(1.0..=1.2).contains(&fac) {
+                            self.h *= fac;
+                        }
+                    }
+                }
+                return Ok(());
+            }
+            run.traj.flat.stats.rejected_steps += 1;
+            self.h *= self.controller.reject(err);
+            if !newton.m.jac_current {
+                newton.m.jac_needed = true;
+            }
+        }
+    }
+}
+
 impl LieMethod for LieSdirk {
+    type Stepper = LieSdirkStepper;
+
     fn check(&self) -> Result<(), String> {
         match self.fixed_step {
             Some(h) if !(h.is_finite() && h > 0.0) => {
@@ -202,13 +395,25 @@ impl LieMethod for LieSdirk {
         }
     }
 
-    fn integrate<S: LieSystem + ?Sized>(
-        &self,
-        run: &mut LieRun<'_, S>,
-        problem: &LieProblem,
-        events: Option<&mut EventTracker<'_, '_>>,
-    ) -> Result<(), ErrorKind> {
-        self.integrate_steps(run, problem, events)
+    fn stepper(&self, y0: &LieState) -> LieSdirkStepper {
+        let w = Work::new(y0);
+        let (n, d) = (w.n, 2 * w.n);
+        LieSdirkStepper {
+            method: *self,
+            w,
+            t: 0.0,
+            y: y0.clone(),
+            f: vec![0.0; n],
+            h: 0.0,
+            controller: PiController::new(3),
+            newton: Newton {
+                m: NewtonMatrix::new(d),
+                eta: 1.0,
+            },
+            failures: 0,
+            attempts: 0,
+            non_finite_ahead: None,
+        }
     }
 }
 
@@ -251,167 +456,6 @@ impl LieSdirk {
         events: &[LieEvent<'_>],
     ) -> Result<(LieTrajectory, Vec<LieEventHit>), SolveError> {
         drive(self, system, problem, events)
-    }
-
-    fn integrate_steps<S: LieSystem + ?Sized>(
-        &self,
-        run: &mut LieRun<'_, S>,
-        problem: &LieProblem,
-        mut events: Option<&mut EventTracker<'_, '_>>,
-    ) -> Result<(), ErrorKind> {
-        let opts = &self.options;
-        let mut w = Work::new(&problem.y0);
-        let (n, d) = (w.n, 2 * w.n);
-        let gamma = SDIRK4.a(0, 0);
-        let mut t = problem.t0;
-        let mut y = problem.y0.clone();
-        let mut f = vec![0.0; n];
-        run.rhs(t, &y, &mut f)?;
-        run.traj.push(&y, t, &f);
-        if problem.tf == problem.t0 {
-            return Ok(());
-        }
-        let mut h = match self.fixed_step {
-            Some(h) => h,
-            None => initial_step(run, problem, &f, 4, opts)?,
-        };
-        let mut controller = PiController::new(3);
-        let mut newton = Newton {
-            m: NewtonMatrix::new(d),
-            eta: 1.0,
-        };
-        let e = SDIRK4.error_weights();
-        let (mut failures, mut attempts) = (0, 0);
-        // A non-finite rhs value met ahead of the current time (as in `Sdirk4`).
-        let mut non_finite_ahead: Option<ErrorKind> = None;
-        loop {
-            if attempts >= opts.max_steps {
-                return Err(ErrorKind::MaxSteps { t });
-            }
-            attempts += 1;
-            let last = match self.fixed_step {
-                Some(h_fixed) => {
-                    h = h_fixed;
-                    t + h * (1.0 + 1e-9) >= problem.tf
-                }
-                None => {
-                    h = h.min(opts.h_max);
-                    t + 1.01 * h >= problem.tf
-                }
-            };
-            if last {
-                h = problem.tf - t;
-            }
-            if underflow(t, h, opts) {
-                return Err(non_finite_ahead.unwrap_or(ErrorKind::StepSizeUnderflow { t, h }));
-            }
-            if newton.m.jac_needed {
-                newton_jacobian(run, t, &y, &mut w, &mut newton.m.jac)?;
-                newton.m.jacobian_updated();
-            }
-            newton
-                .m
-                .factor(h * gamma, &mut run.traj.flat.stats.lu_factorisations);
-            chart_field(&w.zeros, &y, &f, &mut w.k_start);
-            let outcome = self.stages(run, &mut newton, t, h, &y, &mut w);
-            let theta_max = match outcome {
-                StageOutcome::Converged { theta_max } => theta_max,
-                StageOutcome::TooFar if self.fixed_step.is_some() => {
-                    return Err(ErrorKind::InvalidInput(format!(
-                        "fixed step h = {h} turns a body by more than π in one step at t = {t}"
-                    )));
-                }
-                StageOutcome::Failed { .. } | StageOutcome::TooFar => {
-                    run.traj.flat.stats.rejected_steps += 1;
-                    failures += 1;
-                    if let StageOutcome::Failed {
-                        non_finite: Some(kind),
-                    } = outcome
-                    {
-                        non_finite_ahead = Some(kind);
-                    }
-                    let give_up = match self.fixed_step {
-                        // Fixed steps: one retry with a fresh Jacobian.
-                        Some(_) => newton.m.jac_current,
-                        None => failures >= MAX_NEWTON_FAILURES,
-                    };
-                    if give_up {
-                        return Err(non_finite_ahead.unwrap_or(ErrorKind::NewtonDivergence { t }));
-                    }
-                    if !newton.m.jac_current {
-                        newton.m.jac_needed = true;
-                    }
-                    if self.fixed_step.is_none() {
-                        h *= 0.5;
-                        controller.reject(f64::INFINITY);
-                    }
-                    continue;
-                }
-            };
-            failures = 0;
-            let err = if self.fixed_step.is_some() {
-                0.0
-            } else {
-                // h Σ (b_i − b̂_i) K_i through (I − hγJ)⁻¹ (Shampine's filter).
-                let mut est = DVector::from_fn(d, |i, _| {
-                    h * (0..e.len()).map(|j| e[j] * w.k[j][i]).sum::<f64>()
-                });
-                if !newton.m.solve(est.as_mut_slice()) {
-                    est.fill(f64::INFINITY);
-                }
-                magnitudes(&y, &mut w.mag0);
-                magnitudes(&w.next, &mut w.mag1);
-                error_norm(est.as_slice(), &w.mag0, &w.mag1, opts)
-            };
-            if err <= 1.0 {
-                t = if last { problem.tf } else { t + h };
-                // The normalisation policy of `Rkmk5`.
-                for q in &mut w.next.rotations {
-                    *q = q.normalised();
-                }
-                std::mem::swap(&mut y, &mut w.next);
-                run.rhs(t, &y, &mut f)?;
-                chart_field(&w.theta1, &y, &f, &mut w.k_end);
-                run.traj.push(&y, t, &f);
-                // `w.next` is now the step's start: the chart of its dense output.
-                let t_start = t - h;
-                quartic_term(&mut w, t_start, h);
-                run.traj
-                    .push_chart(h, &w.theta1, &w.k_start, &w.k_end, &w.r5);
-                w.prev = Some(t_start);
-                // `w.next` is scratch from here on (the next step's stages overwrite it):
-                // swap instead of copying the state each step.
-                std::mem::swap(&mut w.prev_y, &mut w.next);
-                run.traj.flat.stats.steps += 1;
-                if matches!(non_finite_ahead, Some(ErrorKind::NonFinite { t: bad, .. }) if bad <= t)
-                {
-                    non_finite_ahead = None;
-                }
-                if let Some(tracker) = events.as_deref_mut()
-                    && tracker.after_step(run)?
-                {
-                    return Ok(());
-                }
-                if last {
-                    return Ok(());
-                }
-                newton.m.jac_current = false;
-                newton.m.jac_needed = theta_max > THETA_REUSE_JACOBIAN;
-                if self.fixed_step.is_none() {
-                    let fac = controller.accept(err);
-                    // Keep h (and the LU) when it would grow only a little.
-                    if !(1.0..=1.2).contains(&fac) {
-                        h *= fac;
-                    }
-                }
-            } else {
-                run.traj.flat.stats.rejected_steps += 1;
-                h *= controller.reject(err);
-                if !newton.m.jac_current {
-                    newton.m.jac_needed = true;
-                }
-            }
-        }
     }
 
     /// Solves the stages of one step from `y` (with `w.k_start = Θ̇(0)`); on success

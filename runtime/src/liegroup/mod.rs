@@ -24,8 +24,12 @@
 //! | [`Rkmk5`] | explicit, Dormand–Prince 5(4), dense output of order 4 | non-stiff problems |
 //! | [`LieSdirk`] | L-stable SDIRK4 (order 4, embedded 3), simplified Newton, quartic dense output through the previous point | stiff problems: stiff springs, strong damping |
 //!
-//! Both locate events ([`LieEvent`]) on their dense output with
-//! `solve_with_events`. [`so3`] has the group's functions.
+//! Both are step-level steppers (`rkmk::LieStepper`: start, then one accepted step at a
+//! time, each stored with its chart's extension) under one driver, which validates the
+//! problem, checks [`LieEvent`]s after every step and locates them on the dense output
+//! (`solve_with_events`), and keeps the accepted steps on failure. It is the group's
+//! counterpart of [`Stepper`](crate::Stepper): a state here is a point of the group, not
+//! a vector. [`so3`] has the group's functions.
 
 pub mod events;
 pub mod implicit;

@@ -103,17 +103,28 @@ pub struct Rkmk5 {
 }
 
 impl LieMethod for Rkmk5 {
+    type Stepper = Rkmk5Stepper;
+
     fn check(&self) -> Result<(), String> {
         self.validate()
     }
 
-    fn integrate<S: LieSystem + ?Sized>(
-        &self,
-        run: &mut LieRun<'_, S>,
-        problem: &LieProblem,
-        events: Option<&mut EventTracker<'_, '_>>,
-    ) -> Result<(), ErrorKind> {
-        self.integrate_steps(run, problem, events)
+    fn stepper(&self, y0: &LieState) -> Rkmk5Stepper {
+        let st = Stages::new(y0);
+        let d = st.theta.len();
+        Rkmk5Stepper {
+            method: *self,
+            st,
+            t: 0.0,
+            y: y0.clone(),
+            h: 0.0,
+            controller: PiController::new(4),
+            err_vec: vec![0.0; d],
+            r5: vec![0.0; d],
+            mag0: vec![0.0; d],
+            mag1: vec![0.0; d],
+            attempts: 0,
+        }
     }
 }
 
@@ -168,117 +179,164 @@ impl Rkmk5 {
             _ => self.options.validate(),
         }
     }
+}
 
-    fn integrate_steps<S: LieSystem + ?Sized>(
-        &self,
+/// The stepping state of an [`Rkmk5`] integration (see [`LieStepper`]).
+pub(super) struct Rkmk5Stepper {
+    method: Rkmk5,
+    st: Stages,
+    t: f64,
+    y: LieState,
+    /// The next step to try.
+    h: f64,
+    controller: PiController,
+    err_vec: Vec<f64>,
+    r5: Vec<f64>,
+    mag0: Vec<f64>,
+    mag1: Vec<f64>,
+    /// Attempts so far (bounded by `max_steps`).
+    attempts: usize,
+}
+
+impl LieStepper for Rkmk5Stepper {
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn start<S: LieSystem + ?Sized>(
+        &mut self,
         run: &mut LieRun<'_, S>,
         problem: &LieProblem,
-        mut events: Option<&mut EventTracker<'_, '_>>,
     ) -> Result<(), ErrorKind> {
-        let opts = &self.options;
-        let mut st = Stages::new(&problem.y0);
-        let mut t = problem.t0;
-        let mut y = problem.y0.clone();
-        run.rhs(t, &y, &mut st.f0)?;
-        run.traj.push(&y, t, &st.f0);
-        if problem.tf == problem.t0 {
-            return Ok(());
+        self.t = problem.t0;
+        self.y.clone_from(&problem.y0);
+        run.rhs(self.t, &self.y, &mut self.st.f0)?;
+        run.traj.push(&self.y, self.t, &self.st.f0);
+        if problem.tf > problem.t0 {
+            self.h = match self.method.fixed_step {
+                Some(h) => h,
+                None => initial_step(run, problem, &self.st.f0, 5, &self.method.options)?,
+            };
         }
-        let mut h = match self.fixed_step {
-            Some(h) => h,
-            None => initial_step(run, problem, &st.f0, 5, opts)?,
-        };
-        let mut controller = PiController::new(4);
+        Ok(())
+    }
+
+    fn step<S: LieSystem + ?Sized>(
+        &mut self,
+        run: &mut LieRun<'_, S>,
+        tf: f64,
+    ) -> Result<(), ErrorKind> {
+        let opts = &self.method.options;
         let e = DOPRI5.error_weights();
-        let (mut err_vec, mut r5) = (st.theta.clone(), st.theta.clone());
-        let (mut mag0, mut mag1) = (st.theta.clone(), st.theta.clone());
-        let mut attempts = 0;
+        let (t, st) = (self.t, &mut self.st);
         loop {
-            if attempts >= opts.max_steps {
+            if self.attempts >= opts.max_steps {
                 return Err(ErrorKind::MaxSteps { t });
             }
-            attempts += 1;
-            let last = match self.fixed_step {
+            self.attempts += 1;
+            let mut h = self.h;
+            let last = match self.method.fixed_step {
                 Some(h_fixed) => {
                     h = h_fixed;
                     // Shorten the last step, and avoid a sliver from round-off.
-                    t + h * (1.0 + 1e-9) >= problem.tf
+                    t + h * (1.0 + 1e-9) >= tf
                 }
                 None => {
                     h = h.min(opts.h_max);
-                    t + 1.01 * h >= problem.tf
+                    t + 1.01 * h >= tf
                 }
             };
             if last {
-                h = problem.tf - t;
+                h = tf - t;
             }
+            self.h = h;
             if underflow(t, h, opts) {
                 return Err(ErrorKind::StepSizeUnderflow { t, h });
             }
-            if !stages(run, t, h, &y, &mut st)? {
-                if self.fixed_step.is_some() {
+            if !stages(run, t, h, &self.y, st)? {
+                if self.method.fixed_step.is_some() {
                     return Err(ErrorKind::InvalidInput(format!(
                         "fixed step h = {h} turns a body by more than π in one step at t = {t}"
                     )));
                 }
                 run.traj.flat.stats.rejected_steps += 1;
-                h *= controller.reject(f64::INFINITY);
+                self.h *= self.controller.reject(f64::INFINITY);
                 continue;
             }
-            let err = if self.fixed_step.is_some() {
+            let err = if self.method.fixed_step.is_some() {
                 0.0
             } else {
-                for (i, ei) in err_vec.iter_mut().enumerate() {
+                for (i, ei) in self.err_vec.iter_mut().enumerate() {
                     *ei = h * (0..7).map(|j| e[j] * st.k[j][i]).sum::<f64>();
                 }
-                magnitudes(&y, &mut mag0);
-                magnitudes(&st.next, &mut mag1);
-                error_norm(&err_vec, &mag0, &mag1, opts)
+                magnitudes(&self.y, &mut self.mag0);
+                magnitudes(&st.next, &mut self.mag1);
+                error_norm(&self.err_vec, &self.mag0, &self.mag1, opts)
             };
             if err <= 1.0 {
-                for (i, r) in r5.iter_mut().enumerate() {
+                for (i, r) in self.r5.iter_mut().enumerate() {
                     *r = h * (0..7).map(|j| DOPRI5_DENSE[j] * st.k[j][i]).sum::<f64>();
                 }
-                t = if last { problem.tf } else { t + h };
+                self.t = if last { tf } else { t + h };
                 // The normalisation policy of the module documentation.
                 for q in &mut st.next.rotations {
                     *q = q.normalised();
                 }
-                std::mem::swap(&mut y, &mut st.next);
+                std::mem::swap(&mut self.y, &mut st.next);
                 std::mem::swap(&mut st.f0, &mut st.f1);
-                run.traj.push(&y, t, &st.f0);
-                run.traj.push_chart(h, &st.theta1, &st.k[0], &st.k[6], &r5);
+                run.traj.push(&self.y, self.t, &st.f0);
+                run.traj
+                    .push_chart(h, &st.theta1, &st.k[0], &st.k[6], &self.r5);
                 run.traj.flat.stats.steps += 1;
-                if let Some(tracker) = events.as_deref_mut()
-                    && tracker.after_step(run)?
-                {
-                    return Ok(());
+                if !last {
+                    self.h *= self.controller.accept(err);
                 }
-                if last {
-                    return Ok(());
-                }
-                h *= controller.accept(err);
-            } else {
-                run.traj.flat.stats.rejected_steps += 1;
-                h *= controller.reject(err);
+                return Ok(());
             }
+            run.traj.flat.stats.rejected_steps += 1;
+            self.h *= self.controller.reject(err);
         }
     }
 }
 
+/// The step-level core of a Lie-group method, under the one driver [`drive`] (the
+/// counterpart of [`Stepper`](crate::method::Stepper) for states on the group).
+///
+/// Two traits, not one: a Lie-group state is a point of `SO(3)ᵐ × ℝⁿ × ℝᵏ` (unit
+/// quaternions), and a step's continuous extension is a polynomial in that step's own
+/// exponential chart, mapped back to the group. [`Stepper`](crate::method::Stepper)'s
+/// flat state vector and per-component polynomial
+/// [`DenseStep`](crate::method::DenseStep) would leave the group between steps.
+pub(super) trait LieStepper {
+    /// Current time.
+    fn t(&self) -> f64;
+
+    /// Begins at `problem.y0`: evaluates `f` there, stores the first point, and (when
+    /// the interval is not empty) chooses the first step.
+    fn start<S: LieSystem + ?Sized>(
+        &mut self,
+        run: &mut LieRun<'_, S>,
+        problem: &LieProblem,
+    ) -> Result<(), ErrorKind>;
+
+    /// Attempts steps until one is accepted, ending at or before `tf`, and stores it
+    /// with its continuous extension in `run.traj`.
+    fn step<S: LieSystem + ?Sized>(
+        &mut self,
+        run: &mut LieRun<'_, S>,
+        tf: f64,
+    ) -> Result<(), ErrorKind>;
+}
+
 /// What the shared driver needs of a Lie-group method.
 pub(super) trait LieMethod {
+    type Stepper: LieStepper;
+
     /// The method's own configuration.
     fn check(&self) -> Result<(), String>;
 
-    /// Integrates from `problem.y0`, pushing every accepted step into `run.traj` and
-    /// calling `events` (if any) after each.
-    fn integrate<S: LieSystem + ?Sized>(
-        &self,
-        run: &mut LieRun<'_, S>,
-        problem: &LieProblem,
-        events: Option<&mut EventTracker<'_, '_>>,
-    ) -> Result<(), ErrorKind>;
+    /// A stepper for states shaped like `y0`.
+    fn stepper(&self, y0: &LieState) -> Self::Stepper;
 }
 
 /// Validation, the run, the event tracker and the error wrapping shared by the methods.
@@ -300,8 +358,18 @@ pub(super) fn drive<M: LieMethod, S: LieSystem + ?Sized>(
         }
     };
     let mut run = LieRun { system, traj };
-    let tracker_ref = (!events.is_empty()).then_some(&mut tracker);
-    match method.integrate(&mut run, problem, tracker_ref) {
+    let mut stepper = method.stepper(&problem.y0);
+    let mut integrate = || -> Result<(), ErrorKind> {
+        stepper.start(&mut run, problem)?;
+        while stepper.t() < problem.tf {
+            stepper.step(&mut run, problem.tf)?;
+            if !events.is_empty() && tracker.after_step(&mut run)? {
+                break;
+            }
+        }
+        Ok(())
+    };
+    match integrate() {
         Ok(()) => Ok((run.traj, tracker.into_hits())),
         Err(kind) => Err(SolveError::new(kind, run.traj.flat)),
     }

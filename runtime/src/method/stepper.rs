@@ -20,7 +20,7 @@
 //!    is dropped; BDF keeps its Jacobian (a stale Jacobian still serves a simplified
 //!    Newton iteration and is refreshed at its first failure; SDIRK4 re-evaluates it,
 //!    because its error estimate is filtered through it), and the step size is kept unless
-//!    the starting-step estimate at the new point is smaller ([`restart_step`]): the
+//!    the starting-step estimate at the new point is smaller (`restart_step`): the
 //!    equations changed, and a step that suited the old ones may straddle a kink of the
 //!    new ones (measured: keeping it made SDIRK4 and BDF fail Newton on S4's plateau
 //!    exits).
@@ -49,14 +49,14 @@ pub struct StepState {
     /// The time of the accepted point before the current one, while the solution has
     /// been smooth since then (no start or restart in between): with it a one-step method
     /// writes the quintic two-step Hermite extension
-    /// ([`DenseStep::set_hermite5`]) instead of its own lower-degree one.
+    /// (`DenseStep::set_hermite5`) instead of its own lower-degree one.
     pub prev: Option<f64>,
     /// `y` at the previous point (meaningful while `prev` is `Some`).
     pub prev_y: Vec<f64>,
     /// `f` at the previous point (meaningful while `prev` is `Some`).
     pub prev_f: Vec<f64>,
     /// The system's [`OdeSystem::second_order`] (set at the start): positions are then
-    /// read back with [`DenseStep::set_positions_quintic`].
+    /// read back with `DenseStep::set_positions_quintic`.
     pub second_order: Option<usize>,
 }
 

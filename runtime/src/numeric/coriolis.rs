@@ -97,7 +97,7 @@ pub fn mass_matrix_derivatives(model: &Model, q: &DVector<f64>) -> Vec<DMatrix<f
 }
 
 /// Christoffel symbols of the first kind, `out[i][(j, k)] = c_ijk` (the layout of
-/// [`crate::system::Mechanism::christoffel_symbols`]), with `D_k` of
+/// [`crate::kernels::Christoffel::christoffel_symbols`]), with `D_k` of
 /// [`mass_matrix_derivatives`].
 pub fn christoffel_symbols(model: &Model, q: &DVector<f64>) -> Vec<DMatrix<f64>> {
     let dm = mass_matrix_derivatives(model, q);
@@ -124,7 +124,7 @@ pub fn coriolis_matrix(model: &Model, q: &DVector<f64>, v: &DVector<f64>) -> DMa
 }
 
 /// Coriolis matrix in the quasi-velocities of a model with Lie-group joints
-/// ([`crate::liegroup::LieMechanism::coriolis_matrix`]):
+/// ([`crate::kernels::Coriolis::coriolis_matrix`]):
 ///
 /// ```text
 /// C_ij = Σ_k ½ (D_k M_ij + D_j M_ik − D_i M_jk) v_k + X_ij,   X_ij = (M v)·[e_i, e_j]

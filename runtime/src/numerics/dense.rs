@@ -7,11 +7,11 @@
 //!
 //! | method | extension | degree | local error |
 //! |---|---|---|---|
-//! | DOPRI5, first step after a (re)start | Dormand–Prince continuous extension ([`set_dopri5`](DenseStep::set_dopri5)) | 4 | `O(h⁵)` |
+//! | DOPRI5, first step after a (re)start | Dormand–Prince continuous extension (`set_dopri5`) | 4 | `O(h⁵)` |
 //! | BDF of order k | the interpolating polynomial through its `k + 1` last points | k | `O(h^{k+1})` |
-//! | RK4, SDIRK4, first step after a (re)start | cubic Hermite on the step's ends ([`set_hermite`](DenseStep::set_hermite)) | 3 | `O(h⁴)` |
-//! | DOPRI5, RK4, SDIRK4 after their first step since a (re)start | quintic Hermite through the last three points ([`set_hermite5`](DenseStep::set_hermite5)) | 5 | `O(h⁶)` |
-//! | DOPRI5, RK4, SDIRK4: the positions `q` of a second-order system `[q; v]` ([`OdeSystem::second_order`](crate::OdeSystem::second_order)), every step | quintic Hermite in `q, q̇, q̈` on the step's ends ([`set_positions_quintic`](DenseStep::set_positions_quintic)) | 5 | `O(h⁶)`, a ninth of the two-step quintic's constant |
+//! | RK4, SDIRK4, first step after a (re)start | cubic Hermite on the step's ends (`set_hermite`) | 3 | `O(h⁴)` |
+//! | DOPRI5, RK4, SDIRK4 after their first step since a (re)start | quintic Hermite through the last three points (`set_hermite5`) | 5 | `O(h⁶)` |
+//! | DOPRI5, RK4, SDIRK4: the positions `q` of a second-order system `[q; v]` ([`OdeSystem::second_order`](crate::OdeSystem::second_order)), every step | quintic Hermite in `q, q̇, q̈` on the step's ends (`set_positions_quintic`) | 5 | `O(h⁶)`, a ninth of the two-step quintic's constant |
 //!
 //! The first two rows serve event location inside that first step; a stored
 //! [`Solution`](crate::Solution) (`Output::Steps`) rewrites that step as the quintic

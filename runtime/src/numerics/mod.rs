@@ -1,8 +1,8 @@
 //! Shared numerics, below every method and driver: weighted error norms and step-size
 //! limits (here), step-size control ([`control`]), Butcher tableaus as data
 //! ([`tableau`]), polynomial dense output ([`dense`]), counted evaluation of a system
-//! ([`eval`]), the simplified-Newton matrix and finite-difference Jacobians
-//! ([`newton`]) with its small dense LU ([`lu`]), and bracketing root finding on dense output ([`rootfind`]).
+//! (`eval`), the simplified-Newton matrix and finite-difference Jacobians
+//! (`newton`) with its small dense LU (`lu`), and bracketing root finding on dense output ([`rootfind`]).
 //!
 //! Nothing here knows a method or a driver; methods (`crate::method`, the Lie-group
 //! ones in `crate::liegroup`) and drivers (`crate::solve`, `crate::nonsmooth`) use it.

@@ -57,5 +57,5 @@ impl Hasher for FxHasher {
     }
 }
 
-/// A `HashMap` with [`FxHasher`].
+/// A `HashMap` with `FxHasher`.
 pub type FastMap<K, V> = HashMap<K, V, BuildHasherDefault<FxHasher>>;

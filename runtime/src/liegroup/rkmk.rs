@@ -45,7 +45,7 @@ use super::events::{EventTracker, LieEvent, LieEventHit};
 use super::so3::{self, UnitQuat};
 use super::{LieState, LieSystem};
 use crate::numerics::tableau::{DOPRI5, DOPRI5_DENSE, dopri5_dense};
-use crate::numerics::{error_norm, underflow};
+use crate::numerics::{error_norm, starting_step, underflow};
 use crate::{ErrorKind, Keep, Options, Output, PiController, Solution, SolveError, Stats};
 use nalgebra::Vector3;
 
@@ -513,9 +513,10 @@ fn stages<S: LieSystem + ?Sized>(
     Ok(true)
 }
 
-/// Hairer's starting step (*Solving ODEs I*, §II.4, p. 169) in local coordinates, with
-/// the weights of the error norm, for a method of order `order`; one extra rhs
-/// evaluation. `f0 = f(t₀, y₀)`.
+/// The starting step ([`starting_step`], shared with the flat methods) in the local
+/// coordinates of the first step, for a method of order `order`; one extra rhs
+/// evaluation. `f0 = f(t₀, y₀)`. The trial step is at most 1 (a trial rotation stays
+/// well inside the chart).
 pub(super) fn initial_step<S: LieSystem + ?Sized>(
     run: &mut LieRun<'_, S>,
     problem: &LieProblem,
@@ -523,45 +524,24 @@ pub(super) fn initial_step<S: LieSystem + ?Sized>(
     order: u32,
     options: &Options,
 ) -> Result<f64, ErrorKind> {
-    let span = problem.tf - problem.t0;
-    if let Some(h0) = options.h0 {
-        return Ok(h0.min(options.h_max).min(span));
-    }
     let y0 = &problem.y0;
     let d = 3 * y0.rotations.len() + y0.euclid.len() + y0.velocity.len();
     let (mut mag, zero) = (vec![0.0; d], vec![0.0; d]);
-    let (mut k0, mut k1, mut theta) = (vec![0.0; d], vec![0.0; d], vec![0.0; d]);
+    let (mut k0, mut theta) = (vec![0.0; d], vec![0.0; d]);
     magnitudes(y0, &mut mag);
     chart_field(&zero, y0, f0, &mut k0);
-    let d0 = error_norm(&mag, &zero, &mag, options);
-    let d1 = error_norm(&k0, &zero, &mag, options);
-    let h0 = if d0 < 1e-5 || d1 < 1e-5 {
-        1e-6
-    } else {
-        0.01 * d0 / d1
-    };
-    let h0 = h0.min(options.h_max).min(span).min(1.0);
-    for (x, k) in theta.iter_mut().zip(&k0) {
-        *x = h0 * k;
-    }
     let mut point = y0.clone();
     let mut f = vec![0.0; f0.len()];
-    retract(y0, &theta, &mut point);
-    run.rhs(problem.t0 + h0, &point, &mut f)?;
-    chart_field(&theta, &point, &f, &mut k1);
-    let diff: Vec<f64> = k1.iter().zip(&k0).map(|(a, b)| (a - b) / h0).collect();
-    let d2 = error_norm(&diff, &zero, &mag, options);
-    let dmax = d1.max(d2);
-    let h1 = if dmax <= 1e-15 {
-        (h0 * 1e-3).max(1e-6)
-    } else {
-        (0.01 / dmax).powf(1.0 / f64::from(order + 1))
-    };
-    Ok((100.0 * h0)
-        .min(h1)
-        .min(options.h_max)
-        .min(span)
-        .max(options.h_min))
+    let span = problem.tf - problem.t0;
+    starting_step(&mag, &k0, span, 1.0, order, options, |h0, k1| {
+        for (x, k) in theta.iter_mut().zip(&k0) {
+            *x = h0 * k;
+        }
+        retract(y0, &theta, &mut point);
+        run.rhs(problem.t0 + h0, &point, &mut f)?;
+        chart_field(&theta, &point, &f, k1);
+        Ok(())
+    })
 }
 
 /// The accepted states of a Lie-group integration with their dense output.

@@ -95,23 +95,46 @@ pub(crate) fn initial_step(
     options: &Options,
     mut rhs: impl FnMut(f64, &[f64], &mut [f64]) -> Result<(), ErrorKind>,
 ) -> Result<f64, ErrorKind> {
+    let mut y1 = vec![0.0; y0.len()];
+    starting_step(y0, f0, span, f64::INFINITY, order, options, |h0, f1| {
+        for ((x, y), f) in y1.iter_mut().zip(y0).zip(f0) {
+            *x = y + h0 * f;
+        }
+        rhs(t0 + h0, &y1, f1)
+    })
+}
+
+/// The algorithm of [`initial_step`] in any coordinates: `scale` are the magnitudes
+/// that weight the norms (`y0` itself for a state vector), `f0` the derivative at the
+/// start, `h0_max` a bound on the trial step (a Lie-group chart keeps it below 1), and
+/// `f_at(h0, f1)` writes the derivative one Euler step `h0 · f0` away from the start
+/// (in the same coordinates). Shared by the flat methods and, in the exponential chart
+/// of each step, by the Lie-group ones.
+pub(crate) fn starting_step(
+    scale: &[f64],
+    f0: &[f64],
+    span: f64,
+    h0_max: f64,
+    order: u32,
+    options: &Options,
+    mut f_at: impl FnMut(f64, &mut [f64]) -> Result<(), ErrorKind>,
+) -> Result<f64, ErrorKind> {
     if let Some(h0) = options.h0 {
         return Ok(h0.min(options.h_max).min(span));
     }
-    let zero = vec![0.0; y0.len()];
-    let d0 = error_norm(y0, &zero, y0, options);
-    let d1 = error_norm(f0, &zero, y0, options);
+    let zero = vec![0.0; scale.len()];
+    let d0 = error_norm(scale, &zero, scale, options);
+    let d1 = error_norm(f0, &zero, scale, options);
     let h0 = if d0 < 1e-5 || d1 < 1e-5 {
         1e-6
     } else {
         0.01 * d0 / d1
     };
-    let h0 = h0.min(options.h_max).min(span);
-    let y1: Vec<f64> = y0.iter().zip(f0).map(|(y, f)| y + h0 * f).collect();
-    let mut f1 = vec![0.0; y0.len()];
-    rhs(t0 + h0, &y1, &mut f1)?;
+    let h0 = h0.min(options.h_max).min(span).min(h0_max);
+    let mut f1 = vec![0.0; f0.len()];
+    f_at(h0, &mut f1)?;
     let diff: Vec<f64> = f1.iter().zip(f0).map(|(a, b)| (a - b) / h0).collect();
-    let d2 = error_norm(&diff, &zero, y0, options);
+    let d2 = error_norm(&diff, &zero, scale, options);
     let d = d1.max(d2);
     let h1 = if d <= 1e-15 {
         (h0 * 1e-3).max(1e-6)

@@ -79,9 +79,7 @@
 use nalgebra::{DMatrix, DVector, Vector3};
 
 use super::events::{LieEvent, LieEventHit};
-use super::rkmk::{
-    LieMethod, LieRun, LieStepper, chart_field, drive, initial_step, magnitudes, retract,
-};
+use super::rkmk::{LieMethod, LieRun, LieStepper, begin, chart_field, drive, magnitudes, retract};
 use super::so3::{self, UnitQuat};
 use super::{LieProblem, LieState, LieSystem, LieTrajectory};
 use crate::numerics::newton::{
@@ -224,16 +222,16 @@ impl LieStepper for LieSdirkStepper {
         run: &mut LieRun<'_, S>,
         problem: &LieProblem,
     ) -> Result<(), ErrorKind> {
-        self.t = problem.t0;
-        self.y.clone_from(&problem.y0);
-        run.rhs(self.t, &self.y, &mut self.f)?;
-        run.traj.push(&self.y, self.t, &self.f);
-        if problem.tf > problem.t0 {
-            self.h = match self.method.fixed_step {
-                Some(h) => h,
-                None => initial_step(run, problem, &self.f, 4, &self.method.options)?,
-            };
-        }
+        let method = &self.method;
+        (self.t, self.h) = begin(
+            run,
+            problem,
+            &mut self.y,
+            &mut self.f,
+            method.fixed_step,
+            4,
+            &method.options,
+        )?;
         Ok(())
     }
 

@@ -208,16 +208,16 @@ impl LieStepper for Rkmk5Stepper {
         run: &mut LieRun<'_, S>,
         problem: &LieProblem,
     ) -> Result<(), ErrorKind> {
-        self.t = problem.t0;
-        self.y.clone_from(&problem.y0);
-        run.rhs(self.t, &self.y, &mut self.st.f0)?;
-        run.traj.push(&self.y, self.t, &self.st.f0);
-        if problem.tf > problem.t0 {
-            self.h = match self.method.fixed_step {
-                Some(h) => h,
-                None => initial_step(run, problem, &self.st.f0, 5, &self.method.options)?,
-            };
-        }
+        let (method, f) = (&self.method, &mut self.st.f0);
+        (self.t, self.h) = begin(
+            run,
+            problem,
+            &mut self.y,
+            f,
+            method.fixed_step,
+            5,
+            &method.options,
+        )?;
         Ok(())
     }
 
@@ -297,6 +297,30 @@ impl LieStepper for Rkmk5Stepper {
             self.h *= self.controller.reject(err);
         }
     }
+}
+
+/// [`LieStepper::start`] for a method of `order`: `y = y0`, `f = f(t0, y0)`, the first
+/// point stored; returns `t0` and the first step to try (`fixed_step`, or the starting
+/// step when the interval is not empty).
+pub(super) fn begin<S: LieSystem + ?Sized>(
+    run: &mut LieRun<'_, S>,
+    problem: &LieProblem,
+    y: &mut LieState,
+    f: &mut [f64],
+    fixed_step: Option<f64>,
+    order: u32,
+    options: &Options,
+) -> Result<(f64, f64), ErrorKind> {
+    let t = problem.t0;
+    y.clone_from(&problem.y0);
+    run.rhs(t, y, f)?;
+    run.traj.push(y, t, f);
+    let h = match fixed_step {
+        Some(h) => h,
+        None if problem.tf > t => initial_step(run, problem, f, order, options)?,
+        None => 0.0,
+    };
+    Ok((t, h))
 }
 
 /// The step-level core of a Lie-group method, under the one driver [`drive`] (the
@@ -517,7 +541,7 @@ fn stages<S: LieSystem + ?Sized>(
 /// coordinates of the first step, for a method of order `order`; one extra rhs
 /// evaluation. `f0 = f(t₀, y₀)`. The trial step is at most 1 (a trial rotation stays
 /// well inside the chart).
-pub(super) fn initial_step<S: LieSystem + ?Sized>(
+fn initial_step<S: LieSystem + ?Sized>(
     run: &mut LieRun<'_, S>,
     problem: &LieProblem,
     f0: &[f64],

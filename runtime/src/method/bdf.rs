@@ -32,7 +32,8 @@
 //! to the imaginary axis (lightly damped fast oscillations), prefer [`Sdirk4`].
 //!
 //! **When to use.** Stiff problems with a smooth solution, where it needs one
-//! Newton solve per step (about two right-hand-side evaluations) instead of one per
+//! Newton solve per step (1.2–1.3 right-hand-side evaluations on the double pendulum
+//! and the Panda at rtol 1e-8) instead of one per
 //! stage: it is the default stiff method of CVODE, `ode15s` and diffsol. For a
 //! discontinuous right-hand side, many restarts or a very low accuracy, [`Sdirk4`]
 //! (one-step, L-stable) is the safer choice.

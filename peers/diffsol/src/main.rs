@@ -22,13 +22,13 @@ use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
     MechanicalSystem, Method, NonSmoothMethod, NonSmoothProblem, Options, Output, Problem,
-    SmoothMethod, Solution, solve, solve_nonsmooth,
+    SmoothMethod, Solution, Stats, solve, solve_nonsmooth,
 };
 use filippov_scenes::{CoulombOscillator, DoublePendulum, Panda};
 
 use exact::CoulombFreeDecay;
 use ode::{Mechanical, Regularised};
-use run::{Solver, Wall, median};
+use run::{Solver, Wall, interleaved, median};
 
 /// Timed repetitions after one warm-up.
 const REPEATS: usize = 5;
@@ -144,39 +144,15 @@ fn smooth<S: Mechanism<N>, const N: usize>(
         sci(agree)
     ));
     let ode = Mechanical::new(sys);
-    for solver in [
+    let diffsol_settings: Vec<(Solver, f64)> = [
         Solver::Bdf,
         Solver::Esdirk34,
         Solver::TrBdf2,
         Solver::Tsit45,
-    ] {
-        for rtol in SMOOTH_RTOLS {
-            let atol = rtol * 1e-2;
-            let setting = format!("rtol={rtol:.0e}");
-            let (time, result) = median(REPEATS, || {
-                run::solve(&ode, solver, rtol, atol, 0.0, &y0, &grid, false)
-            });
-            rows.push(match result {
-                Ok(r) => {
-                    let (fin, max) = errors(&r.values, &ref_dopri, 2 * N);
-                    Row {
-                        scene,
-                        solver: solver.name().into(),
-                        setting,
-                        time,
-                        steps: Some(r.steps),
-                        final_error: fin,
-                        max_grid_error: max,
-                        notes: format!(
-                            "atol={atol:.0e}; {} error-test failures, {} rhs calls, {} Jacobians ({} LU setups, {} Newton iterations)",
-                            r.error_test_failures, r.rhs_calls, r.jacobians, r.lu_setups, r.newton_iterations
-                        ),
-                    }
-                }
-                Err(e) => Row::failed(scene, solver.name(), setting, &e),
-            });
-        }
-    }
+    ]
+    .into_iter()
+    .flat_map(|solver| SMOOTH_RTOLS.map(|rtol| (solver, rtol)))
+    .collect();
     // Our runs keep only the grid's rows (`Output::Times`, each evaluated on the method's
     // dense output as the integration passes it), as diffsol's interpolate to the grid.
     let on_the_grid = problem.clone().with_output(Output::Times(grid.clone()));
@@ -186,38 +162,96 @@ fn smooth<S: Mechanism<N>, const N: usize>(
         ("filippov SDIRK4", Method::Sdirk4),
         ("filippov BDF", Method::Bdf),
     ];
-    for (name, make) in ours {
-        for rtol in SMOOTH_RTOLS {
-            let atol = rtol * 1e-2;
-            let setting = format!("rtol={rtol:.0e}");
-            let method = make(Options::tolerances(rtol, atol));
-            let (time, result) = median(REPEATS, || {
-                solve(&system, &on_the_grid, &method).map(|t| (on_grid(&t, &grid), t.stats))
-            });
-            rows.push(match result {
-                Ok((values, s)) => {
-                    let (fin, max) = errors(&values, &ref_rk4, 2 * N);
-                    Row {
-                        scene,
-                        solver: name.into(),
-                        setting,
-                        time,
-                        steps: Some(s.steps),
-                        final_error: fin,
-                        max_grid_error: max,
-                        notes: format!(
-                            "atol={atol:.0e}; {} rejected, {} rhs calls, {} Jacobians ({} LU setups, {} Newton iterations)",
-                            s.rejected_steps,
-                            s.rhs_evaluations,
-                            s.jacobian_evaluations,
-                            s.lu_factorisations,
-                            s.newton_iterations
-                        ),
-                    }
-                }
-                Err(e) => Row::failed(scene, name, setting, &e.to_string()),
-            });
+    let our_settings: Vec<(&str, Make, f64)> = ours
+        .into_iter()
+        .flat_map(|(name, make)| SMOOTH_RTOLS.map(|rtol| (name, make, rtol)))
+        .collect();
+    // Every run of the scene, diffsol's and ours, timed in rounds (see `interleaved`):
+    // a change of the machine's load during the scene reaches all of them alike.
+    type Ours = Result<(Vec<Vec<f64>>, Stats), String>;
+    let mut theirs: Vec<Option<Result<run::Run, String>>> =
+        diffsol_settings.iter().map(|_| None).collect();
+    let mut mine: Vec<Option<Ours>> = our_settings.iter().map(|_| None).collect();
+    let times = {
+        let mut jobs: Vec<Box<dyn FnMut() + '_>> = Vec::new();
+        for (slot, &(solver, rtol)) in theirs.iter_mut().zip(&diffsol_settings) {
+            let (ode, y0, grid) = (&ode, &y0, &grid);
+            jobs.push(Box::new(move || {
+                *slot = Some(run::solve(
+                    ode,
+                    solver,
+                    rtol,
+                    rtol * 1e-2,
+                    0.0,
+                    y0,
+                    grid,
+                    false,
+                ));
+            }));
         }
+        for (slot, &(_, make, rtol)) in mine.iter_mut().zip(&our_settings) {
+            let method = make(Options::tolerances(rtol, rtol * 1e-2));
+            let (system, on_the_grid, grid) = (&system, &on_the_grid, &grid);
+            jobs.push(Box::new(move || {
+                *slot = Some(
+                    solve(system, on_the_grid, &method)
+                        .map(|t| (on_grid(&t, grid), t.stats))
+                        .map_err(|e| e.to_string()),
+                );
+            }));
+        }
+        interleaved(REPEATS, &mut jobs)
+    };
+    let (their_times, our_times) = times.split_at(diffsol_settings.len());
+    for ((&(solver, rtol), result), &time) in diffsol_settings.iter().zip(theirs).zip(their_times) {
+        let atol = rtol * 1e-2;
+        let setting = format!("rtol={rtol:.0e}");
+        rows.push(match result.expect("run") {
+            Ok(r) => {
+                let (fin, max) = errors(&r.values, &ref_dopri, 2 * N);
+                Row {
+                    scene,
+                    solver: solver.name().into(),
+                    setting,
+                    time,
+                    steps: Some(r.steps),
+                    final_error: fin,
+                    max_grid_error: max,
+                    notes: format!(
+                        "atol={atol:.0e}; {} error-test failures, {} rhs calls, {} Jacobians ({} LU setups, {} Newton iterations)",
+                        r.error_test_failures, r.rhs_calls, r.jacobians, r.lu_setups, r.newton_iterations
+                    ),
+                }
+            }
+            Err(e) => Row::failed(scene, solver.name(), setting, &e),
+        });
+    }
+    for ((&(name, _, rtol), result), &time) in our_settings.iter().zip(mine).zip(our_times) {
+        let atol = rtol * 1e-2;
+        let setting = format!("rtol={rtol:.0e}");
+        rows.push(match result.expect("run") {
+            Ok((values, s)) => {
+                let (fin, max) = errors(&values, &ref_rk4, 2 * N);
+                Row {
+                    scene,
+                    solver: name.into(),
+                    setting,
+                    time,
+                    steps: Some(s.steps),
+                    final_error: fin,
+                    max_grid_error: max,
+                    notes: format!(
+                        "atol={atol:.0e}; {} rejected, {} rhs calls, {} Jacobians ({} LU setups, {} Newton iterations)",
+                        s.rejected_steps,
+                        s.rhs_evaluations,
+                        s.jacobian_evaluations,
+                        s.lu_factorisations,
+                        s.newton_iterations
+                    ),
+                }
+            }
+            Err(e) => Row::failed(scene, name, setting, &e),
+        });
     }
 }
 

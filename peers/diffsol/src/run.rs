@@ -195,6 +195,46 @@ impl Wall {
 }
 
 /// The wall time of `repeats` calls after one warm-up, and the last result.
+/// Times every job `repeats` times after one warm-up call each, in rounds: round `r`
+/// runs each job once, starting from job `r` (so no job is always first or last). A
+/// slow-down of the machine during the rounds reaches every job alike, so the ratios of
+/// their times stay meaningful on a shared machine. Each job keeps its own result.
+pub fn interleaved(repeats: usize, jobs: &mut [Box<dyn FnMut() + '_>]) -> Vec<Wall> {
+    let n = jobs.len();
+    for job in jobs.iter_mut() {
+        job();
+    }
+    let mut times = vec![Vec::with_capacity(repeats); n];
+    for round in 0..repeats {
+        for k in 0..n {
+            let j = (round + k) % n;
+            let start = Instant::now();
+            jobs[j]();
+            times[j].push(start.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    times.into_iter().map(wall).collect()
+}
+
+/// Median, fastest and slowest of `times` (ms).
+fn wall(mut times: Vec<f64>) -> Wall {
+    times.sort_by(f64::total_cmp);
+    let n = times.len();
+    if n == 0 {
+        return Wall::NONE;
+    }
+    let median = if n % 2 == 1 {
+        times[n / 2]
+    } else {
+        0.5 * (times[n / 2 - 1] + times[n / 2])
+    };
+    Wall {
+        median,
+        min: times[0],
+        max: times[n - 1],
+    }
+}
+
 pub fn median<T>(repeats: usize, mut f: impl FnMut() -> T) -> (Wall, T) {
     let mut out = f();
     let mut times = Vec::with_capacity(repeats);
@@ -203,20 +243,5 @@ pub fn median<T>(repeats: usize, mut f: impl FnMut() -> T) -> (Wall, T) {
         out = std::hint::black_box(f());
         times.push(start.elapsed().as_secs_f64() * 1e3);
     }
-    times.sort_by(f64::total_cmp);
-    let n = times.len();
-    if n == 0 {
-        return (Wall::NONE, out);
-    }
-    let median = if n % 2 == 1 {
-        times[n / 2]
-    } else {
-        0.5 * (times[n / 2 - 1] + times[n / 2])
-    };
-    let wall = Wall {
-        median,
-        min: times[0],
-        max: times[n - 1],
-    };
-    (wall, out)
+    (wall(times), out)
 }

@@ -349,6 +349,23 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
     let tf = problem.tf;
     let agree = grid_errors(&ref_dopri, &ref_sdirk, tf).0;
     page.para(&format!("References: event-driven SDIRK4 and DOPRI5 at rtol 1e-12; they agree to {} in x over the run.", sci(agree)));
+    // How well the switch times are determined: the references' own disagreement per
+    // switch, against their disagreement in x. A switch reached tangentially (at the fold
+    // of a branch, say) moves far more than the state does.
+    let reference_switches = switch_spread(&ref_sdirk, &ref_dopri);
+    if let Some((dt, i)) = reference_switches {
+        let sw = &ref_sdirk.switches[i];
+        page.para(&format!(
+            "Their switch times agree to {} (largest at switch {i}, t = {:.4}, `{}` from {} to {}): {:.0} times their agreement in x. A run's switch-time error is its state error times such a factor, so at that switch a bound of 100·rtol needs a state error near {:.2}·rtol or below.",
+            sci(dt),
+            sw.t,
+            sw.element.as_deref().unwrap_or("—"),
+            sw.from.map_or("—".into(), |m| format!("{m:?}")),
+            sw.to.map_or("—".into(), |m| format!("{m:?}")),
+            dt / agree.max(f64::MIN_POSITIVE),
+            100.0 * agree / dt,
+        ));
+    }
     let mut rows = Vec::new();
     let mut curves: Vec<Series> = METHODS
         .iter()
@@ -428,8 +445,15 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
         ],
         &rows,
     );
+    let spread = reference_switches.map_or(String::new(), |(dt, _)| {
+        format!(
+            " (the two references' switch times differ by up to {}, {:.0}× their difference in x)",
+            sci(dt),
+            dt / agree.max(f64::MIN_POSITIVE)
+        )
+    });
     summary.push(format!(
-        "{name}: event-driven switch logs equal to the reference's in {} of {} runs; largest switch-time error {worst_ratio:.0}·rtol",
+        "{name}: event-driven switch logs equal to the reference's in {} of {} runs; largest switch-time error {worst_ratio:.0}·rtol{spread}",
         rows.iter().filter(|r| !r[6].is_empty() && r[6] != "—").count() - mismatches,
         rows.iter().filter(|r| !r[6].is_empty() && r[6] != "—").count(),
     ));
@@ -1172,6 +1196,19 @@ fn resting_on_limits(config: &Config, short: f64) -> Vec<Vec<String>> {
         },
     );
     rows
+}
+
+/// The largest switch-time difference between two runs whose switch logs match, and at
+/// which switch.
+fn switch_spread(a: &Solution, b: &Solution) -> Option<(f64, usize)> {
+    compare_switches(a, b, 1.0)?;
+    a.switches
+        .iter()
+        .zip(&b.switches)
+        .map(|(x, y)| (x.t - y.t).abs())
+        .enumerate()
+        .max_by(|p, q| p.1.total_cmp(&q.1))
+        .map(|(i, dt)| (dt, i))
 }
 
 /// The largest switch-time difference to `reference` in units of `rtol`, if the two

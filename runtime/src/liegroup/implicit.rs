@@ -79,7 +79,9 @@
 use nalgebra::{DMatrix, DVector, Vector3};
 
 use super::events::{LieEvent, LieEventHit};
-use super::rkmk::{LieMethod, LieRun, LieStepper, begin, chart_field, drive, magnitudes, retract};
+use super::rkmk::{
+    LieMethod, LieRun, LieStepper, attempt, begin, chart_field, drive, magnitudes, retract,
+};
 use super::so3::{self, UnitQuat};
 use super::{LieProblem, LieState, LieSystem, LieTrajectory};
 use crate::numerics::newton::{
@@ -247,24 +249,7 @@ impl LieStepper for LieSdirkStepper {
         let e = SDIRK4.error_weights();
         let t = self.t;
         loop {
-            if self.attempts >= opts.max_steps {
-                return Err(ErrorKind::MaxSteps { t });
-            }
-            self.attempts += 1;
-            let mut h = self.h;
-            let last = match fixed_step {
-                Some(h_fixed) => {
-                    h = h_fixed;
-                    t + h * (1.0 + 1e-9) >= tf
-                }
-                None => {
-                    h = h.min(opts.h_max);
-                    t + 1.01 * h >= tf
-                }
-            };
-            if last {
-                h = tf - t;
-            }
+            let (h, last) = attempt(&mut self.attempts, self.h, fixed_step, &opts, t, tf)?;
             self.h = h;
             if underflow(t, h, &opts) {
                 return Err(self

@@ -230,25 +230,14 @@ impl LieStepper for Rkmk5Stepper {
         let e = DOPRI5.error_weights();
         let (t, st) = (self.t, &mut self.st);
         loop {
-            if self.attempts >= opts.max_steps {
-                return Err(ErrorKind::MaxSteps { t });
-            }
-            self.attempts += 1;
-            let mut h = self.h;
-            let last = match self.method.fixed_step {
-                Some(h_fixed) => {
-                    h = h_fixed;
-                    // Shorten the last step, and avoid a sliver from round-off.
-                    t + h * (1.0 + 1e-9) >= tf
-                }
-                None => {
-                    h = h.min(opts.h_max);
-                    t + 1.01 * h >= tf
-                }
-            };
-            if last {
-                h = tf - t;
-            }
+            let (h, last) = attempt(
+                &mut self.attempts,
+                self.h,
+                self.method.fixed_step,
+                opts,
+                t,
+                tf,
+            )?;
             self.h = h;
             if underflow(t, h, opts) {
                 return Err(ErrorKind::StepSizeUnderflow { t, h });
@@ -297,6 +286,32 @@ impl LieStepper for Rkmk5Stepper {
             self.h *= self.controller.reject(err);
         }
     }
+}
+
+/// The next attempt from `t` towards `tf` with the step `h` wanted (`fixed_step` if
+/// set, else `h` within `h_max`), counted against `max_steps`: the step to take, cut to
+/// end at `tf` (without leaving a sliver), and whether it is the last.
+pub(super) fn attempt(
+    attempts: &mut usize,
+    h: f64,
+    fixed_step: Option<f64>,
+    options: &Options,
+    t: f64,
+    tf: f64,
+) -> Result<(f64, bool), ErrorKind> {
+    if *attempts >= options.max_steps {
+        return Err(ErrorKind::MaxSteps { t });
+    }
+    *attempts += 1;
+    let (h, last) = match fixed_step {
+        // Shorten the last step, and avoid a sliver from round-off.
+        Some(h) => (h, t + h * (1.0 + 1e-9) >= tf),
+        None => {
+            let h = h.min(options.h_max);
+            (h, t + 1.01 * h >= tf)
+        }
+    };
+    Ok((if last { tf - t } else { h }, last))
 }
 
 /// [`LieStepper::start`] for a method of `order`: `y = y0`, `f = f(t0, y0)`, the first

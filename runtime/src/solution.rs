@@ -319,6 +319,7 @@ impl Solution {
         let (tp, ta) = (self.t[len - 2], self.t[len - 1]);
         let mut refined = DenseStep::new(nd);
         refined.set_hermite5(
+            refined.positions(self.second_order),
             t,
             &y[..nd],
             &dy[..nd],

@@ -55,8 +55,9 @@ pub struct StepState {
     pub prev_y: Vec<f64>,
     /// `f` at the previous point (meaningful while `prev` is `Some`).
     pub prev_f: Vec<f64>,
-    /// The system's [`OdeSystem::second_order`] (set at the start): positions are then
-    /// read back with `DenseStep::set_positions_quintic`.
+    /// The system's [`OdeSystem::second_order`] when its
+    /// [`dense_positions`](OdeSystem::dense_positions) is on (set at the start):
+    /// positions are then read back with `DenseStep::set_positions_quintic`.
     pub second_order: Option<usize>,
 }
 
@@ -87,8 +88,12 @@ impl StepState {
         f1: &[f64],
         own: impl FnOnce(&mut DenseStep, &[f64], &[f64]),
     ) {
+        // The positions of a second-order state get their own quintic below: the
+        // two-step Hermite is not computed for them.
+        let first = self.dense.positions(self.second_order);
         match self.prev {
             Some(tm) => self.dense.set_hermite5(
+                first,
                 tm,
                 &self.prev_y,
                 &self.prev_f,
@@ -135,7 +140,10 @@ impl StepState {
     ) -> Result<(), ErrorKind> {
         self.options.validate().map_err(ErrorKind::InvalidInput)?;
         self.forget();
-        self.second_order = ev.system.second_order();
+        self.second_order = ev
+            .system
+            .second_order()
+            .filter(|_| ev.system.dense_positions());
         self.t = t;
         self.y.copy_from_slice(y);
         ev.rhs(t, y, &mut self.f)?;

@@ -331,6 +331,11 @@ where
     fn second_order(&self) -> Option<usize> {
         Some(N)
     }
+
+    /// Positions read back with the quintic in `q, q̇, q̈` (see the trait).
+    fn dense_positions(&self) -> bool {
+        true
+    }
 }
 
 /// One event-driven integration in progress.

@@ -11,7 +11,7 @@
 //! | BDF of order k | the interpolating polynomial through its `k + 1` last points | k | `O(h^{k+1})` |
 //! | RK4, SDIRK4, first step after a (re)start | cubic Hermite on the step's ends (`set_hermite`) | 3 | `O(h⁴)` |
 //! | DOPRI5, RK4, SDIRK4 after their first step since a (re)start | quintic Hermite through the last three points (`set_hermite5`) | 5 | `O(h⁶)` |
-//! | DOPRI5, RK4, SDIRK4: the positions `q` of a second-order system `[q; v]` ([`OdeSystem::second_order`](crate::OdeSystem::second_order)), every step | quintic Hermite in `q, q̇, q̈` on the step's ends (`set_positions_quintic`) | 5 | `O(h⁶)`, a ninth of the two-step quintic's constant |
+//! | DOPRI5, RK4, SDIRK4: the positions `q` of a second-order system `[q; v]` whose [`OdeSystem::dense_positions`](crate::OdeSystem::dense_positions) is on (the event-driven integrator's), every step | quintic Hermite in `q, q̇, q̈` on the step's ends (`set_positions_quintic`) | 5 | `O(h⁶)`, a ninth of the two-step quintic's constant |
 //!
 //! The first two rows serve event location inside that first step; a stored
 //! [`Solution`](crate::Solution) (`Output::Steps`) rewrites that step as the quintic
@@ -121,9 +121,13 @@ impl DenseStep {
     /// local error of every one-step method here, so reading a solution between its steps
     /// costs no accuracy. It needs a smooth solution over `[tm, t0 + h]`: the steppers use
     /// it only when no restart (a discontinuity) lies between `tm` and `t0`.
+    ///
+    /// Components before `first` are left zero, for the caller to write (the positions of
+    /// a second-order state, [`set_positions_quintic`](Self::set_positions_quintic)).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn set_hermite5(
         &mut self,
+        first: usize,
         tm: f64,
         ym: &[f64],
         fm: &[f64],
@@ -148,7 +152,7 @@ impl DenseStep {
             }
         }
         let c = self.reset(t0, h, 5);
-        for i in 0..n {
+        for i in first..n {
             // Confluent divided differences, column by column in place: after column k,
             // d[j] = p[z_{j−k} … z_j] for j ≥ k.
             let (v, dv) = ([y0[i], y1[i], ym[i]], [h * f0[i], h * f1[i], h * fm[i]]);
@@ -176,6 +180,18 @@ impl DenseStep {
             }
         }
         self.third_node = Some(tm);
+    }
+
+    /// The number of leading components [`set_positions_quintic`] writes for a
+    /// second-order state of `n` positions (`0` if there are none or `2n` exceeds the
+    /// state).
+    ///
+    /// [`set_positions_quintic`]: Self::set_positions_quintic
+    pub(crate) fn positions(&self, second_order: Option<usize>) -> usize {
+        match second_order {
+            Some(n) if 2 * n <= self.dim => n,
+            _ => 0,
+        }
     }
 
     /// Rewrites components `0..n` (the positions `q` of a state `[q; v]` with `q̇ = v`) as
@@ -407,6 +423,7 @@ mod tests {
         let mut d = DenseStep::new(1);
         let t1 = t0 + h;
         d.set_hermite5(
+            0,
             tm,
             &[y(tm)],
             &[dy(tm)],

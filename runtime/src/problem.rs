@@ -54,6 +54,15 @@ pub trait OdeSystem {
     }
 }
 
+/// The number of leading components whose dense output is the positions quintic: the
+/// system's [`second_order`](OdeSystem::second_order) `n` when its
+/// [`dense_positions`](OdeSystem::dense_positions) is on and `[q; v]` fits the state.
+pub(crate) fn dense_positions<S: OdeSystem + ?Sized>(system: &S) -> Option<usize> {
+    system
+        .second_order()
+        .filter(|&n| n > 0 && 2 * n <= system.dim() && system.dense_positions())
+}
+
 /// An [`OdeSystem`] from a closure `f(t, y, dy)`, for small problems and tests.
 pub struct FnSystem<F> {
     dim: usize,

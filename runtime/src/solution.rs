@@ -165,10 +165,10 @@ pub struct Solution {
     pub switches: Vec<Switch>,
     output: Output,
     recorder: Recorder,
-    /// The system's [`OdeSystem::second_order`](crate::OdeSystem::second_order): the
-    /// positions of a refined step are the quintic in `q, q̇, q̈`.
+    /// `Some(n)`: the first `n` columns are positions whose refined steps are the quintic
+    /// in `q, q̇, q̈` (see [`OdeSystem::dense_positions`](crate::OdeSystem::dense_positions)).
     #[cfg_attr(feature = "serde", serde(default))]
-    second_order: Option<usize>,
+    dense_positions: Option<usize>,
 }
 
 /// What the row filter of [`Output`] remembers between steps.
@@ -203,14 +203,14 @@ impl Solution {
             switches: Vec::new(),
             output,
             recorder: Recorder::default(),
-            second_order: None,
+            dense_positions: None,
         }
     }
 
-    /// States are `[q; v]` with `q̇ = v` over the first `2n` columns (see
-    /// [`OdeSystem::second_order`](crate::OdeSystem::second_order)).
-    pub(crate) fn with_second_order(mut self, n: Option<usize>) -> Self {
-        self.second_order = n;
+    /// The first `n` columns are positions read back with the quintic in `q, q̇, q̈` (see
+    /// [`OdeSystem::dense_positions`](crate::OdeSystem::dense_positions)).
+    pub(crate) fn with_dense_positions(mut self, n: Option<usize>) -> Self {
+        self.dense_positions = n;
         self
     }
 
@@ -319,7 +319,7 @@ impl Solution {
         let (tp, ta) = (self.t[len - 2], self.t[len - 1]);
         let mut refined = DenseStep::new(nd);
         refined.set_hermite5(
-            refined.positions(self.second_order),
+            self.dense_positions.unwrap_or(0),
             t,
             &y[..nd],
             &dy[..nd],
@@ -330,7 +330,7 @@ impl Solution {
             &self.state(len - 1)[..nd],
             &self.derivative(len - 1)[..nd],
         );
-        if let Some(n) = self.second_order {
+        if let Some(n) = self.dense_positions {
             refined.set_positions_quintic(
                 n,
                 &self.state(len - 2)[..nd],

@@ -81,7 +81,7 @@ where
     O: Observer + ?Sized,
 {
     let mut sol = Solution::new(system.names(), system.dim(), problem.output.clone())
-        .with_second_order(system.second_order().filter(|_| system.dense_positions()));
+        .with_dense_positions(crate::problem::dense_positions(system));
     let checked = if sol.dim() != system.dim() {
         Err(format!(
             "the system names {} components but has dimension {}",

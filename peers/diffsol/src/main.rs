@@ -59,6 +59,28 @@ struct Row {
 }
 
 impl Row {
+    /// A run that finished: `errors` are (final, max over the grid).
+    fn measured(
+        scene: &'static str,
+        solver: &str,
+        setting: String,
+        time: Wall,
+        steps: usize,
+        (final_error, max_grid_error): (f64, f64),
+        notes: String,
+    ) -> Row {
+        Row {
+            scene,
+            solver: solver.into(),
+            setting,
+            time,
+            steps: Some(steps),
+            final_error,
+            max_grid_error,
+            notes,
+        }
+    }
+
     fn failed(scene: &'static str, solver: &str, setting: String, why: &str) -> Row {
         Row {
             scene,
@@ -208,20 +230,12 @@ fn smooth<S: Mechanism<N>, const N: usize>(
         let setting = format!("rtol={rtol:.0e}");
         rows.push(match result.expect("run") {
             Ok(r) => {
-                let (fin, max) = errors(&r.values, &ref_dopri, 2 * N);
-                Row {
-                    scene,
-                    solver: solver.name().into(),
-                    setting,
-                    time,
-                    steps: Some(r.steps),
-                    final_error: fin,
-                    max_grid_error: max,
-                    notes: format!(
-                        "atol={atol:.0e}; {} error-test failures, {} rhs calls, {} Jacobians ({} LU setups, {} Newton iterations)",
-                        r.error_test_failures, r.rhs_calls, r.jacobians, r.lu_setups, r.newton_iterations
-                    ),
-                }
+                let notes = format!(
+                    "atol={atol:.0e}; {} error-test failures, {} rhs calls, {} Jacobians ({} LU setups, {} Newton iterations)",
+                    r.error_test_failures, r.rhs_calls, r.jacobians, r.lu_setups, r.newton_iterations
+                );
+                let errors = errors(&r.values, &ref_dopri, 2 * N);
+                Row::measured(scene, solver.name(), setting, time, r.steps, errors, notes)
             }
             Err(e) => Row::failed(scene, solver.name(), setting, &e),
         });
@@ -231,24 +245,16 @@ fn smooth<S: Mechanism<N>, const N: usize>(
         let setting = format!("rtol={rtol:.0e}");
         rows.push(match result.expect("run") {
             Ok((values, s)) => {
-                let (fin, max) = errors(&values, &ref_rk4, 2 * N);
-                Row {
-                    scene,
-                    solver: name.into(),
-                    setting,
-                    time,
-                    steps: Some(s.steps),
-                    final_error: fin,
-                    max_grid_error: max,
-                    notes: format!(
-                        "atol={atol:.0e}; {} rejected, {} rhs calls, {} Jacobians ({} LU setups, {} Newton iterations)",
-                        s.rejected_steps,
-                        s.rhs_evaluations,
-                        s.jacobian_evaluations,
-                        s.lu_factorisations,
-                        s.newton_iterations
-                    ),
-                }
+                let notes = format!(
+                    "atol={atol:.0e}; {} rejected, {} rhs calls, {} Jacobians ({} LU setups, {} Newton iterations)",
+                    s.rejected_steps,
+                    s.rhs_evaluations,
+                    s.jacobian_evaluations,
+                    s.lu_factorisations,
+                    s.newton_iterations
+                );
+                let errors = errors(&values, &ref_rk4, 2 * N);
+                Row::measured(scene, name, setting, time, s.steps, errors, notes)
             }
             Err(e) => Row::failed(scene, name, setting, &e),
         });
@@ -316,16 +322,8 @@ fn regularised(
                             }
                         }
                     }
-                    Row {
-                        scene,
-                        solver: format!("{} tanh(v/eps)", solver.name()),
-                        setting,
-                        time,
-                        steps: Some(r.steps),
-                        final_error: fin,
-                        max_grid_error: max,
-                        notes,
-                    }
+                    let label = format!("{} tanh(v/eps)", solver.name());
+                    Row::measured(scene, &label, setting, time, r.steps, (fin, max), notes)
                 }
                 Err(e) => Row::failed(scene, &format!("{} tanh(v/eps)", solver.name()), setting, &e),
             });
@@ -366,16 +364,7 @@ fn regularised(
                         tp.len()
                     );
                 }
-                Row {
-                    scene,
-                    solver: name.into(),
-                    setting,
-                    time,
-                    steps: Some(s.steps),
-                    final_error: fin,
-                    max_grid_error: max,
-                    notes,
-                }
+                Row::measured(scene, name, setting, time, s.steps, (fin, max), notes)
             }
             Err(e) => Row::failed(scene, name, setting, &e.to_string()),
         });

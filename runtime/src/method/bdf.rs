@@ -292,8 +292,8 @@ impl Stepper for BdfStepper {
         // Newton failure, but what is reported if the step then underflows.
         let mut non_finite_ahead: Option<ErrorKind> = None;
         // After a Newton failure with a factorisation kept from a nearby `c`, the next
-        // attempt factorises at the exact `c` before anything else changes.
-        let mut exact_lu = false;
+        // attempts factorise at the exact `c` (nothing is kept).
+        let mut lu_keep = LU_KEEP;
         loop {
             let t = self.s.t;
             check_budget(ev.stats, &self.s.options, t)?;
@@ -317,13 +317,9 @@ impl Stepper for BdfStepper {
             self.newton
                 .update_jacobian(ev, t, &self.s.y, &mut self.scratch, true)?;
             let c = h / self.gamma[order];
-            let lu_exact = if exact_lu {
-                self.newton.factor(c, &mut ev.stats.lu_factorisations);
-                true
-            } else {
-                self.newton
-                    .factor_near(c, LU_KEEP, &mut ev.stats.lu_factorisations)
-            };
+            let lu_exact = self
+                .newton
+                .factor_near(c, lu_keep, &mut ev.stats.lu_factorisations);
             // Predictor and the constant part ψ of the corrector.
             // Summed in the same order as term by term per component, by rows of `diff`.
             self.y1.copy_from_slice(&self.diff[0]);
@@ -353,7 +349,7 @@ impl Stepper for BdfStepper {
                     // A factorisation at another `c` is redone first, then a stale
                     // Jacobian refreshed; with a fresh one, halve h.
                     if !lu_exact {
-                        exact_lu = true;
+                        lu_keep = 0.0;
                     } else if self.newton.jac_current {
                         self.h_next = 0.5 * h;
                     } else {

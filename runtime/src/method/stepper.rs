@@ -55,10 +55,10 @@ pub struct StepState {
     pub prev_y: Vec<f64>,
     /// `f` at the previous point (meaningful while `prev` is `Some`).
     pub prev_f: Vec<f64>,
-    /// The system's [`OdeSystem::second_order`] when its
-    /// [`dense_positions`](OdeSystem::dense_positions) is on (set at the start):
-    /// positions are then read back with `DenseStep::set_positions_quintic`.
-    pub second_order: Option<usize>,
+    /// `Some(n)`: the first `n` components are positions, read back with
+    /// `DenseStep::set_positions_quintic` (the system's [`OdeSystem::second_order`] when
+    /// its [`dense_positions`](OdeSystem::dense_positions) is on; set at the start).
+    pub dense_positions: Option<usize>,
 }
 
 impl StepState {
@@ -73,7 +73,7 @@ impl StepState {
             prev: None,
             prev_y: vec![0.0; dim],
             prev_f: vec![0.0; dim],
-            second_order: None,
+            dense_positions: None,
         }
     }
 
@@ -90,7 +90,7 @@ impl StepState {
     ) {
         // The positions of a second-order state get their own quintic below: the
         // two-step Hermite is not computed for them.
-        let first = self.dense.positions(self.second_order);
+        let first = self.dense_positions.unwrap_or(0);
         match self.prev {
             Some(tm) => self.dense.set_hermite5(
                 first,
@@ -106,7 +106,7 @@ impl StepState {
             ),
             None => own(&mut self.dense, &self.y, &self.f),
         }
-        if let Some(n) = self.second_order {
+        if let Some(n) = self.dense_positions {
             self.dense
                 .set_positions_quintic(n, &self.y, &self.f, y1, f1);
         }
@@ -140,10 +140,7 @@ impl StepState {
     ) -> Result<(), ErrorKind> {
         self.options.validate().map_err(ErrorKind::InvalidInput)?;
         self.forget();
-        self.second_order = ev
-            .system
-            .second_order()
-            .filter(|_| ev.system.dense_positions());
+        self.dense_positions = crate::problem::dense_positions(ev.system);
         self.t = t;
         self.y.copy_from_slice(y);
         ev.rhs(t, y, &mut self.f)?;

@@ -160,7 +160,7 @@ where
         return Err(SolveError::new(
             ErrorKind::InvalidInput(e.to_string()),
             Solution::new(names::<S, N>(system), 2 * N, problem.output.clone())
-                .with_second_order(Some(N)),
+                .with_dense_positions(Some(N)),
         ));
     }
     match *method {
@@ -203,7 +203,7 @@ where
     O: Observer + ?Sized,
 {
     let out = Solution::new(names::<S, N>(system), 2 * N, problem.output.clone())
-        .with_second_order(Some(N));
+        .with_dense_positions(Some(N));
     let elements: Vec<Element> = (0..S::ELEMENTS).map(|e| system.element(e)).collect();
     let mut driver = Driver {
         system,

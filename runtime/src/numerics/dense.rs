@@ -182,18 +182,6 @@ impl DenseStep {
         self.third_node = Some(tm);
     }
 
-    /// The number of leading components [`set_positions_quintic`] writes for a
-    /// second-order state of `n` positions (`0` if there are none or `2n` exceeds the
-    /// state).
-    ///
-    /// [`set_positions_quintic`]: Self::set_positions_quintic
-    pub(crate) fn positions(&self, second_order: Option<usize>) -> usize {
-        match second_order {
-            Some(n) if 2 * n <= self.dim => n,
-            _ => 0,
-        }
-    }
-
     /// Rewrites components `0..n` (the positions `q` of a state `[q; v]` with `q̇ = v`) as
     /// the quintic Hermite in value, first and second derivative on the step's two ends:
     /// `q`, `q̇ = v = y[n + i]` and `q̈ = f[n + i]`. Its interpolation error
@@ -211,9 +199,7 @@ impl DenseStep {
         f1: &[f64],
     ) {
         let dim = self.dim;
-        if n == 0 || 2 * n > dim {
-            return;
-        }
+        debug_assert!(n > 0 && 2 * n <= dim, "positions {n} of a state of {dim}");
         if self.degree < 5 {
             self.coeffs.resize(6 * dim, 0.0);
             self.degree = 5;

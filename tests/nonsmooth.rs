@@ -579,11 +579,15 @@ fn s4_non_monotone_default_event_driven_and_time_stepping_agree() {
 }
 
 /// S4 at every tolerance: each smooth method under the event-driven integrator finds
-/// the same switches as a different method at rtol 1e-12 — the same elements' modes in
-/// the same order, at times within 300·rtol (measured: 2–160·rtol) — no spurious plateau
-/// re-entries where a branch left at its end dips back within the integrator's error
-/// (DOPRI5 found 109 switches for 37 at rtol 1e-3 while the branch-end slack was a fixed
-/// 1e-10).
+/// the same switches as a different method at rtol 1e-13 — the same elements' modes in
+/// the same order — with no spurious plateau re-entries where a branch left at its end
+/// dips back within the integrator's error (DOPRI5 found 109 switches for 37 at rtol
+/// 1e-3 while the branch-end slack was a fixed 1e-10). DOPRI5 and SDIRK4 locate every
+/// switch within 100·rtol from rtol 1e-3 to 1e-12 (measured 1–31·rtol; before the
+/// force was continued smoothly past approach 2's cut and folds were approached by
+/// retaken steps, up to 1014·rtol). BDF's switch times carry its global error, which
+/// grows against rtol as its steps multiply (error per step): within 300·rtol down to
+/// 1e-8 (measured up to 246·rtol).
 #[test]
 fn s4_switch_sequence_is_the_references_at_every_tolerance() {
     use filippov::runtime::{NonSmooth, Options, SmoothMethod, Solution};
@@ -600,8 +604,8 @@ fn s4_switch_sequence_is_the_references_at_every_tolerance() {
                 .unwrap_or_else(|e| panic!("{name} {m:?} at {rtol:e}: {e}"))
         };
         let (ref_sdirk, ref_dopri) = (
-            run(SmoothMethod::Sdirk4, 1e-12),
-            run(SmoothMethod::Dopri5, 1e-12),
+            run(SmoothMethod::Sdirk4, 1e-13),
+            run(SmoothMethod::Dopri5, 1e-13),
         );
         let key =
             |sol: &Solution| -> Vec<(Option<String>, Option<filippov::runtime::nonsmooth::Mode>)> {
@@ -621,7 +625,12 @@ fn s4_switch_sequence_is_the_references_at_every_tolerance() {
             } else {
                 &ref_dopri
             };
-            for rtol in [1e-3, 1e-4, 1e-6, 1e-8] {
+            let tolerances: &[f64] = if m == SmoothMethod::Bdf {
+                &[1e-3, 1e-4, 1e-6, 1e-8]
+            } else {
+                &[1e-3, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12]
+            };
+            for &rtol in tolerances {
                 let sol = run(m, rtol);
                 assert_eq!(
                     key(&sol),
@@ -636,7 +645,7 @@ fn s4_switch_sequence_is_the_references_at_every_tolerance() {
                     .zip(&reference.switches)
                     .map(|(a, b)| (a.t - b.t).abs())
                     .fold(0.0, f64::max);
-                let bound = 300.0 * rtol;
+                let bound = if m == SmoothMethod::Bdf { 300.0 } else { 100.0 } * rtol;
                 assert!(
                     dt <= bound,
                     "{name} {m:?} at rtol {rtol:e}: switch times off by {dt:e}"

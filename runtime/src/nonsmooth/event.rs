@@ -16,7 +16,7 @@
 //!   penetration). Inside every accepted step the functions are sampled on the method's
 //!   dense output ([`DenseStep`]) at [`SAMPLES`] points; a sign change is located by the
 //!   Anderson–Björck root finder ([`rootfind`](crate::numerics::rootfind)) to `TIME_TOL`
-//!   relative in time, the step is cut there (its dense output restricted to the part
+//!   relative in time (or `rtol / 100` where that is tighter), the step is cut there (its dense output restricted to the part
 //!   before the event) and the integration restarts exactly at the first time past the
 //!   root.
 //! * **Transitions.** At the event the switching elements are updated (a slipping
@@ -106,7 +106,9 @@ use crate::{
 };
 /// Samples of the switching functions per accepted step (the last at the step's end).
 pub const SAMPLES: usize = 4;
-/// Relative width in time of a located event bracket.
+/// Relative width in time of a located event bracket, or `rtol / 100` where that is
+/// tighter (an event time needs to be no better than the state's tolerance allows, and
+/// at rtol 1e-12 a bracket of 1e-12 · t would be most of the error).
 pub const TIME_TOL: f64 = 1e-12;
 /// Chattering: this many events …
 pub const ZENO_EVENTS: usize = 50;
@@ -123,6 +125,11 @@ pub const HANDOVER_STEPS: usize = 200;
 /// a ball needs about `ln(h₀ / tol) / (2 (1 − e))` of them to fall below the position
 /// tolerance (≈ 900 at e = 0.99 from 1 m to 1e-8).
 pub const MAX_BOUNCES: usize = 20_000;
+/// Approaching a fold of a slip law, the step that straddled it is taken again to land
+/// at this fraction of the way to the estimated fold ([`Driver::refine_fold`]).
+pub const FOLD_LANDING: f64 = 0.9;
+/// At most this many retaken steps per fold.
+pub const FOLD_REFINEMENTS: usize = 8;
 /// Events at one and the same instant before the mode selection counts as cycling.
 const SAME_TIME_EVENTS: usize = 20;
 
@@ -365,6 +372,15 @@ struct Driver<'a, S, F, const N: usize> {
     span: f64,
 }
 
+/// The last estimate of when `element` reaches a fold, and how many times its step has
+/// been taken again ([`Driver::refine_fold`]).
+#[derive(Clone, Copy)]
+struct FoldApproach {
+    element: usize,
+    t: f64,
+    refinements: usize,
+}
+
 /// A located event: its time (the first time past the root) and the elements whose
 /// switching functions fired.
 struct Located {
@@ -454,10 +470,15 @@ where
         }
         let mut arming = self.arm(self.t, &y);
         let mut buf = vec![0.0; 2 * N];
+        // Approaching a fold (see `refine_fold`): the time the steps land on short of it,
+        // and the last estimate of when it is reached.
+        let mut landing: Option<f64> = None;
+        let mut approach: Option<FoldApproach> = None;
         while self.t < tf {
             {
                 let sys = mode_system!(self);
-                let stepped = stepper.step(&mut Eval::new(&sys, &mut self.out.stats), tf);
+                let t_end = landing.map_or(tf, |t| t.min(tf));
+                let stepped = stepper.step(&mut Eval::new(&sys, &mut self.out.stats), t_end);
                 stepped.map_err(|kind| self.explain(kind))?;
             }
             // Events are located on the step's extension: always needed here.
@@ -480,8 +501,29 @@ where
                     self.t = t1;
                     self.q = q;
                     self.v = v;
+                    if landing.is_some_and(|t| t1 >= t) {
+                        landing = None;
+                    }
+                }
+                Some(event)
+                    if self.refine_fold(&event, stepper.dense(), &mut approach, &mut buf) =>
+                {
+                    // The step straddled a fold too far from its start: taken again from
+                    // its start, landing short of the estimate, so that the next step
+                    // straddles the fold from closer by.
+                    landing = Some(self.t + FOLD_LANDING * (event.t - self.t));
+                    y = self.state();
+                    let sys = mode_system!(self);
+                    stepper.restart(
+                        &mut Eval::new(&sys, &mut self.out.stats),
+                        self.t,
+                        &y,
+                        tf - self.t,
+                    )?;
+                    arming = self.arm(self.t, &y);
                 }
                 Some(event) => {
+                    (landing, approach) = (None, None);
                     let mut dense = stepper.dense().clone();
                     dense.truncate(event.t);
                     dense.eval(event.t, &mut buf);
@@ -505,6 +547,69 @@ where
             }
         }
         Ok(())
+    }
+
+    /// Whether the event just located is an element reaching a fold of its slip law
+    /// ([`mode::fold_end`]) inside a step that should be taken again first.
+    ///
+    /// Where the slip force has its square-root singularity the solution has a
+    /// `(t* − t)^{3/2}` term; past the fold the force is continued (clamped), so a step
+    /// from `t_a` straddling `t*` fits one polynomial to two different pieces. Its stages
+    /// lie mostly past the fold, where the method's error estimate cannot see the
+    /// branch's singular term, of size `(t* − t_a)^{3/2}`: the event is located early or
+    /// late by far more than the tolerance (147·rtol on S4 approach 1 with DOPRI5), and
+    /// every later state inherits that shift. The cure is to straddle from close by: the
+    /// step is taken again from `t_a` to land at [`FOLD_LANDING`] of the way to the
+    /// estimate, and the fold is located anew from there. This repeats (at most
+    /// [`FOLD_REFINEMENTS`] times) until two estimates agree to the velocity tolerance
+    /// `atol + rtol·|v_fold|` divided by the rate the speed approaches the fold at, or the
+    /// straddling step is itself that short. Each repetition shrinks the distance tenfold
+    /// and the singular term some thirtyfold.
+    fn refine_fold(
+        &self,
+        event: &Located,
+        dense: &DenseStep,
+        approach: &mut Option<FoldApproach>,
+        buf: &mut [f64],
+    ) -> bool {
+        let ta = self.t;
+        let d = event.t - ta;
+        dense.eval(event.t, buf);
+        let fold = event.triggered.iter().find_map(|&e| {
+            let (dir, k) = self.modes[e].slip()?;
+            let c = self.elements[e].coordinate;
+            let w = dir * buf[N + c];
+            if !mode::fold_end(&self.branches[e], k, w) {
+                return None;
+            }
+            let end = mode::branch_end(&self.branches[e], k, w);
+            Some((e, end, (end - dir * self.v[c]).abs() / d))
+        });
+        let Some((element, end, rate)) = fold else {
+            *approach = None;
+            return false;
+        };
+        let dt_tol = (self.options.atol + self.options.rtol * end.abs()) / rate;
+        let refinements = match *approach {
+            Some(a) if a.element == element => {
+                if (event.t - a.t).abs() <= dt_tol {
+                    *approach = None;
+                    return false;
+                }
+                a.refinements
+            }
+            _ => 0,
+        };
+        if refinements >= FOLD_REFINEMENTS || !(d > dt_tol) {
+            *approach = None;
+            return false;
+        }
+        *approach = Some(FoldApproach {
+            element,
+            t: event.t,
+            refinements: refinements + 1,
+        });
+        true
     }
 
     /// A step budget used up while one element switched over and over is reported as
@@ -731,7 +836,7 @@ where
                 }
                 continue;
             }
-            let xtol = TIME_TOL * ts.abs().max(1.0);
+            let xtol = TIME_TOL.min(1e-2 * self.options.rtol) * ts.abs().max(1.0);
             let brackets: Vec<(usize, f64, f64)> = fired
                 .iter()
                 .map(|&e| {

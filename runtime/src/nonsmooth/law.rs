@@ -163,12 +163,20 @@ pub struct Fold {
 /// the law is odd), as the event-driven integrator slips on it: while slipping with
 /// `|v| ∈ [v_lo, v_hi]` the force `|f| ∈ [f_lo, f_hi]` is the inverse of `φ` there.
 /// `f_hi = v_hi = ∞` for the last piece.
+///
+/// Approach 2 may cut a piece below its fold, at a plateau's speed; `f_top`, `v_top`
+/// keep where the piece itself ends (its fold, or `∞`), equal to `f_hi`, `v_hi` where
+/// nothing is cut. Past a cut end the slip force continues on the piece, so the
+/// right-hand side stays smooth across the switching point and a step that straddles it
+/// keeps its order.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Branch {
     pub f_lo: f64,
     pub f_hi: f64,
     pub v_lo: f64,
     pub v_hi: f64,
+    pub f_top: f64,
+    pub v_top: f64,
 }
 
 /// Approach 2's constant-speed mode between two branches: `|v| = velocity` exactly, the
@@ -296,17 +304,21 @@ impl Graph {
             f_hi: f64::INFINITY,
             v_lo: 0.0,
             v_hi: f64::INFINITY,
+            f_top: f64::INFINITY,
+            v_top: f64::INFINITY,
         }];
         for pair in self.folds.chunks(2) {
             let (max, min) = (pair[0], pair[1]);
             let last = pieces.last_mut().expect("one piece at least");
-            last.f_hi = max.force;
-            last.v_hi = max.velocity;
+            (last.f_hi, last.f_top) = (max.force, max.force);
+            (last.v_hi, last.v_top) = (max.velocity, max.velocity);
             pieces.push(Branch {
                 f_lo: min.force,
                 f_hi: f64::INFINITY,
                 v_lo: min.velocity,
                 v_hi: f64::INFINITY,
+                f_top: f64::INFINITY,
+                v_top: f64::INFINITY,
             });
         }
         if selection == Selection::NoVelocityJumps {
@@ -333,12 +345,12 @@ impl Graph {
             if let Some(&next) = kept.get(i + 1) {
                 let level = pieces[next].v_lo;
                 // φ rises from b.v_lo to the maximum b.v_hi > level on the piece.
-                let f_top = bisect(|x| phi(x) - level, b.f_lo, b.f_hi)?;
-                b.f_hi = f_top;
+                let f_cut = bisect(|x| phi(x) - level, b.f_lo, b.f_hi)?;
+                b.f_hi = f_cut;
                 b.v_hi = level;
                 plateaus.push(PlateauLevel {
                     velocity: level,
-                    f_lo: f_top,
+                    f_lo: f_cut,
                     f_hi: pieces[next].f_lo,
                 });
             }

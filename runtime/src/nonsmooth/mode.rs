@@ -142,6 +142,19 @@ pub(crate) fn branch_end(branches: &Branches, k: usize, w: f64) -> f64 {
     }
 }
 
+/// Whether the end of branch `k` nearer to `w` is a fold of the law, where `φ' = 0` and
+/// the slip force has a square-root singularity in the velocity (not the rest speed `0`
+/// nor approach 2's cut at a plateau speed, across which the force is smooth). The
+/// solution reaches a fold with a `(t* − t)^{3/2}` term, so a step that straddles it
+/// keeps neither its order nor a meaningful error estimate.
+pub(crate) fn fold_end(branches: &Branches, k: usize, w: f64) -> bool {
+    let Some(b) = branches.slip.get(k) else {
+        return false;
+    };
+    let end = branch_end(branches, k, w);
+    (end == b.v_hi && b.v_hi == b.v_top && b.v_top.is_finite()) || (end == b.v_lo && b.v_lo > 0.0)
+}
+
 /// Least relative slack of the ends `v_lo > 0`, `v_hi` of a non-monotone law's branch in
 /// its switching function (the end `v = 0` has none); see [`end_slack`].
 pub(crate) const BRANCH_END_SLACK: f64 = 1e-10;
@@ -280,8 +293,10 @@ pub(crate) fn gap(element: &Element, qc: f64) -> f64 {
 /// safeguarded Newton ([`invert_monotone`]); where `d vc ≤ 0`, the law's tangent at
 /// `f_crit` ([`below_branch`]). Non-monotone law: the same inside branch `k`'s force
 /// interval `[f_lo, f_hi]` (bracketed by its folds), continued by the tangent below the
-/// branch's velocity range and clamped to `f_hi` above it (so the force stays
-/// continuous while a root finder looks just past a fold).
+/// branch's velocity range; above it, continued along the law's increasing piece up to
+/// the piece's fold ([`Branch::f_top`]: smooth past approach 2's cut at a plateau speed)
+/// and clamped there (so the force stays continuous while a root finder or a stage looks
+/// just past the end).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn slip_force<S: NonSmooth<N>, const N: usize>(
     system: &S,
@@ -301,8 +316,11 @@ pub(crate) fn slip_force<S: NonSmooth<N>, const N: usize>(
             let b = branches.slip[k];
             if w <= b.v_lo {
                 d * below_branch(system, index, b.f_lo, w - b.v_lo)
+            } else if w >= b.v_top {
+                d * b.f_top
             } else if w >= b.v_hi {
-                d * b.f_hi
+                // Past a cut end (approach 2's plateau speed): on along the piece.
+                d * invert_monotone(|f| system.law(index, f), b.f_hi, b.f_top, w)
             } else {
                 d * invert_monotone(|f| system.law(index, f), b.f_lo, b.f_hi, w)
             }

@@ -869,3 +869,55 @@ fn non_monotone_moving_start_picks_the_rule_s_branch() {
         assert_eq!(traj.last().unwrap().1[1], 0.0, "{sel:?} ends at rest");
     }
 }
+
+/// The slip force past a branch end: smooth across approach 2's cut at the plateau speed
+/// (the law's own piece continues: value, slope and curvature match on both sides), and
+/// the ends classified — folds where `φ' = 0`, neither the rest speed nor the cut.
+#[test]
+fn slip_force_continues_smoothly_past_a_cut_end_and_folds_are_told_apart() {
+    use crate::nonsmooth::Selection;
+    use crate::nonsmooth::mode::{fold_end, slip_force};
+    for selection in [Selection::NoVelocityJumps, Selection::MaximalDissipation] {
+        let sys = s4_system(selection);
+        let law = Law::BinghamNonMonotone { selection };
+        let branches = crate::nonsmooth::law::Graph::new(&sys, 0)
+            .unwrap()
+            .branches(&sys)
+            .unwrap();
+        let b0 = branches.slip[0];
+        let b1 = branches.slip[1];
+        // Both rules: the rest end of the first branch is no fold, the bottom of the
+        // second is the law's local minimum.
+        assert!(!fold_end(&branches, 0, 1e-3));
+        assert!(fold_end(&branches, 1, b1.v_lo + 1e-3));
+        assert!((law_4_9b(b1.f_lo).0 - b1.v_lo).abs() < 1e-12 && law_4_9b(b1.f_lo).1.abs() < 1e-6);
+        let cut = selection == Selection::MaximalDissipation;
+        // The first branch's top: the fold (approach 1) or the cut at v_min (approach 2).
+        assert_eq!(fold_end(&branches, 0, b0.v_hi - 1e-3), !cut);
+        assert_eq!(b0.v_hi < b0.v_top, cut);
+        let f = |w: f64| slip_force(&sys, 0, law, 1.0, &branches, 0, w, 1.0);
+        if cut {
+            // Finite differences of the force on either side of v_hi: one smooth function.
+            let h = 1e-4;
+            let (e, f_hi) = (b0.v_hi, b0.f_hi);
+            assert!((f(e) - f_hi).abs() < 1e-12);
+            let below = [f(e - 2.0 * h), f(e - h), f(e)];
+            let above = [f(e), f(e + h), f(e + 2.0 * h)];
+            let slope = |p: [f64; 3]| (p[2] - p[0]) / (2.0 * h);
+            let curvature = |p: [f64; 3]| (p[2] - 2.0 * p[1] + p[0]) / (h * h);
+            let exact_slope = 1.0 / law_4_9b(f_hi).1;
+            assert!((slope(below) - exact_slope).abs() < 1e-3 * exact_slope);
+            assert!((slope(above) - exact_slope).abs() < 1e-3 * exact_slope);
+            assert!(
+                (curvature(below) - curvature(above)).abs() < 1e-2 * curvature(above).abs(),
+                "{} {}",
+                curvature(below),
+                curvature(above)
+            );
+            // Past the piece's own fold the force is clamped there.
+            assert_eq!(f(b0.v_top + 0.1), b0.f_top);
+        } else {
+            assert_eq!(f(b0.v_hi + 0.1), b0.f_hi);
+        }
+    }
+}

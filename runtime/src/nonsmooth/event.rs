@@ -59,9 +59,13 @@
 //! **Non-monotone laws** (theory.md §3, 4.9b). The increasing pieces of `v = φ(f)`
 //! between its folds are *branches* ([`Graph::branches`]); a slip mode carries its
 //! branch, and while slipping the force is the inverse of `φ` on that branch
-//! (safeguarded Newton inside the branch's force interval, bracketed by the folds;
-//! clamped to the fold force just past the branch's end, so the right-hand side stays
-//! continuous for the root finder). The switching function is the distance of `|v_c|`
+//! (safeguarded Newton inside the branch's force interval, bracketed by the folds).
+//! Just past the branch's end the force continues along the law's piece up to its fold
+//! and is held at the fold force beyond, so the right-hand side stays continuous for the
+//! stages and the root finder, and smooth across approach 2's cut at the plateau speed.
+//! A fold itself is a square-root singularity of the force in the velocity: a step that
+//! straddles one is taken again to land short of it and straddle from closer by
+//! ([`FOLD_LANDING`], [`FOLD_REFINEMENTS`]; theory.md §3). The switching function is the distance of `|v_c|`
 //! to the nearer end of the branch's velocity range (with a slack of the integrator's
 //! accuracy in that speed, [`end_slack`](mode::end_slack), at ends `≠ 0`: a branch
 //! entered at its end, as when leaving a plateau, departs from it only quadratically in

@@ -718,7 +718,11 @@ const EVENT_STATE_ERROR: f64 = 10.0;
 /// miss by this many times `rtol` of the force scale on top of what
 /// [`Selection::margin_uncertainty`] finds (measured: 9.7e-6 at rtol 1e-8 entering S4's
 /// plateau; up to 1.2e-4 relative at rtol 1e-8 in random chains with S4's law under
-/// maximal dissipation, which refused a mode without it).
+/// maximal dissipation, which refused a mode without it). Some of those are plateau
+/// exits onto the outer branch at its fold: the first steps from the fold's square-root
+/// singularity dip back past the branch's end by more than the tolerance and the plateau
+/// is selected again with its force just beyond the branch force (agreement seeds 29
+/// and 947, `tests/agreement.rs`).
 const TANGENTIAL_ACCURACY: f64 = 1e4;
 
 /// What a mode selection evaluates combinations against: the system and its elements,

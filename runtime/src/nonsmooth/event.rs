@@ -509,31 +509,21 @@ where
                         landing = None;
                     }
                 }
-                Some(event)
-                    if self.refine_fold(&event, stepper.dense(), &mut approach, &mut buf) =>
-                {
-                    // The step straddled a fold too far from its start: taken again from
-                    // its start, landing short of the estimate, so that the next step
-                    // straddles the fold from closer by.
-                    landing = Some(self.t + FOLD_LANDING * (event.t - self.t));
-                    y = self.state();
-                    let sys = mode_system!(self);
-                    stepper.restart(
-                        &mut Eval::new(&sys, &mut self.out.stats),
-                        self.t,
-                        &y,
-                        tf - self.t,
-                    )?;
-                    arming = self.arm(self.t, &y);
-                }
                 Some(event) => {
-                    (landing, approach) = (None, None);
-                    let mut dense = stepper.dense().clone();
-                    dense.truncate(event.t);
-                    dense.eval(event.t, &mut buf);
-                    self.transition(event.t, &buf, &event.triggered, &dense)?;
-                    if let Some(end) = self.check_accumulation(tf)? {
-                        self.hand_over(end, observer)?;
+                    if self.refine_fold(&event, stepper.dense(), &mut approach, &mut buf) {
+                        // The step straddled a fold too far from its start: taken again
+                        // from its start, landing short of the estimate, so that the next
+                        // step straddles the fold from closer by.
+                        landing = Some(self.t + FOLD_LANDING * (event.t - self.t));
+                    } else {
+                        (landing, approach) = (None, None);
+                        let mut dense = stepper.dense().clone();
+                        dense.truncate(event.t);
+                        dense.eval(event.t, &mut buf);
+                        self.transition(event.t, &buf, &event.triggered, &dense)?;
+                        if let Some(end) = self.check_accumulation(tf)? {
+                            self.hand_over(end, observer)?;
+                        }
                     }
                     y = self.state();
                     let sys = mode_system!(self);

@@ -31,10 +31,12 @@ fn random_scenes_agree() {
 /// maximal dissipation (seeds 29 and 947). Leaving the plateau at its upper force, the
 /// speed starts on the outer branch exactly at the fold, where the slip force has its
 /// square-root singularity; the first steps dip back past the branch's end by more than
-/// the integrator's tolerance, the plateau is selected again with its margin missing by
-/// 5.1e-5 (9.9e-6) of the force scale at rtol 1e-8, and left again at once. Without the
-/// allowance for such misses in the mode selection (`mode::TANGENTIAL_ACCURACY`) no mode
-/// was consistent and the event-driven run ended with a typed error.
+/// the integrator's tolerance. While the branch that fired was no candidate of the mode
+/// selection, the plateau was the least violated mode (its force beyond the branch force
+/// by 5.1e-5 and 9.9e-6 of the force scale at rtol 1e-8): a fixed allowance of 1e4·rtol
+/// took it, and the plateau was left again at once, up to three times; without the
+/// allowance the run ended with a typed error. The branch, whose acceleration still
+/// points into its range, is now a candidate and is kept.
 #[test]
 fn plateau_exits_at_a_fold_do_not_end_the_run() {
     for seed in [29, 947] {

@@ -1240,7 +1240,13 @@ where
             let c = el.coordinate;
             let branches = &self.branches[e];
             // Approach 2 at exactly a plateau speed: the branch below, the plateau and
-            // the branch above are the candidates.
+            // the branch above are the candidates. A branch whose end fired stays one:
+            // entered at its end (leaving the plateau), a branch departs from it only
+            // quadratically, and at a fold, where the force has its square-root
+            // singularity, the first steps can dip back past the end by more than the
+            // tolerance. Such a dip is no switch: the branch's acceleration still points
+            // into its range, which its margin sees, while a branch reached from inside
+            // has it pointing out.
             if let (ElementKind::DashPot { .. }, Some(i)) =
                 (el.kind, mode::plateau_at(branches, v[c].abs()))
             {
@@ -1251,7 +1257,7 @@ where
                     Mode::slipping(d, i + 1),
                 ]
                 .into_iter()
-                .filter(|m| Some(*m) != excluded[e])
+                .filter(|m| m.slip().is_some() || Some(*m) != excluded[e])
                 .collect();
                 choices.push((e, cands));
                 continue;

@@ -712,19 +712,6 @@ const MARGIN_TOL: f64 = 1e-9;
 /// it and the root finder's tolerance together.
 const EVENT_STATE_ERROR: f64 = 10.0;
 
-/// Where a transition is nearly tangential (entering a plateau of a non-monotone law,
-/// where the speed reaches the plateau's with vanishing acceleration) the event time,
-/// and with it the state, is known far less well than the tolerance: a margin may then
-/// miss by this many times `rtol` of the force scale on top of what
-/// [`Selection::margin_uncertainty`] finds (measured: 9.7e-6 at rtol 1e-8 entering S4's
-/// plateau; up to 1.2e-4 relative at rtol 1e-8 in random chains with S4's law under
-/// maximal dissipation, which refused a mode without it). Some of those are plateau
-/// exits onto the outer branch at its fold: the first steps from the fold's square-root
-/// singularity dip back past the branch's end by more than the tolerance and the plateau
-/// is selected again with its force just beyond the branch force (agreement seeds 29
-/// and 947, `tests/agreement.rs`).
-const TANGENTIAL_ACCURACY: f64 = 1e4;
-
 /// What a mode selection evaluates combinations against: the system and its elements,
 /// which elements choose, the input and `W = M⁻¹` at the selection's state.
 struct Selection<'a, S, const N: usize> {
@@ -822,9 +809,8 @@ const MAX_COMBINATIONS: usize = 20_000;
 /// an error (the text of [`ErrorKind::IllPosedMode`](crate::ErrorKind)) is returned;
 /// otherwise the largest margin wins; when none is consistent, the least violated one
 /// is taken if it misses by less than the state's error can move its margin
-/// (`Selection::margin_uncertainty` with the integrator's `accuracy = (atol, rtol)`,
-/// plus `TANGENTIAL_ACCURACY · rtol` of the force scale for nearly tangential
-/// transitions; at a
+/// (`Selection::margin_uncertainty` with the integrator's `accuracy = (atol, rtol)`;
+/// at a
 /// switching instant located to round-off, the old mode and the new one may both sit on
 /// the boundary; the new one has the larger margin on the far side of the located root).
 #[allow(clippy::too_many_arguments)]
@@ -926,9 +912,7 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
         // that error does to its margin. It is taken when it misses by less than that
         // (`margin_uncertainty`); beyond it, no mode fits.
         None if best_violation.as_ref().is_some_and(|(m, ms)| {
-            *m >= -tol
-                - TANGENTIAL_ACCURACY * accuracy.1 * scale
-                - selection.margin_uncertainty(ms, *m, q, v, accuracy)
+            *m >= -tol - selection.margin_uncertainty(ms, *m, q, v, accuracy)
         }) =>
         {
             Ok(best_violation.map(|(_, ms)| ms).unwrap_or_default())

@@ -70,7 +70,10 @@
 //! accuracy in that speed, [`end_slack`](mode::end_slack), at ends `≠ 0`: a branch
 //! entered at its end, as when leaving a plateau, departs from it only quadratically in
 //! time and must not switch back on the integrator's error; the event state is set to
-//! the end exactly).
+//! the end exactly). Such a branch's function arms only once the speed is a slack inside
+//! the range, and until then a dip back past the end while the acceleration points into
+//! the range is no event (at a fold the first steps can swing back by more than the
+//! slack).
 //!
 //! * Approach 1 ([`Selection::NoVelocityJumps`]): at a fold's velocity the force jumps
 //!   to the next branch at the same velocity (hysteresis: inner → outer at `v_max`,
@@ -294,6 +297,8 @@ enum Row<'d> {
 /// The switching functions' state along one smooth arc (see [`Driver::scan`]).
 struct Arming {
     armed: Vec<bool>,
+    /// The value above which each function arms ([`Driver::arm_level`]).
+    level: Vec<f64>,
     /// The last sample where each function was seen positive, with its value.
     last_positive: Vec<(f64, f64)>,
 }
@@ -721,15 +726,79 @@ where
     }
 
     /// The switching functions at the start of a smooth arc: a function is armed when
-    /// positive there.
+    /// above its [`arm_level`](Self::arm_level) there.
     fn arm(&self, t: f64, y: &[f64]) -> Arming {
         let g0 = self.switching_all(t, y);
+        let level: Vec<f64> = (0..g0.len()).map(|e| self.arm_level(e)).collect();
         Arming {
-            armed: g0.iter().map(|g| *g > 0.0).collect(),
+            armed: g0.iter().zip(&level).map(|(g, l)| g > l).collect(),
+            level,
             last_positive: g0
                 .iter()
                 .map(|g| (t, if *g > 0.0 { *g } else { f64::MIN_POSITIVE }))
                 .collect(),
+        }
+    }
+
+    /// The value element `e`'s switching function must exceed to arm: `0`, except on a
+    /// branch of a non-monotone law, whose function carries the slack of its ends
+    /// ([`end_slack`](mode::end_slack)): it arms once the speed is a slack inside the
+    /// range, so that a branch entered at its end (where its function starts at the
+    /// slack) stays unarmed while it departs from it, and a dip back past that end is
+    /// judged by [`dip`](Self::dip).
+    fn arm_level(&self, e: usize) -> f64 {
+        match self.modes[e]
+            .slip()
+            .and_then(|(_, k)| self.branches[e].slip.get(k))
+        {
+            Some(b) => {
+                let tol = (self.options.atol, self.options.rtol);
+                2.0 * mode::end_slack(b.v_lo, tol).max(mode::end_slack(b.v_hi, tol))
+            }
+            None => 0.0,
+        }
+    }
+
+    /// Whether element `e`, slipping on a branch it entered at an end `≠ 0` (its
+    /// function not yet armed) and past that end at `(t, y)`, is only dipping there: its
+    /// acceleration still points into the branch's range. Leaving a plateau onto the
+    /// outer branch starts at the branch's fold, where the force has its square-root
+    /// singularity (the system is locally stiff there), and the first steps can swing
+    /// back past the end by more than the tolerance, several times; the exact solution
+    /// departs quadratically and never returns unless the load turns, which turns the
+    /// acceleration too. (An armed function, reached from inside the range, always
+    /// fires: far past the end, in a long step, the acceleration need not point out.)
+    fn dip(&self, e: usize, t: f64, y: &[f64]) -> bool {
+        let Some((d, k)) = self.modes[e].slip() else {
+            return false;
+        };
+        let c = self.elements[e].coordinate;
+        let w = d * y[N + c];
+        let Some(b) = self.branches[e].slip.get(k) else {
+            return false;
+        };
+        let below = w < b.v_lo && b.v_lo > 0.0;
+        let above = w > b.v_hi;
+        if !(below || above) {
+            return false;
+        }
+        let q = SVector::<f64, N>::from_column_slice(&y[..N]);
+        let v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
+        let tau = (self.input)(t, &q, &v);
+        match mode::evaluate(
+            self.system,
+            &self.elements,
+            &self.branches,
+            &self.modes,
+            &q,
+            &v,
+            &tau,
+        ) {
+            Some(ev) => {
+                let into = d * ev.a[c];
+                (below && into > 0.0) || (above && into < 0.0)
+            }
+            None => false,
         }
     }
 
@@ -801,6 +870,7 @@ where
         let ta = dense.t0();
         let Arming {
             armed,
+            level,
             last_positive,
         } = arming;
         for e in 0..m {
@@ -819,12 +889,12 @@ where
             };
             let g = self.switching_all(ts, buf);
             let fired: Vec<usize> = (0..m)
-                .filter(|&e| (armed[e] && g[e] <= 0.0) || g[e] < 0.0)
+                .filter(|&e| (armed[e] && g[e] <= 0.0) || (g[e] < 0.0 && !self.dip(e, ts, buf)))
                 .collect();
             if fired.is_empty() {
                 for e in 0..m {
                     if g[e] > 0.0 {
-                        armed[e] = true;
+                        armed[e] |= g[e] > level[e];
                         last_positive[e] = (ts, g[e]);
                     }
                 }

@@ -782,18 +782,7 @@ where
         if !(below || above) {
             return false;
         }
-        let q = SVector::<f64, N>::from_column_slice(&y[..N]);
-        let v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
-        let tau = (self.input)(t, &q, &v);
-        match mode::evaluate(
-            self.system,
-            &self.elements,
-            &self.branches,
-            &self.modes,
-            &q,
-            &v,
-            &tau,
-        ) {
+        match self.evaluate_at(t, y).2 {
             Some(ev) => {
                 let into = d * ev.a[c];
                 (below && into > 0.0) || (above && into < 0.0)
@@ -802,12 +791,21 @@ where
         }
     }
 
-    /// Switching function values of all elements at state `y` (`q, v`) and time `t`.
-    fn switching_all(&self, t: f64, y: &[f64]) -> Vec<f64> {
+    /// `y = [q; v]` split, and the dynamics of the current modes at `(t, q, v)` (`None`
+    /// where their constraints are dependent).
+    fn evaluate_at(
+        &self,
+        t: f64,
+        y: &[f64],
+    ) -> (
+        SVector<f64, N>,
+        SVector<f64, N>,
+        Option<mode::Evaluation<N>>,
+    ) {
         let q = SVector::<f64, N>::from_column_slice(&y[..N]);
         let v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
         let tau = (self.input)(t, &q, &v);
-        match mode::evaluate(
+        let ev = mode::evaluate(
             self.system,
             &self.elements,
             &self.branches,
@@ -815,7 +813,14 @@ where
             &q,
             &v,
             &tau,
-        ) {
+        );
+        (q, v, ev)
+    }
+
+    /// Switching function values of all elements at state `y` (`q, v`) and time `t`.
+    fn switching_all(&self, t: f64, y: &[f64]) -> Vec<f64> {
+        let (q, v, ev) = self.evaluate_at(t, y);
+        match ev {
             Some(ev) => self
                 .elements
                 .iter()

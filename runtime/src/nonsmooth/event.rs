@@ -16,9 +16,9 @@
 //!   penetration). Inside every accepted step the functions are sampled on the method's
 //!   dense output ([`DenseStep`]) at [`SAMPLES`] points; a sign change is located by the
 //!   Anderson–Björck root finder ([`rootfind`](crate::numerics::rootfind)) to `TIME_TOL`
-//!   relative in time (or `rtol / 100` where that is tighter), the step is cut there (its dense output restricted to the part
-//!   before the event) and the integration restarts exactly at the first time past the
-//!   root.
+//!   relative in time (or `rtol / 100` where that is tighter), the step is cut there
+//!   (its dense output restricted to the part before the event) and the integration
+//!   restarts exactly at the first time past the root.
 //! * **Transitions.** At the event the switching elements are updated (a slipping
 //!   velocity that reached zero is set to `0.0`; a rigid stop applies Newton's impact law
 //!   `v⁺_c = −e v⁻_c` through the generalised impulse `−M⁻¹ e_c P`; a spring-backed stop
@@ -65,8 +65,9 @@
 //! stages and the root finder, and smooth across approach 2's cut at the plateau speed.
 //! A fold itself is a square-root singularity of the force in the velocity: a step that
 //! straddles one is taken again to land short of it and straddle from closer by
-//! ([`FOLD_LANDING`], [`FOLD_REFINEMENTS`]; theory.md §3). The switching function is the distance of `|v_c|`
-//! to the nearer end of the branch's velocity range (with a slack of the integrator's
+//! ([`FOLD_LANDING`], [`FOLD_REFINEMENTS`]; theory.md §3). The switching function is the
+//! distance of `|v_c|` to the nearer end of the branch's velocity range (with a slack of
+//! the integrator's
 //! accuracy in that speed, [`end_slack`](mode::end_slack), at ends `≠ 0`: a branch
 //! entered at its end, as when leaving a plateau, departs from it only quadratically in
 //! time and must not switch back on the integrator's error; the event state is set to

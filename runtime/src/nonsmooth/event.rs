@@ -67,11 +67,10 @@
 //! straddles one is taken again to land short of it and straddle from closer by
 //! ([`FOLD_LANDING`], [`FOLD_REFINEMENTS`]; theory.md §3). The switching function is the
 //! distance of `|v_c|` to the nearer end of the branch's velocity range (with a slack of
-//! the integrator's
-//! accuracy in that speed, [`end_slack`](mode::end_slack), at ends `≠ 0`: a branch
-//! entered at its end, as when leaving a plateau, departs from it only quadratically in
-//! time and must not switch back on the integrator's error; the event state is set to
-//! the end exactly). Such a branch's function arms only once the speed is a slack inside
+//! the integrator's accuracy in that speed, [`end_slack`](mode::end_slack), at ends
+//! `≠ 0`: a branch entered at its end, as when leaving a plateau, departs from it only
+//! quadratically in time and must not switch back on the integrator's error; the event
+//! state is set to the end exactly). Such a branch's function arms only once the speed is a slack inside
 //! the range, and until then a dip back past the end while the acceleration points into
 //! the range is no event (at a fold the first steps can swing back by more than the
 //! slack).

@@ -374,7 +374,7 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
     if let Some((dt, i)) = reference_switches {
         let sw = &ref_sdirk.switches[i];
         page.para(&format!(
-            "Their switch times agree to {} (largest at switch {i}, t = {:.4}, `{}` from {} to {}): {:.0} times their agreement in x. A run's switch-time error is its state error times such a factor, so at that switch a bound of 100·rtol needs a state error near {:.2}·rtol or below.",
+            "Their switch times agree to {} (largest at switch {i}, t = {:.4}, `{}` from {} to {}): {:.2} times their agreement in x. A run's switch-time error is its state error times such a factor, so at that switch a bound of 100·rtol needs a state error near {:.2}·rtol or below.",
             sci(dt),
             sw.t,
             sw.element.as_deref().unwrap_or("—"),
@@ -404,7 +404,7 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
         }
     }
     let runs = sweep_runs_to(config, &tolerances);
-    let (mut worst_ratio, mut mismatches) = ([0.0f64; METHODS.len()], 0);
+    let (mut worst, mut mismatches) = ([None::<(WorstSwitch, f64)>; METHODS.len()], 0);
     for (kind, setting, m) in runs {
         let reference = if kind == 0 { &ref_sdirk } else { &ref_dopri };
         let (time, result) = timed(config.repeats, || solve_nonsmooth(sys, &input, problem, &m));
@@ -415,16 +415,20 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
                 let s = &traj.stats;
                 let switches = match m {
                     NonSmoothMethod::EventDriven { options, .. } => {
-                        let c = compare_switches(&traj, reference, options.rtol);
+                        let c = compare_switches(&traj, reference, options.rtol, 2);
                         match c {
-                            Some(ratio) => worst_ratio[kind] = worst_ratio[kind].max(ratio),
+                            Some(w) => {
+                                if worst[kind].is_none_or(|(v, _)| w.ratio > v.ratio) {
+                                    worst[kind] = Some((w, options.rtol));
+                                }
+                            }
                             None => mismatches += 1,
                         }
                         match c {
-                            Some(ratio) => format!(
+                            Some(w) => format!(
                                 "{} as the reference; max Δt = {:.0}·rtol",
                                 traj.switches.len(),
-                                ratio
+                                w.ratio
                             ),
                             None => format!(
                                 "**{} against the reference's {}**",
@@ -478,15 +482,21 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
     );
     let spread = reference_switches.map_or(String::new(), |(dt, _)| {
         format!(
-            " (the two references' switch times differ by up to {}, {:.0}× their difference in x)",
+            " (the two references' switch times differ by up to {}, {:.2}× their difference in x)",
             sci(dt),
             dt / agree.max(f64::MIN_POSITIVE)
         )
     });
     let worst = SMOOTH
         .iter()
-        .zip(&worst_ratio)
-        .map(|(m, r)| format!("{m:?} {r:.0}"))
+        .zip(&worst)
+        .map(|(m, w)| match w {
+            Some((w, rtol)) => format!(
+                "{m:?} {:.0} (switch {} at rtol {rtol:.0e}, state off by {:.1}·rtol just before it)",
+                w.ratio, w.index, w.state_before
+            ),
+            None => format!("{m:?} —"),
+        })
         .collect::<Vec<_>>()
         .join(", ");
     summary.push(format!(
@@ -1242,30 +1252,74 @@ fn resting_on_limits(config: &Config, short: f64) -> Vec<Vec<String>> {
 /// The largest switch-time difference between two runs whose switch logs match, and at
 /// which switch.
 fn switch_spread(a: &Solution, b: &Solution) -> Option<(f64, usize)> {
-    compare_switches(a, b, 1.0)?;
-    a.switches
-        .iter()
-        .zip(&b.switches)
-        .map(|(x, y)| (x.t - y.t).abs())
-        .enumerate()
-        .max_by(|p, q| p.1.total_cmp(&q.1))
-        .map(|(i, dt)| (dt, i))
+    compare_switches(a, b, 1.0, 2).map(|w| (w.ratio, w.index))
 }
 
-/// The largest switch-time difference to `reference` in units of `rtol`, if the two
-/// switch logs name the same elements entering the same modes in the same order.
-fn compare_switches(sol: &Solution, reference: &Solution, rtol: f64) -> Option<f64> {
+/// The largest switch-time difference between a run and its reference.
+#[derive(Clone, Copy, Debug)]
+struct WorstSwitch {
+    /// The difference in units of the run's rtol.
+    ratio: f64,
+    /// Which switch of the log.
+    index: usize,
+    /// The largest difference in the state (positions and velocities) just before
+    /// the earlier of the two switch times, in units of the run's rtol: what the run
+    /// carried into that switch. The ratio of the two is how much that switch
+    /// magnifies a state error.
+    state_before: f64,
+}
+
+/// The largest switch-time difference to `reference` (see [`WorstSwitch`]), if the two
+/// switch logs name the same elements entering the same modes in the same order. The
+/// rows' first `states` columns are the state `[q, v]`.
+fn compare_switches(
+    sol: &Solution,
+    reference: &Solution,
+    rtol: f64,
+    states: usize,
+) -> Option<WorstSwitch> {
     let same = sol.switches.len() == reference.switches.len()
         && sol
             .switches
             .iter()
             .zip(&reference.switches)
             .all(|(a, b)| a.element == b.element && a.to == b.to && a.kind == b.kind);
-    same.then(|| {
-        sol.switches
-            .iter()
-            .zip(&reference.switches)
-            .map(|(a, b)| (a.t - b.t).abs() / rtol)
-            .fold(0.0, f64::max)
+    if !same {
+        return None;
+    }
+    let Some((index, dt)) = sol
+        .switches
+        .iter()
+        .zip(&reference.switches)
+        .map(|(a, b)| (a.t - b.t).abs())
+        .enumerate()
+        .max_by(|p, q| p.1.total_cmp(&q.1))
+    else {
+        return Some(WorstSwitch {
+            ratio: 0.0,
+            index: 0,
+            state_before: 0.0,
+        });
+    };
+    // Before both switches by as much as they differ: both runs are still on the
+    // arc that leads to this switch there (velocities may jump at the switch itself).
+    let t = sol.switches[index].t.min(reference.switches[index].t) - dt;
+    let state_before = match (sol.at(t), reference.at(t)) {
+        // The forces after the state are left out: at a fold the slip force has a
+        // square-root singularity in the speed.
+        (Some(a), Some(b)) => {
+            a.iter()
+                .take(states)
+                .zip(&b)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max)
+                / rtol
+        }
+        _ => f64::NAN,
+    };
+    Some(WorstSwitch {
+        ratio: dt / rtol,
+        index,
+        state_before,
     })
 }

@@ -66,14 +66,13 @@
 //! A fold itself is a square-root singularity of the force in the velocity: a step that
 //! straddles one is taken again to land short of it and straddle from closer by
 //! ([`FOLD_LANDING`], [`FOLD_REFINEMENTS`]; theory.md §3). The switching function is the
-//! distance of `|v_c|` to the nearer end of the branch's velocity range (with a slack of
-//! the integrator's accuracy in that speed, [`end_slack`](mode::end_slack), at ends
-//! `≠ 0`: a branch entered at its end, as when leaving a plateau, departs from it only
-//! quadratically in time and must not switch back on the integrator's error; the event
-//! state is set to the end exactly). Such a branch's function arms only once the speed is a slack inside
-//! the range, and until then a dip back past the end while the acceleration points into
-//! the range is no event (at a fold the first steps can swing back by more than the
-//! slack).
+//! distance of `|v_c|` to the nearer end of the branch's velocity range, exactly. A
+//! branch entered at its end, as when leaving a plateau, departs from it only
+//! quadratically in time (and at a fold the first steps can swing back past it by more
+//! than the tolerance): its function arms only once the speed is the integrator's
+//! accuracy inside the range ([`arming_distance`](mode::arming_distance)), and until
+//! then a dip back past the end while the acceleration points into the range is no
+//! event.
 //!
 //! * Approach 1 ([`Selection::NoVelocityJumps`]): at a fold's velocity the force jumps
 //!   to the next branch at the same velocity (hysteresis: inner → outer at `v_max`,
@@ -741,11 +740,10 @@ where
     }
 
     /// The value element `e`'s switching function must exceed to arm: `0`, except on a
-    /// branch of a non-monotone law, whose function carries the slack of its ends
-    /// ([`end_slack`](mode::end_slack)): it arms once the speed is a slack inside the
-    /// range, so that a branch entered at its end (where its function starts at the
-    /// slack) stays unarmed while it departs from it, and a dip back past that end is
-    /// judged by [`dip`](Self::dip).
+    /// branch of a non-monotone law, where it is the
+    /// [`arming_distance`](mode::arming_distance) of the branch's ends: a branch entered
+    /// at its end (where its function starts at `0`) stays unarmed while it departs
+    /// from it, and a dip back past that end is judged by [`dip`](Self::dip).
     fn arm_level(&self, e: usize) -> f64 {
         match self.modes[e]
             .slip()
@@ -753,7 +751,7 @@ where
         {
             Some(b) => {
                 let tol = (self.options.atol, self.options.rtol);
-                2.0 * mode::end_slack(b.v_lo, tol).max(mode::end_slack(b.v_hi, tol))
+                mode::arming_distance(b.v_lo, tol).max(mode::arming_distance(b.v_hi, tol))
             }
             None => 0.0,
         }
@@ -838,15 +836,7 @@ where
                         },
                         _ => ev.f[e],
                     };
-                    mode::switching(
-                        el,
-                        &self.branches[e],
-                        self.modes[e],
-                        q[c],
-                        v[c],
-                        f,
-                        (self.options.atol, self.options.rtol),
-                    )
+                    mode::switching(el, &self.branches[e], self.modes[e], q[c], v[c], f)
                 })
                 .collect(),
             None => vec![f64::NAN; self.elements.len()],

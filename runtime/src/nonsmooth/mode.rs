@@ -155,27 +155,29 @@ pub(crate) fn fold_end(branches: &Branches, k: usize, w: f64) -> bool {
     (end == b.v_hi && b.v_hi == b.v_top && b.v_top.is_finite()) || (end == b.v_lo && b.v_lo > 0.0)
 }
 
-/// Least relative slack of the ends `v_lo > 0`, `v_hi` of a non-monotone law's branch in
-/// its switching function (the end `v = 0` has none); see [`end_slack`].
-pub(crate) const BRANCH_END_SLACK: f64 = 1e-10;
+/// Least relative [`arming_distance`] of the ends `v_lo > 0`, `v_hi` of a non-monotone
+/// law's branch (the end `v = 0` needs none).
+pub(crate) const MIN_ARMING_DISTANCE: f64 = 1e-10;
 
-/// The slack of a branch end at speed `v_end` in the switching function: the
-/// integrator's accuracy in that speed, `atol + rtol · v_end` (`tol = (atol, rtol)`), at
-/// least [`BRANCH_END_SLACK`]` · v_end`; none at `v_end = 0`.
+/// How far inside its velocity range the speed must be before a branch entered at its
+/// end `v_end` arms its switching function: the integrator's accuracy in that speed,
+/// `atol + rtol · v_end` (`tol = (atol, rtol)`), at least
+/// [`MIN_ARMING_DISTANCE`]` · v_end`; none at `v_end = 0`.
 ///
 /// A branch entered at its end leaves it only quadratically in time (leaving a
-/// plateau, the force imbalance grows from zero): within the first steps the computed
-/// speed may dip back past the end by the local error. A slack below that error made
-/// those dips events — the plateau re-selected with its force beyond the branch force,
-/// left again 1e-11 s later, up to 70 spurious switches on S4 at loose tolerances. A
-/// genuine crossing (speed changing at a rate `a`) is found late by at most
-/// `slack / a`, the order of the integrator's own error; the event state is then set
-/// to the end exactly.
-pub(crate) fn end_slack(v_end: f64, tol: (f64, f64)) -> f64 {
+/// plateau, the force imbalance grows from zero), and at a fold the force has its
+/// square-root singularity: within the first steps the computed speed may dip back past
+/// the end by the local error. Until armed, such a dip is an event only if the mode's
+/// acceleration points out of the range there (the event driver's dip test). The
+/// switching function itself is the exact distance to the end, so a branch left from
+/// inside is left where the speed reaches the end, not a slack later. (With a slack in
+/// the function, each fold was located late by `slack / v̇`: 9·10⁻¹⁰ s on S4 approach 1
+/// at every rtol ≤ 1e-10, and the event state was moved by the slack.)
+pub(crate) fn arming_distance(v_end: f64, tol: (f64, f64)) -> f64 {
     if v_end == 0.0 || !v_end.is_finite() {
         0.0
     } else {
-        (tol.0 + tol.1 * v_end).max(BRANCH_END_SLACK * v_end)
+        (tol.0 + tol.1 * v_end).max(MIN_ARMING_DISTANCE * v_end)
     }
 }
 
@@ -562,10 +564,8 @@ pub(crate) fn stuck_partner(elements: &[Element], modes: &[Mode], stop: usize) -
 /// non-monotone law the distance of `±v_c` to the nearer end of the branch's velocity
 /// range (a fold, or approach 2's plateau speed); plateau: the distance of `±f` to the
 /// nearer end of its force interval; free: gap; contact: `λ`; compressed: penetration).
-///
-/// `tol = (atol, rtol)` of the integrator sets the slack of branch ends
-/// ([`end_slack`]).
-#[allow(clippy::too_many_arguments)]
+/// A branch entered at its end arms its function only a little inside the range
+/// ([`arming_distance`]).
 pub(crate) fn switching(
     element: &Element,
     branches: &Branches,
@@ -573,7 +573,6 @@ pub(crate) fn switching(
     qc: f64,
     vc: f64,
     f: f64,
-    tol: (f64, f64),
 ) -> f64 {
     match (element.kind, mode) {
         (ElementKind::DashPot { f_crit, .. }, Mode::Stick) => f_crit - f.abs(),
@@ -585,12 +584,7 @@ pub(crate) fn switching(
             };
             let w = d * vc;
             match branches.slip.get(k) {
-                // The slack keeps a branch entered at its end (leaving a plateau, where the
-                // speed departs only quadratically in time) from switching back on the
-                // integrator's error in v; the event's state is set to the end exactly.
-                Some(b) => {
-                    (w - (b.v_lo - end_slack(b.v_lo, tol))).min(b.v_hi + end_slack(b.v_hi, tol) - w)
-                }
+                Some(b) => (w - b.v_lo).min(b.v_hi - w),
                 None => w,
             }
         }

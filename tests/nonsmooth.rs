@@ -785,6 +785,11 @@ fn s4_first_fold_is_where_the_branch_integrated_through_it_folds() {
                 (breakaway - t0).abs() <= 100.0 * rtol,
                 "{name}: breakaway at {breakaway}, not {t0}"
             );
+            println!(
+                "{name}: fold {:.1}·rtol from the branch's, breakaway {:.1}·rtol from 2 asin(1/3)",
+                (fold - t_fold).abs() / rtol,
+                (breakaway - t0).abs() / rtol
+            );
             assert!(
                 (fold - t_fold).abs() <= 100.0 * rtol,
                 "{name}: fold at {fold}, the branch folds at {t_fold} ({:.0}·rtol)",

@@ -36,7 +36,8 @@ fn random_scenes_agree() {
 /// by 5.1e-5 and 9.9e-6 of the force scale at rtol 1e-8): a fixed allowance of 1e4·rtol
 /// took it, and the plateau was left again at once, up to three times; without the
 /// allowance the run ended with a typed error. Now a branch entered at its end arms its
-/// switching function only once the speed is a slack inside the range, and a dip back
+/// switching function only once the speed is the integrator's accuracy inside the range
+/// (`arming_distance`), and a dip back
 /// past that end while its acceleration still points into the range is no event; should
 /// one fire anyway, the branch stays a candidate of the selection and is kept.
 #[test]

@@ -674,10 +674,6 @@ fn s4_switch_sequence_is_the_references_at_every_tolerance() {
     );
 }
 
-/// Energy balance on every lumped scene with time-stepping at a fine step: for the
-/// discrete scheme, E_n − E_0 = W_n − D_n + O(h) with W the work of the applied force and
-/// D = Σ h f_e v (the element forces' dissipation, f·v ≥ 0 at every step); the
-/// spring-backed stop's support energy ½ k_s (penetration)² is part of E.
 /// S4 approach 1's first fold, from a reference that locates no event: the block
 /// breaks away at `3 sin(t/2) = f_crit` (`x = 0`), slips on the inner branch
 /// `v = φ(f) = (1 + 0.1 (f² − 4)(f² − 9))(f − 1)` and reaches the fold `φ'(f*) = 0` at
@@ -693,6 +689,7 @@ fn s4_switch_sequence_is_the_references_at_every_tolerance() {
 /// the same way shared the bias.)
 #[test]
 fn s4_first_fold_is_where_the_branch_integrated_through_it_folds() {
+    use filippov::runtime::nonsmooth::Mode;
     use filippov::runtime::{FnSystem, Method, Problem, solve};
     use filippov_scenes::NonMonotoneNoJumps;
     let (m, k) = (1.0, 1.0);
@@ -781,6 +778,13 @@ fn s4_first_fold_is_where_the_branch_integrated_through_it_folds() {
                 sol.switches.len()
             );
             let (breakaway, fold) = (sol.switches[0].t, sol.switches[1].t);
+            // Stick → inner branch, then inner → outer branch at the fold.
+            assert!(
+                sol.switches[0].to == Some(Mode::SlipPos(0))
+                    && sol.switches[1].to == Some(Mode::SlipPos(1)),
+                "{name}: switches {:?}",
+                &sol.switches[..2]
+            );
             assert!(
                 (breakaway - t0).abs() <= 100.0 * rtol,
                 "{name}: breakaway at {breakaway}, not {t0}"
@@ -804,7 +808,12 @@ fn s4_first_fold_is_where_the_branch_integrated_through_it_folds() {
                 &row[..2]
             );
             let h = fold - sol.times()[i - 1];
-            let before = sol.at(fold - 1e-6 * h).unwrap();
+            let t_before = fold - 1e-6 * h;
+            assert!(
+                t_before < fold,
+                "{name}: the last step before the fold is {h:e} long"
+            );
+            let before = sol.at(t_before).unwrap();
             assert!(
                 (before[1] - row[1]).abs() <= rtol * v_max,
                 "{name}: the read-back's speed just before the fold {} against the row's {}",
@@ -815,6 +824,10 @@ fn s4_first_fold_is_where_the_branch_integrated_through_it_folds() {
     }
 }
 
+/// Energy balance on every lumped scene with time-stepping at a fine step: for the
+/// discrete scheme, E_n − E_0 = W_n − D_n + O(h) with W the work of the applied force and
+/// D = Σ h f_e v (the element forces' dissipation, f·v ≥ 0 at every step); the
+/// spring-backed stop's support energy ½ k_s (penetration)² is part of E.
 #[test]
 fn energy_balance_on_every_lumped_scene() {
     use filippov::runtime::NonSmooth;

@@ -1252,6 +1252,9 @@ fn resting_on_limits(config: &Config, short: f64) -> Vec<Vec<String>> {
 /// The largest switch-time difference between two runs whose switch logs match, and at
 /// which switch.
 fn switch_spread(a: &Solution, b: &Solution) -> Option<(f64, usize)> {
+    if a.switches.is_empty() {
+        return None;
+    }
     compare_switches(a, b, 1.0, 2).map(|w| (w.ratio, w.index))
 }
 
@@ -1301,9 +1304,11 @@ fn compare_switches(
             state_before: 0.0,
         });
     };
-    // Before both switches by as much as they differ: both runs are still on the
-    // arc that leads to this switch there (velocities may jump at the switch itself).
-    let t = sol.switches[index].t.min(reference.switches[index].t) - dt;
+    // Before both switches by as much as they differ (at least a little): both runs
+    // are still on the arc that leads to this switch there (velocities may jump at the
+    // switch itself).
+    let t0 = sol.switches[index].t.min(reference.switches[index].t);
+    let t = t0 - dt.max(1e-9 * t0.abs().max(1.0));
     let state_before = match (sol.at(t), reference.at(t)) {
         // The forces after the state are left out: at a fold the slip force has a
         // square-root singularity in the speed.

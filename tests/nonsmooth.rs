@@ -337,6 +337,132 @@ fn s5_energy_balance_and_dissipation_sign() {
     assert!(worst < 1e-5, "energy balance residual {worst:.3e}");
 }
 
+/// S5's switches from its piecewise closed form: while stuck the block holds `x` and
+/// breaks away where `|F(t) − k x| = f_crit`; slipping in direction `d`,
+/// `x'' + x = 1.2 sin(t/2) − d f_crit` has `x = 1.6 sin(t/2) − d f_crit + A cos t +
+/// B sin t`, and the slip ends where `v = 0` (then stuck if `|F − k x| ≤ f_crit`, else
+/// slipping back). Each switch is a root of these expressions, bracketed on a 1e-3 grid
+/// and bisected to round-off: no integrator and no event location in the reference.
+/// Every event-driven method must log the same modes in the same order, DOPRI5 and
+/// SDIRK4 each switch within 100·rtol down to rtol 1e-12, BDF within 300·rtol down to
+/// 1e-8 (its error is per step; see `s4_switch_sequence_is_the_references_at_every_tolerance`).
+#[test]
+fn s5_switch_times_are_the_closed_forms() {
+    use filippov::runtime::nonsmooth::Mode;
+    let (fc, tf) = (0.5, 30.0);
+    let load = |t: f64| 1.2 * (0.5 * t).sin();
+    // The first root of `g` after `t` (where `g > 0`), to round-off.
+    let first_root = |g: &dyn Fn(f64) -> f64, t: f64| -> f64 {
+        let mut a = t;
+        while g(a + 1e-3) > 0.0 {
+            a += 1e-3;
+            if a > 2.0 * tf {
+                return f64::INFINITY;
+            }
+        }
+        let mut b = a + 1e-3;
+        while b - a > 4.0 * f64::EPSILON * b {
+            let c = 0.5 * (a + b);
+            if g(c) > 0.0 { a = c } else { b = c }
+        }
+        b
+    };
+    let mut exact: Vec<(f64, Mode)> = Vec::new();
+    let (mut t, mut x, mut mode) = (0.0, 0.25, Mode::Stick);
+    while t < tf {
+        let (t_next, x_next, next) = match mode {
+            Mode::Stick => {
+                let x_s = x;
+                let t_b = first_root(&|t| fc - (load(t) - x_s).abs(), t);
+                let d = (load(t_b) - x_s).signum();
+                (
+                    t_b,
+                    x_s,
+                    if d > 0.0 {
+                        Mode::SlipPos(0)
+                    } else {
+                        Mode::SlipNeg(0)
+                    },
+                )
+            }
+            _ => {
+                let d = if mode == Mode::SlipPos(0) { 1.0 } else { -1.0 };
+                let r = x - 1.6 * (0.5 * t).sin() + d * fc;
+                let s = -0.8 * (0.5 * t).cos();
+                let (a, b) = (r * t.cos() - s * t.sin(), r * t.sin() + s * t.cos());
+                let pos = move |t: f64| 1.6 * (0.5 * t).sin() - d * fc + a * t.cos() + b * t.sin();
+                let vel = move |t: f64| 0.8 * (0.5 * t).cos() - a * t.sin() + b * t.cos();
+                let t_e = first_root(&|t| d * vel(t), t);
+                let x_e = pos(t_e);
+                let f = load(t_e) - x_e;
+                let next = if f.abs() <= fc {
+                    Mode::Stick
+                } else if f > 0.0 {
+                    Mode::SlipPos(0)
+                } else {
+                    Mode::SlipNeg(0)
+                };
+                (t_e, x_e, next)
+            }
+        };
+        if t_next >= tf {
+            break;
+        }
+        exact.push((t_next, next));
+        (t, x, mode) = (t_next, x_next, next);
+    }
+    assert!(exact.len() >= 6, "closed form: {exact:?}");
+    let s = CoulombOscillator {
+        m: 1.0,
+        k: 1.0,
+        f_crit: fc,
+    };
+    let p =
+        NonSmoothProblem::new(0.0, tf, V1::new(0.25), V1::new(0.0)).with_forces(vec![Some(-0.25)]);
+    for (method, tolerances, bound) in [
+        (
+            SmoothMethod::Dopri5,
+            &[1e-4, 1e-6, 1e-8, 1e-10, 1e-12][..],
+            100.0,
+        ),
+        (
+            SmoothMethod::Sdirk4,
+            &[1e-4, 1e-6, 1e-8, 1e-10, 1e-12][..],
+            100.0,
+        ),
+        (SmoothMethod::Bdf, &[1e-4, 1e-6, 1e-8][..], 300.0),
+    ] {
+        for &rtol in tolerances {
+            let run = NonSmoothMethod::EventDriven {
+                method,
+                options: Options::tolerances(rtol, 1e-2 * rtol),
+            };
+            let sol = solve_nonsmooth(&s, &|t, _q: &V1, _v: &V1| V1::new(load(t)), &p, &run)
+                .unwrap_or_else(|e| panic!("{method:?} at rtol {rtol:e}: {e}"));
+            let modes: Vec<Option<Mode>> = sol.switches.iter().map(|w| w.to).collect();
+            let expected: Vec<Option<Mode>> = exact.iter().map(|e| Some(e.1)).collect();
+            assert_eq!(
+                modes, expected,
+                "{method:?} at rtol {rtol:e}: the switch log"
+            );
+            let worst = sol
+                .switches
+                .iter()
+                .zip(&exact)
+                .map(|(w, e)| (w.t - e.0).abs())
+                .fold(0.0, f64::max);
+            println!(
+                "S5 {method:?} at rtol {rtol:e}: switch times within {:.1}·rtol",
+                worst / rtol
+            );
+            assert!(
+                worst <= bound * rtol,
+                "{method:?} at rtol {rtol:e}: a switch {worst:e} from the closed form"
+            );
+        }
+    }
+}
+
 /// Bad parameters are typed errors naming the parameter, before any integration.
 #[test]
 fn bad_parameters_are_reported_not_integrated() {

@@ -337,80 +337,18 @@ fn s5_energy_balance_and_dissipation_sign() {
     assert!(worst < 1e-5, "energy balance residual {worst:.3e}");
 }
 
-/// S5's switches from its piecewise closed form: while stuck the block holds `x` and
-/// breaks away where `|F(t) − k x| = f_crit`; slipping in direction `d`,
-/// `x'' + x = 1.2 sin(t/2) − d f_crit` has `x = 1.6 sin(t/2) − d f_crit + A cos t +
-/// B sin t`, and the slip ends where `v = 0` (then stuck if `|F − k x| ≤ f_crit`, else
-/// slipping back). Each switch is a root of these expressions, bracketed on a 1e-3 grid
-/// and bisected to round-off: no integrator and no event location in the reference.
-/// Every event-driven method must log the same modes in the same order, DOPRI5 and
-/// SDIRK4 each switch within 100·rtol down to rtol 1e-12, BDF within 300·rtol down to
-/// 1e-8 (its error is per step; see `s4_switch_sequence_is_the_references_at_every_tolerance`).
+/// S5's switches from its piecewise closed form
+/// ([`filippov_scenes::references::s5_switches`]: each switch a root of the stick and
+/// slip phases' closed forms; no integrator and no event location). Every event-driven
+/// method must log the same modes in the same order, DOPRI5 and SDIRK4 each switch
+/// within 100·rtol down to rtol 1e-12, BDF within 300·rtol down to 1e-8 (its error is
+/// per step; see `s4_switch_sequence_is_the_references_at_every_tolerance`).
 #[test]
 fn s5_switch_times_are_the_closed_forms() {
     use filippov::runtime::nonsmooth::Mode;
     let (fc, tf) = (0.5, 30.0);
     let load = |t: f64| 1.2 * (0.5 * t).sin();
-    // The first root of `g` after `t` (where `g > 0`), to round-off.
-    let first_root = |g: &dyn Fn(f64) -> f64, t: f64| -> f64 {
-        let mut a = t;
-        while g(a + 1e-3) > 0.0 {
-            a += 1e-3;
-            if a > 2.0 * tf {
-                return f64::INFINITY;
-            }
-        }
-        let mut b = a + 1e-3;
-        while b - a > 4.0 * f64::EPSILON * b {
-            let c = 0.5 * (a + b);
-            if g(c) > 0.0 { a = c } else { b = c }
-        }
-        b
-    };
-    let mut exact: Vec<(f64, Mode)> = Vec::new();
-    let (mut t, mut x, mut mode) = (0.0, 0.25, Mode::Stick);
-    while t < tf {
-        let (t_next, x_next, next) = match mode {
-            Mode::Stick => {
-                let x_s = x;
-                let t_b = first_root(&|t| fc - (load(t) - x_s).abs(), t);
-                let d = (load(t_b) - x_s).signum();
-                (
-                    t_b,
-                    x_s,
-                    if d > 0.0 {
-                        Mode::SlipPos(0)
-                    } else {
-                        Mode::SlipNeg(0)
-                    },
-                )
-            }
-            _ => {
-                let d = if mode == Mode::SlipPos(0) { 1.0 } else { -1.0 };
-                let r = x - 1.6 * (0.5 * t).sin() + d * fc;
-                let s = -0.8 * (0.5 * t).cos();
-                let (a, b) = (r * t.cos() - s * t.sin(), r * t.sin() + s * t.cos());
-                let pos = move |t: f64| 1.6 * (0.5 * t).sin() - d * fc + a * t.cos() + b * t.sin();
-                let vel = move |t: f64| 0.8 * (0.5 * t).cos() - a * t.sin() + b * t.cos();
-                let t_e = first_root(&|t| d * vel(t), t);
-                let x_e = pos(t_e);
-                let f = load(t_e) - x_e;
-                let next = if f.abs() <= fc {
-                    Mode::Stick
-                } else if f > 0.0 {
-                    Mode::SlipPos(0)
-                } else {
-                    Mode::SlipNeg(0)
-                };
-                (t_e, x_e, next)
-            }
-        };
-        if t_next >= tf {
-            break;
-        }
-        exact.push((t_next, next));
-        (t, x, mode) = (t_next, x_next, next);
-    }
+    let exact = filippov_scenes::references::s5_switches(tf);
     assert!(exact.len() >= 6, "closed form: {exact:?}");
     let s = CoulombOscillator {
         m: 1.0,
@@ -800,92 +738,26 @@ fn s4_switch_sequence_is_the_references_at_every_tolerance() {
     );
 }
 
-/// S4 approach 1's first fold, from a reference that locates no event: the block
-/// breaks away at `3 sin(t/2) = f_crit` (`x = 0`), slips on the inner branch
-/// `v = φ(f) = (1 + 0.1 (f² − 4)(f² − 9))(f − 1)` and reaches the fold `φ'(f*) = 0` at
-/// `v_max = φ(f*)`. The branch is integrated in time with the force `φ⁻¹(v)` (a Newton
-/// solve written here) up to `t = 2.2`, then with the force as the independent
-/// variable up to `f*`: `dt/df = m φ'(f)/(F − k x − f)`, `dx/df = φ(f) dt/df`, smooth
-/// through the fold, where the time form has its square-root singularity. The
-/// event-driven runs' second switch must be that time within 100·rtol, their state
-/// there that state, and their read-back continuous into it. (With a slack of
-/// `max(atol + rtol·v, 1e-10·v)` in the branch's switching function, every fold was
+/// S4 approach 1's first fold, from a reference that locates no event
+/// ([`filippov_scenes::references::s4_first_fold`]: the branch integrated with the force
+/// as the independent variable through the fold). The event-driven runs' first switch
+/// must be the breakaway at `2 asin(1/3)` and their second the fold within 100·rtol,
+/// their state there that state, and their read-back continuous into it. (With a slack
+/// of `max(atol + rtol·v, 1e-10·v)` in the branch's switching function, every fold was
 /// found `1e-10·v_max / v̇ = 9.4e-10` late at rtol ≤ 1e-10, and the switch rows' speed
 /// differed from the read-back just before them by that slack; references computed
 /// the same way shared the bias.)
 #[test]
 fn s4_first_fold_is_where_the_branch_integrated_through_it_folds() {
     use filippov::runtime::nonsmooth::Mode;
-    use filippov::runtime::{FnSystem, Method, Problem, solve};
     use filippov_scenes::NonMonotoneNoJumps;
+    use filippov_scenes::references::s4_first_fold;
     let (m, k) = (1.0, 1.0);
     let load = |t: f64| 3.0 * (0.5 * t).sin();
-    let phi = |f: f64| (0.1 * f.powi(4) - 1.3 * f * f + 4.6) * (f - 1.0);
-    let dphi =
-        |f: f64| (0.4 * f.powi(3) - 2.6 * f) * (f - 1.0) + 0.1 * f.powi(4) - 1.3 * f * f + 4.6;
-    let ddphi = |f: f64| (1.2 * f * f - 2.6) * (f - 1.0) + 2.0 * (0.4 * f.powi(3) - 2.6 * f);
-    // The fold: the first zero of φ' above f = 1 (φ'(1) = 3.4, φ'(2) < 0).
-    let mut f_star = 1.5;
-    for _ in 0..50 {
-        f_star -= dphi(f_star) / ddphi(f_star);
-    }
-    assert!(
-        f_star > 1.0 && f_star < 2.0 && dphi(f_star).abs() < 1e-14 && dphi(1.2) > 0.0,
-        "fold at f = {f_star}"
-    );
-    let v_max = phi(f_star);
-    // φ⁻¹ on the inner branch [1, f*]: Newton from the bracket's side, bisection as a
-    // safeguard.
-    let inverse = |v: f64| {
-        let (mut lo, mut hi) = (1.0, f_star);
-        let mut f = 1.0 + v / 3.4;
-        for _ in 0..200 {
-            if !(f > lo && f < hi) {
-                f = 0.5 * (lo + hi);
-            }
-            let r = phi(f) - v;
-            if r > 0.0 {
-                hi = f
-            } else {
-                lo = f
-            }
-            let step = r / dphi(f);
-            f -= step;
-            if step.abs() <= 1e-16 * f {
-                break;
-            }
-        }
-        f
-    };
+    let fold_ref = s4_first_fold();
+    let (t_fold, x_fold, v_max) = (fold_ref.t, fold_ref.x, fold_ref.v);
+    assert!(t_fold > 2.2 && t_fold < 3.0, "fold at t = {t_fold}");
     let t0 = 2.0 * (1.0f64 / 3.0).asin();
-    let tight = Options::tolerances(1e-13, 1e-15);
-    let in_time = FnSystem::new(2, |t, y: &[f64], dy: &mut [f64]| {
-        dy[0] = y[1];
-        dy[1] = (load(t) - k * y[0] - inverse(y[1])) / m;
-    });
-    let t_a = 2.2;
-    let a = solve(
-        &in_time,
-        &Problem::new(t0, t_a, [0.0, 0.0]),
-        &Method::Dopri5(tight),
-    )
-    .unwrap();
-    let (_, ya) = a.last().unwrap();
-    let f_a = inverse(ya[1]);
-    // y = [t, x] against the force f.
-    let in_force = FnSystem::new(2, |f, y: &[f64], dy: &mut [f64]| {
-        dy[0] = m * dphi(f) / (load(y[0]) - k * y[1] - f);
-        dy[1] = phi(f) * dy[0];
-    });
-    let b = solve(
-        &in_force,
-        &Problem::new(f_a, f_star, [t_a, ya[0]]),
-        &Method::Dopri5(tight),
-    )
-    .unwrap();
-    let (_, yb) = b.last().unwrap();
-    let (t_fold, x_fold) = (yb[0], yb[1]);
-    assert!(t_fold > t_a && t_fold < 3.0, "fold at t = {t_fold}");
 
     let s = NonMonotoneNoJumps { m, k, f_crit: 1.0 };
     let p = NonSmoothProblem::new(0.0, 3.0, V1::new(0.0), V1::new(0.0));

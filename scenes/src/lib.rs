@@ -7,6 +7,7 @@ mod double_pendulum;
 mod lie;
 mod lumped;
 mod panda;
+pub mod references;
 mod s9;
 mod tree;
 

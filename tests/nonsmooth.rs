@@ -1612,3 +1612,58 @@ fn stiff_two_block_chain_completes_event_driven_and_agrees_with_time_stepping() 
         }
     }
 }
+
+/// S4 approach 2's first four switches (breakaway, plateau entry at `v_min`, plateau
+/// exit at the interval's lower end, rest) from
+/// [`filippov_scenes::references::s4_approach2_first_switches`]: the inner branch
+/// integrated as a smooth system, the plateau in closed form, no event-driven
+/// integration. DOPRI5 and SDIRK4 log the same modes first and switch within 100·rtol
+/// from rtol 1e-6 to 1e-12.
+#[test]
+fn s4_approach2_plateau_entry_and_exit_are_the_smooth_references() {
+    use filippov_scenes::NonMonotoneMaxDissipation;
+    let exact = filippov_scenes::references::s4_approach2_first_switches();
+    assert_eq!(exact.len(), 4, "{exact:?}");
+    let s = NonMonotoneMaxDissipation {
+        m: 1.0,
+        k: 1.0,
+        f_crit: 1.0,
+    };
+    let p = NonSmoothProblem::new(0.0, 6.0, V1::new(0.0), V1::new(0.0));
+    for method in [SmoothMethod::Dopri5, SmoothMethod::Sdirk4] {
+        for rtol in [1e-6, 1e-8, 1e-10, 1e-12] {
+            let run = NonSmoothMethod::EventDriven {
+                method,
+                options: Options::tolerances(rtol, 1e-2 * rtol),
+            };
+            let sol = solve_nonsmooth(
+                &s,
+                &|t, _q: &V1, _v: &V1| V1::new(3.0 * (0.5 * t).sin()),
+                &p,
+                &run,
+            )
+            .unwrap_or_else(|e| panic!("{method:?} at rtol {rtol:e}: {e}"));
+            let name = format!("{method:?} at rtol {rtol:e}");
+            assert!(sol.switches.len() >= 4, "{name}: {:?}", sol.switches);
+            let mut worst = 0.0f64;
+            for (w, e) in sol.switches.iter().zip(&exact) {
+                assert_eq!(
+                    w.to,
+                    Some(e.1),
+                    "{name}: switch at {} (the reference's at {})",
+                    w.t,
+                    e.0
+                );
+                worst = worst.max((w.t - e.0).abs());
+            }
+            println!(
+                "S4 approach 2 {name}: first four switches within {:.1}·rtol",
+                worst / rtol
+            );
+            assert!(
+                worst <= 100.0 * rtol,
+                "{name}: a switch {worst:e} from the reference"
+            );
+        }
+    }
+}

@@ -345,9 +345,10 @@ const REFERENCE_RTOL: f64 = 1e-13;
 struct Exact<'a> {
     /// What it is and which switches it covers, for the page.
     what: &'a str,
-    /// The largest difference of a run's switch times to it, `None` when the run's log
-    /// lacks the switches it covers.
-    worst: &'a dyn Fn(&Solution) -> Option<f64>,
+    /// The switches, time and mode entered.
+    switches: &'a [(f64, Mode)],
+    /// Whether they are the whole log, or only its first switches.
+    whole: bool,
 }
 
 /// A sweep against reference runs of a *different* method: event-driven DOPRI5 rows
@@ -445,7 +446,11 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
                             None => mismatches += 1,
                         }
                         let against_exact = match &exact {
-                            Some(x) => match (x.worst)(&traj) {
+                            Some(x) => match references::switch_time_error(
+                                &traj.switches,
+                                x.switches,
+                                x.whole,
+                            ) {
                                 Some(dt) => {
                                     let r = dt / options.rtol;
                                     if worst_exact[kind].is_none_or(|(v, _)| r > v) {
@@ -758,7 +763,8 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
         &|t, _q, _v| V1::new(1.2 * (0.5 * t).sin()),
         Some(Exact {
             what: "the closed form (every switch)",
-            worst: &|sol| worst_against(sol, &s5_exact, true),
+            switches: &s5_exact,
+            whole: true,
         }),
     );
 
@@ -770,7 +776,11 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
         V1::new(0.0),
     );
     let f4 = |t: f64, _q: &V1, _v: &V1| V1::new(3.0 * (0.5 * t).sin());
-    let s4_fold = references::s4_first_fold();
+    // Breakaway at 3 sin(t/2) = f_crit, then the fold.
+    let s4_fold = [
+        (2.0 * (1.0f64 / 3.0).asin(), Mode::SlipPos(0)),
+        (references::s4_first_fold().t, Mode::SlipPos(1)),
+    ];
     let s4_plateau = references::s4_approach2_first_switches();
     sweep_vs_reference(
         config,
@@ -785,11 +795,9 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
         &p4,
         &f4,
         Some(Exact {
-            what: "the branch integrated through its fold in the force (first fold)",
-            worst: &|sol| {
-                let w = sol.switches.get(1)?;
-                (w.to == Some(Mode::SlipPos(1))).then(|| (w.t - s4_fold.t).abs())
-            },
+            what: "the closed-form breakaway and the branch integrated through its fold in the force (first two switches)",
+            switches: &s4_fold,
+            whole: false,
         }),
     );
     page.h3("S4: approach 2 (maximal dissipation, with the plateau mode) (reference runs)");
@@ -807,7 +815,8 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
         &f4,
         Some(Exact {
             what: "the inner branch as a smooth run and the plateau in closed form (first four switches)",
-            worst: &|sol| worst_against(sol, &s4_plateau, false),
+            switches: &s4_plateau,
+            whole: false,
         }),
     );
 
@@ -1318,26 +1327,6 @@ fn resting_on_limits(config: &Config, short: f64) -> Vec<Vec<String>> {
         },
     );
     rows
-}
-
-/// The largest difference of `sol`'s switch times to `exact` (time and mode entered,
-/// from [`references`]), if its log enters those modes in that order: the whole log
-/// (`whole`), or its first switches.
-fn worst_against(sol: &Solution, exact: &[(f64, Mode)], whole: bool) -> Option<f64> {
-    let n = exact.len();
-    let same = (sol.switches.len() == n || (!whole && sol.switches.len() > n))
-        && sol
-            .switches
-            .iter()
-            .zip(exact)
-            .all(|(w, e)| w.to == Some(e.1));
-    same.then(|| {
-        sol.switches
-            .iter()
-            .zip(exact)
-            .map(|(w, e)| (w.t - e.0).abs())
-            .fold(0.0, f64::max)
-    })
 }
 
 /// The largest switch-time difference between two runs whose switch logs match, and at

@@ -4,7 +4,7 @@
 //! compared to.
 
 use filippov::runtime::nonsmooth::Mode;
-use filippov::runtime::{FnSystem, Method, Options, Problem, Solution, solve};
+use filippov::runtime::{FnSystem, Method, Options, Problem, Solution, Switch, solve};
 
 /// Where S4 approach 1 (`NonMonotoneNoJumps` with `m = k = f_crit = 1`, forced by
 /// `3 sin(t/2)` from rest at `x = 0`) first reaches a fold: time, position, speed.
@@ -86,13 +86,12 @@ fn inner_slip(t0: f64, x0: f64, v0: f64, t1: f64, f_star: f64) -> Solution {
     solve(&sys, &Problem::new(t0, t1, [x0, v0]), &tight()).expect("S4's inner branch")
 }
 
-/// The first `t` in `[a, b]` where `g` reaches `0` from above (bracketed on 1000
-/// samples, then bisected to round-off); `None` if it stays positive.
-fn first_zero(g: &dyn Fn(f64) -> f64, a: f64, b: f64) -> Option<f64> {
-    const SAMPLES: usize = 1000;
+/// The first `t` in `(a, b]` where `g` reaches `0` from above: bracketed on samples
+/// `dt` apart, then bisected to round-off; `None` if it stays positive.
+fn first_zero(g: &dyn Fn(f64) -> f64, a: f64, b: f64, dt: f64) -> Option<f64> {
     let mut lo = a;
-    for i in 1..=SAMPLES {
-        let t = a + (b - a) * i as f64 / SAMPLES as f64;
+    while lo < b {
+        let t = (lo + dt).min(b);
         if g(t) <= 0.0 {
             let mut hi = t;
             while hi - lo > 4.0 * f64::EPSILON * hi.abs().max(1.0) {
@@ -104,6 +103,22 @@ fn first_zero(g: &dyn Fn(f64) -> f64, a: f64, b: f64) -> Option<f64> {
         lo = t;
     }
     None
+}
+
+/// The largest difference of a run's switch times to `exact` (time and mode entered),
+/// if the run's switches enter those modes in that order: all of them (`whole`), or
+/// the first ones.
+pub fn switch_time_error(switches: &[Switch], exact: &[(f64, Mode)], whole: bool) -> Option<f64> {
+    let n = exact.len();
+    let same = (switches.len() == n || (!whole && switches.len() > n))
+        && switches.iter().zip(exact).all(|(w, e)| w.to == Some(e.1));
+    same.then(|| {
+        switches
+            .iter()
+            .zip(exact)
+            .map(|(w, e)| (w.t - e.0).abs())
+            .fold(0.0, f64::max)
+    })
 }
 
 /// S4 approach 1's first fold. The block breaks away at `3 sin(t/2) = f_crit`
@@ -157,7 +172,7 @@ pub fn s4_approach2_first_switches() -> Vec<(f64, Mode)> {
     let horizon = 20.0;
     let up = inner_slip(t0, 0.0, 0.0, 2.2, f_star);
     let at = |sol: &Solution, t: f64| sol.at(t).expect("inside the run");
-    let t_p = first_zero(&|t| v_min - at(&up, t)[1], t0 + 1e-3, 2.2)
+    let t_p = first_zero(&|t| v_min - at(&up, t)[1], t0, 2.2, 1e-3)
         .expect("S4 approach 2 reaches the plateau");
     let x_p = at(&up, t_p)[0];
     switches.push((t_p, Mode::PlateauPos(0)));
@@ -170,8 +185,9 @@ pub fn s4_approach2_first_switches() -> Vec<(f64, Mode)> {
     );
     let t_e = first_zero(
         &|t| (held(t) - f_lo).min(f_2star - held(t)),
-        t_p + 1e-9,
+        t_p,
         horizon,
+        1e-3,
     )
     .expect("S4 approach 2 leaves the plateau");
     assert!(
@@ -183,7 +199,7 @@ pub fn s4_approach2_first_switches() -> Vec<(f64, Mode)> {
     // Inner branch down to rest.
     // (At rest about 1 s later; past it the speed would turn negative.)
     let down = inner_slip(t_e, x_e, v_min, t_e + 2.0, f_star);
-    let t_s = first_zero(&|t| at(&down, t)[1], t_e + 1e-3, t_e + 2.0)
+    let t_s = first_zero(&|t| at(&down, t)[1], t_e, t_e + 2.0, 1e-3)
         .expect("S4 approach 2 comes to rest");
     let x_s = at(&down, t_s)[0];
     assert!(
@@ -205,21 +221,9 @@ pub fn s4_approach2_first_switches() -> Vec<(f64, Mode)> {
 pub fn s5_switches(tf: f64) -> Vec<(f64, Mode)> {
     let fc = 0.5;
     let load = |t: f64| 1.2 * (0.5 * t).sin();
-    let first_root = |g: &dyn Fn(f64) -> f64, t: f64| -> f64 {
-        let mut a = t;
-        while g(a + 1e-3) > 0.0 {
-            a += 1e-3;
-            if a > tf + 1.0 {
-                return f64::INFINITY;
-            }
-        }
-        let mut b = a + 1e-3;
-        while b - a > 4.0 * f64::EPSILON * b {
-            let c = 0.5 * (a + b);
-            if g(c) > 0.0 { a = c } else { b = c }
-        }
-        b
-    };
+    // The next switch, or ∞ past the horizon.
+    let first_root =
+        |g: &dyn Fn(f64) -> f64, t: f64| first_zero(g, t, tf + 1.0, 1e-3).unwrap_or(f64::INFINITY);
     let mut switches = Vec::new();
     let (mut t, mut x, mut mode) = (0.0, 0.25, Mode::Stick);
     while t < tf {

@@ -9,6 +9,9 @@ use quote::ToTokens;
 #[derive(Default)]
 pub struct Diagnostics {
     errors: Vec<syn::Error>,
+    /// Names the user declared whose declaration already has an error (a joint whose
+    /// kind or axis is wrong): a later reference to one is not a second mistake.
+    excused: Vec<String>,
 }
 
 impl Diagnostics {
@@ -34,6 +37,18 @@ impl Diagnostics {
         if !self.errors.iter().any(|old| key(old) == new) {
             self.errors.push(e);
         }
+    }
+
+    /// Marks `name` as declared with an error already reported: references to it are
+    /// not reported again (see [`Diagnostics::is_excused`]).
+    pub fn excuse(&mut self, name: impl Display) {
+        self.excused.push(name.to_string());
+    }
+
+    /// Whether `name` was declared with an error already reported.
+    pub fn is_excused(&self, name: impl Display) -> bool {
+        let name = name.to_string();
+        self.excused.contains(&name)
     }
 
     pub fn has_errors(&self) -> bool {

@@ -134,7 +134,12 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
                 bodies.extend(read_body(body, &names, &who, diag));
                 match read_joint(joint, &names, diag) {
                     Some(j) => joints.push(j),
-                    None => claimed.extend(child),
+                    None => {
+                        if let Some(c) = &child {
+                            diag.excuse(c);
+                        }
+                        claimed.extend(child)
+                    }
                 }
             }
             Family::Body => bodies.extend(read_body(raw, &names, &who, diag)),
@@ -147,9 +152,15 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
                     .iter()
                     .find(|(k, _)| k == "child")
                     .and_then(|(_, e)| ident_of(e).cloned());
+                let joint_name = raw.name.clone();
                 match read_joint(raw, &names, diag) {
                     Some(j) => joints.push(j),
-                    None => claimed.extend(child),
+                    None => {
+                        if let Some(j) = &joint_name {
+                            diag.excuse(j);
+                        }
+                        claimed.extend(child)
+                    }
                 }
             }
             Family::Spring | Family::Damper => element_attrs.push(raw),
@@ -537,6 +548,8 @@ fn check_unique<'a>(names: impl Iterator<Item = &'a Ident>, what: &str, diag: &m
     let mut seen: HashMap<String, &Ident> = HashMap::new();
     for n in names {
         if seen.insert(n.to_string(), n).is_some() {
+            // Which of the two a later reference means is unknowable: not asked again.
+            diag.excuse(n);
             diag.error_at(
                 n,
                 format_args!(
@@ -1049,9 +1062,35 @@ fn build_tree(
             stack.push((Some(b), k));
         }
     }
+    // A body whose joint, or an ancestor's joint, was declared wrongly (its error is
+    // already reported; the body is `claimed`) is cut off from the world by that
+    // mistake alone: no second error for it.
+    let hangs_from_claimed = |mut b: usize| {
+        for _ in 0..=bodies.len() {
+            match joint_of[b] {
+                None => return true,
+                Some(ji) => match parent_body(&joints[ji]) {
+                    Some(p) => b = p,
+                    None => return false,
+                },
+            }
+        }
+        false
+    };
+    for b in 0..bodies.len() {
+        if link_of_body[b].is_none()
+            && hangs_from_claimed(b)
+            && let Some(ji) = joint_of[b]
+        {
+            // Its joint is fine but out of the tree because of that mistake: elements
+            // on it are not a second one.
+            diag.excuse(&joints[ji].name);
+        }
+    }
     for (b, body) in bodies.iter().enumerate() {
-        if link_of_body[b].is_none() {
-            let j = &joints[joint_of[b].unwrap_or(0)];
+        if link_of_body[b].is_none() && !hangs_from_claimed(b) {
+            let Some(ji) = joint_of[b] else { continue };
+            let j = &joints[ji];
             diag.error_at(
                 &body.name,
                 format_args!("body `{}` does not reach the world through its parents (joint `{}` closes a cycle or hangs from a detached body); a mechanism must be a tree rooted at `world`", body.name, j.name),
@@ -1130,11 +1169,15 @@ fn build_tree(
             return None;
         }
     }
-    if coordinate == 0 {
+    // (A joint declared wrongly may have been the moving one: its error stands alone.)
+    if coordinate == 0 && claimed.is_empty() {
         diag.error_at(
             &joints[0].name,
             "a mechanism needs at least one moving joint (revolute, prismatic, spherical or free)",
         );
+        return None;
+    }
+    if coordinate == 0 {
         return None;
     }
     if coordinate > MAX_DOF {
@@ -1260,6 +1303,7 @@ fn read_inputs(e: &Expr, links: &[Link], diag: &mut Diagnostics) -> Vec<usize> {
                 id,
                 format_args!("joint `{id}` is fixed and cannot be actuated"),
             ),
+            None if diag.is_excused(id) => {}
             None => {
                 let known: Vec<String> = links
                     .iter()
@@ -1287,6 +1331,10 @@ pub(crate) fn coordinate_of(
     what: &str,
     diag: &mut Diagnostics,
 ) -> Option<usize> {
+    // The joint was declared with an error (or twice), and that is reported already.
+    if diag.is_excused(joint) {
+        return None;
+    }
     match links.iter().rev().find(|l| *joint == l.joint_name) {
         Some(l) if l.kind.is_lie() => {
             diag.error_at(

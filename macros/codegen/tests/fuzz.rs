@@ -1,6 +1,7 @@
-//! `expand` on random input returns code or a spanned error and never panics: random
-//! valid trees (up to 12 joints, random parameters and element declarations) and random
-//! attribute garbage built from plausible and implausible pieces.
+//! `expand` on random input: random valid trees (up to 12 joints, random parameters and
+//! element declarations) must expand; the same trees with one mistake injected must give
+//! exactly one error naming it; random attribute garbage built from plausible and
+//! implausible pieces returns code or a spanned error and never panics.
 //!
 //! Case counts: `FILIPPOV_FUZZ_CASES` (default 64 trees and 1,000 garbage inputs).
 
@@ -14,8 +15,20 @@ fn cases(default: u32) -> u32 {
         .unwrap_or(default)
 }
 
-/// A random tree: parent of link i is one of 0..i or the world.
-fn tree() -> impl Strategy<Value = String> {
+/// The random choices behind a tree (kept apart from its text so that a defect can be
+/// injected into one named joint or body).
+#[derive(Clone, Debug)]
+struct Tree {
+    parents: Vec<usize>,
+    kinds: Vec<usize>,
+    nums: Vec<f64>,
+    elements: Vec<usize>,
+    gravity: bool,
+}
+
+/// A random tree: parent of link i is one of 0..i or the world; revolute (unit and
+/// oblique axes), prismatic and fixed joints; springs with dampers, friction, stops.
+fn tree() -> impl Strategy<Value = Tree> {
     (1usize..=12).prop_flat_map(|n| {
         (
             proptest::collection::vec(0usize..100, n),
@@ -24,40 +37,124 @@ fn tree() -> impl Strategy<Value = String> {
             proptest::collection::vec(0usize..4, n),
             any::<bool>(),
         )
-            .prop_map(move |(parents, kinds, nums, elements, gravity)| {
-                let mut s = String::from("#[derive(Mechanism)]\n");
-                if gravity {
-                    s += "#[mechanism(gravity = [0.0, 0.0, -g])]\n";
-                }
-                let axes = ["x", "y", "z", "-y", "[0.0, 0.6, 0.8]", "[1.0, 1.0, 0.0]"];
-                for i in 0..n {
-                    let parent = if i == 0 || parents[i] % 4 == 0 { "world".to_string() } else { format!("b{}", parents[i] % i) };
-                    let kind = match kinds[i] {
-                        0..=2 => format!("revolute({})", axes[(i + kinds[i]) % axes.len()]),
-                        3..=4 => format!("prismatic({})", axes[i % axes.len()]),
-                        _ => "fixed".to_string(),
-                    };
-                    let x = nums[i];
-                    s += &format!(
-                        "#[body(b{i}, mass = m * {}, com = [{x}, 0.1, l], inertia = cuboid(m, 0.1, 0.2, l))]\n",
-                        1.0 + x.abs()
-                    );
-                    s += &format!(
-                        "#[joint(j{i}: {kind}, parent = {parent}, child = b{i}, origin = [l, {x}, 0.0], rpy = [{x}, 0.0, 0.3])]\n"
-                    );
-                    if kinds[i] < 5 {
-                        match elements[i] {
-                            1 => s += &format!("#[spring(j{i}, k = k, rest = {x})]\n#[damper(j{i}, c = 0.1)]\n"),
-                            2 => s += &format!("#[friction(j{i}, f_crit = 0.5)]\n"),
-                            3 => s += &format!("#[stop(j{i}, max = l, restitution = 0.5)]\n"),
-                            _ => {}
-                        }
-                    }
-                }
-                s += "struct Scene { m: f64, l: f64, k: f64, g: f64 }";
-                s
+            .prop_map(|(parents, kinds, nums, elements, gravity)| Tree {
+                parents,
+                kinds,
+                nums,
+                elements,
+                gravity,
             })
     })
+}
+
+/// One mistake a user makes, injected into a valid tree at link `at`: the source with
+/// it, and a word the error must quote (the name or value the user wrote).
+#[derive(Clone, Copy, Debug)]
+enum Defect {
+    /// The joint's parent is a body that does not exist.
+    UnknownParent,
+    /// A revolute joint about the zero vector.
+    ZeroAxis,
+    /// A body with a negative mass (a literal: a field's value is known only at run
+    /// time).
+    NegativeMass,
+    /// A second joint with the name of an existing one.
+    DuplicateJoint,
+    /// Friction declared on a joint that does not exist.
+    ElementOnUnknownJoint,
+    /// A parameter that is not a field of the struct.
+    UnknownField,
+}
+
+const DEFECTS: [Defect; 6] = [
+    Defect::UnknownParent,
+    Defect::ZeroAxis,
+    Defect::NegativeMass,
+    Defect::DuplicateJoint,
+    Defect::ElementOnUnknownJoint,
+    Defect::UnknownField,
+];
+
+impl Tree {
+    /// The scene's source, with `defect` injected at link `at % n` (none: valid).
+    fn source(&self, defect: Option<(Defect, usize)>) -> (String, &'static str) {
+        let n = self.parents.len();
+        let (bad, at) = match defect {
+            Some((d, at)) => (Some(d), at % n),
+            None => (None, usize::MAX),
+        };
+        let mut quoted = "";
+        let mut s = String::from("#[derive(Mechanism)]\n");
+        if self.gravity {
+            s += "#[mechanism(gravity = [0.0, 0.0, -g])]\n";
+        }
+        let axes = ["x", "y", "z", "-y", "[0.0, 0.6, 0.8]", "[1.0, 1.0, 0.0]"];
+        for i in 0..n {
+            let parent = if i == at && matches!(bad, Some(Defect::UnknownParent)) {
+                quoted = "nowhere";
+                "nowhere".to_string()
+            } else if i == 0 || self.parents[i] % 4 == 0 {
+                "world".to_string()
+            } else {
+                format!("b{}", self.parents[i] % i)
+            };
+            // The first link moves (a tree of fixed joints only is a mistake of its own).
+            let k = if i == 0 { self.kinds[i] % 5 } else { self.kinds[i] };
+            let kind = if i == at && matches!(bad, Some(Defect::ZeroAxis)) {
+                quoted = "axis";
+                "revolute([0.0, 0.0, 0.0])".to_string()
+            } else {
+                match k {
+                    0..=2 => format!("revolute({})", axes[(i + k) % axes.len()]),
+                    3..=4 => format!("prismatic({})", axes[i % axes.len()]),
+                    _ => "fixed".to_string(),
+                }
+            };
+            let x = self.nums[i];
+            let mass = if i == at && matches!(bad, Some(Defect::NegativeMass)) {
+                quoted = "mass";
+                format!("-{}", 1.0 + x.abs())
+            } else if i == at && matches!(bad, Some(Defect::UnknownField)) {
+                quoted = "mu_x";
+                "mu_x * m".to_string()
+            } else {
+                format!("m * {}", 1.0 + x.abs())
+            };
+            s += &format!(
+                "#[body(b{i}, mass = {mass}, com = [{x}, 0.1, l], inertia = cuboid(m, 0.1, 0.2, l))]\n"
+            );
+            let name = if i == at && i > 0 && matches!(bad, Some(Defect::DuplicateJoint)) {
+                quoted = "j0";
+                "j0".to_string()
+            } else {
+                format!("j{i}")
+            };
+            s += &format!(
+                "#[joint({name}: {kind}, parent = {parent}, child = b{i}, origin = [l, {x}, 0.0], rpy = [{x}, 0.0, 0.3])]\n"
+            );
+            if k < 5 && name == format!("j{i}") {
+                match self.elements[i] {
+                    1 => s += &format!("#[spring(j{i}, k = k, rest = {x})]\n#[damper(j{i}, c = 0.1)]\n"),
+                    2 => s += &format!("#[friction(j{i}, f_crit = 0.5)]\n"),
+                    3 => s += &format!("#[stop(j{i}, max = l, restitution = 0.5)]\n"),
+                    _ => {}
+                }
+            }
+            if i == at && matches!(bad, Some(Defect::ElementOnUnknownJoint)) {
+                quoted = "j_missing";
+                s += "#[friction(j_missing, f_crit = 0.5)]\n";
+            }
+        }
+        // A duplicate needs a second joint: in a one-link tree the defect is an extra
+        // joint named like the first.
+        if matches!(bad, Some(Defect::DuplicateJoint)) && quoted.is_empty() {
+            quoted = "j0";
+            s += "#[body(extra, mass = m, com = [0.0, 0.0, 0.0], inertia = cuboid(m, 0.1, 0.2, l))]\n";
+            s += "#[joint(j0: revolute(z), parent = b0, child = extra, origin = [l, 0.0, 0.0])]\n";
+        }
+        s += "struct Scene { m: f64, l: f64, k: f64, g: f64 }";
+        (s, quoted)
+    }
 }
 
 /// Attribute garbage: pieces of the grammar, numbers, punctuation and wrong words in
@@ -140,16 +237,61 @@ fn expand_str(src: &str) -> Result<(), String> {
     }
 }
 
+/// Valid trees must expand, to valid Rust: an error on any of them is a regression.
 #[test]
-fn random_trees_expand_or_report() {
+fn random_valid_trees_expand() {
     let mut runner = TestRunner::new(Config {
         cases: cases(64),
         failure_persistence: None,
         ..Config::default()
     });
     runner
-        .run(&tree(), |src| {
-            expand_str(&src).map_err(TestCaseError::fail)?;
+        .run(&tree(), |t| {
+            let (src, _) = t.source(None);
+            let tokens: proc_macro2::TokenStream = src.parse().expect("tokens");
+            match filippov_codegen::expand(tokens) {
+                Ok(out) => syn::parse2::<syn::File>(out)
+                    .map(|_| ())
+                    .map_err(|e| TestCaseError::fail(format!("expansion is not valid Rust: {e}"))),
+                Err(e) => Err(TestCaseError::fail(format!(
+                    "a valid tree was refused: {e}\n{src}"
+                ))),
+            }
+        })
+        .unwrap();
+}
+
+/// A valid tree with one mistake injected at a random link: exactly one error (no
+/// follow-on errors), quoting what the user wrote (the unknown name, the field, or the
+/// quantity that is wrong).
+#[test]
+fn random_trees_with_one_defect_give_one_error_naming_it() {
+    let mut runner = TestRunner::new(Config {
+        cases: cases(64),
+        failure_persistence: None,
+        ..Config::default()
+    });
+    let defect = (0..DEFECTS.len(), 0usize..12).prop_map(|(d, at)| (DEFECTS[d], at));
+    runner
+        .run(&(tree(), defect), |(t, (d, at))| {
+            let (src, quoted) = t.source(Some((d, at)));
+            let tokens: proc_macro2::TokenStream = src.parse().expect("tokens");
+            let Err(e) = filippov_codegen::expand(tokens) else {
+                return Err(TestCaseError::fail(format!("{d:?} was accepted:\n{src}")));
+            };
+            let messages: Vec<String> = e.into_iter().map(|e| e.to_string()).collect();
+            if messages.len() != 1 {
+                return Err(TestCaseError::fail(format!(
+                    "{d:?}: {} errors, expected one: {messages:#?}\n{src}",
+                    messages.len()
+                )));
+            }
+            if !messages[0].contains(quoted) {
+                return Err(TestCaseError::fail(format!(
+                    "{d:?}: the error does not name `{quoted}`: {}\n{src}",
+                    messages[0]
+                )));
+            }
             Ok(())
         })
         .unwrap();

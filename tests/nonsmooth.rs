@@ -339,12 +339,39 @@ fn s5_energy_balance_and_dissipation_sign() {
 
 /// S5's switches from its piecewise closed form
 /// ([`filippov_scenes::references::s5_switches`]: each switch a root of the stick and
-/// slip phases' closed forms; no integrator and no event location). Every event-driven
-/// method must log the same modes in the same order, DOPRI5 and SDIRK4 each switch
-/// within 100·rtol down to rtol 1e-12, BDF within 300·rtol down to 1e-8 (its error is
-/// per step; see `s4_switch_sequence_is_the_references_at_every_tolerance`).
+/// slip phases' closed forms; no integrator and no event location). DOPRI5 and SDIRK4
+/// must log the same modes in the same order and each switch within 100·rtol down to
+/// rtol 1e-12 (the project's accuracy target for event location); BDF: see
+/// `regression_guard_s5_bdf_switch_times`.
 #[test]
 fn s5_switch_times_are_the_closed_forms() {
+    s5_switch_times(&[
+        (
+            SmoothMethod::Dopri5,
+            &[1e-4, 1e-6, 1e-8, 1e-10, 1e-12][..],
+            100.0,
+        ),
+        (
+            SmoothMethod::Sdirk4,
+            &[1e-4, 1e-6, 1e-8, 1e-10, 1e-12][..],
+            100.0,
+        ),
+    ]);
+}
+
+/// **Measured regression guard, not a derived bound.** BDF controls each step's local
+/// error, and its switch times carry the global error that accumulates into them (see
+/// `s4_switch_sequence_is_the_references_at_every_tolerance`), for which no bound in
+/// units of rtol follows from its controller. Measured 7–65·rtol on S5 at rtol
+/// 1e-4…1e-8; guarded at 300·rtol so that a change which makes it markedly worse fails.
+#[test]
+fn regression_guard_s5_bdf_switch_times() {
+    s5_switch_times(&[(SmoothMethod::Bdf, &[1e-4, 1e-6, 1e-8][..], 300.0)]);
+}
+
+/// S5 under each `(method, tolerances, bound in units of rtol)`: the closed form's modes
+/// in order, each switch within the bound.
+fn s5_switch_times(runs: &[(SmoothMethod, &[f64], f64)]) {
     use filippov::runtime::nonsmooth::Mode;
     let (fc, tf) = (0.5, 30.0);
     let load = |t: f64| 1.2 * (0.5 * t).sin();
@@ -357,19 +384,7 @@ fn s5_switch_times_are_the_closed_forms() {
     };
     let p =
         NonSmoothProblem::new(0.0, tf, V1::new(0.25), V1::new(0.0)).with_forces(vec![Some(-0.25)]);
-    for (method, tolerances, bound) in [
-        (
-            SmoothMethod::Dopri5,
-            &[1e-4, 1e-6, 1e-8, 1e-10, 1e-12][..],
-            100.0,
-        ),
-        (
-            SmoothMethod::Sdirk4,
-            &[1e-4, 1e-6, 1e-8, 1e-10, 1e-12][..],
-            100.0,
-        ),
-        (SmoothMethod::Bdf, &[1e-4, 1e-6, 1e-8][..], 300.0),
-    ] {
+    for &(method, tolerances, bound) in runs {
         for &rtol in tolerances {
             let run = NonSmoothMethod::EventDriven {
                 method,
@@ -423,12 +438,26 @@ fn bad_parameters_are_reported_not_integrated() {
         }
         assert!(err.solution.is_empty());
     }
+    // A NaN mass: refused before integrating, as invalid input naming the mass.
     let s = CoulombOscillator {
         m: f64::NAN,
         k: 1.0,
         f_crit: 0.1,
     };
-    assert!(solve_nonsmooth(&s, &unforced::<1>, &p, &tight()).is_err());
+    for method in [
+        tight(),
+        NonSmoothMethod::TimeStepping {
+            h: 1e-2,
+            theta: 1.0,
+        },
+    ] {
+        let err = solve_nonsmooth(&s, &unforced::<1>, &p, &method).expect_err("NaN mass");
+        match &err.kind {
+            ErrorKind::InvalidInput(msg) => assert!(msg.contains("mass"), "{msg}"),
+            other => panic!("{method:?}: expected InvalidInput naming the mass, got {other:?}"),
+        }
+        assert!(err.solution.is_empty(), "nothing integrated");
+    }
 }
 
 /// A spring declared by its potential: force −dU/dx and energy in closed form, and the
@@ -645,17 +674,37 @@ fn s4_non_monotone_default_event_driven_and_time_stepping_agree() {
 /// 1e-3 while the branch-end slack was a fixed 1e-10). DOPRI5 and SDIRK4 locate every
 /// switch within 100·rtol from rtol 1e-3 to 1e-12 (measured 0–29·rtol; before the
 /// force was continued smoothly past approach 2's cut and folds were approached by
-/// retaken steps, up to 1014·rtol). BDF's switch times carry its global error, which
-/// grows against rtol as its steps multiply (error per step): within 300·rtol down to
-/// 1e-8 (measured up to 236·rtol). The references locate events the same way as the
+/// retaken steps, up to 1014·rtol). BDF: `regression_guard_s4_bdf_switch_times`. The
+/// references locate events the same way as the
 /// runs, so a bias of the location itself cancels here:
 /// `s4_first_fold_is_where_the_branch_integrated_through_it_folds` checks it against a
 /// reference that locates none.
 #[test]
 fn s4_switch_sequence_is_the_references_at_every_tolerance() {
-    use filippov::runtime::{NonSmooth, Options, SmoothMethod, Solution};
+    let tolerances = [1e-3, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12];
+    s4_switch_sequence(&[
+        (SmoothMethod::Dopri5, &tolerances, 100.0),
+        (SmoothMethod::Sdirk4, &tolerances, 100.0),
+    ]);
+}
+
+/// **Measured regression guard, not a derived bound.** BDF's switch times on S4 carry
+/// its global error, which grows against rtol as its steps multiply (it controls the
+/// error per step; on the approach to a fold each step adds to the speed's error with
+/// the same sign): the same switches in the same order, within 300·rtol down to rtol
+/// 1e-8 (measured up to 236·rtol). Below 1e-8 its error exceeds that (1270·rtol at
+/// 1e-12), a limitation the README states.
+#[test]
+fn regression_guard_s4_bdf_switch_times() {
+    s4_switch_sequence(&[(SmoothMethod::Bdf, &[1e-3, 1e-4, 1e-6, 1e-8], 300.0)]);
+}
+
+/// S4 (both approaches) under each `(method, tolerances, bound in units of rtol)`
+/// against references by two other methods at rtol 1e-13.
+fn s4_switch_sequence(runs: &[(SmoothMethod, &[f64], f64)]) {
+    use filippov::runtime::{NonSmooth, Options, Solution};
     use filippov_scenes::{NonMonotoneMaxDissipation, NonMonotoneNoJumps};
-    fn check<S: NonSmooth<1>>(name: &str, s: &S) {
+    fn check<S: NonSmooth<1>>(name: &str, s: &S, runs: &[(SmoothMethod, &[f64], f64)]) {
         let input = |t: f64, _q: &V1, _v: &V1| V1::new(3.0 * (0.5 * t).sin());
         let p = NonSmoothProblem::new(0.0, 40.0, V1::new(0.0), V1::new(0.0));
         let run = |m: SmoothMethod, rtol: f64| -> Solution {
@@ -678,20 +727,11 @@ fn s4_switch_sequence_is_the_references_at_every_tolerance() {
                     .collect()
             };
         assert_eq!(key(&ref_sdirk), key(&ref_dopri), "{name}: the references");
-        for m in [
-            SmoothMethod::Dopri5,
-            SmoothMethod::Sdirk4,
-            SmoothMethod::Bdf,
-        ] {
+        for &(m, tolerances, bound) in runs {
             let reference = if m == SmoothMethod::Dopri5 {
                 &ref_sdirk
             } else {
                 &ref_dopri
-            };
-            let tolerances: &[f64] = if m == SmoothMethod::Bdf {
-                &[1e-3, 1e-4, 1e-6, 1e-8]
-            } else {
-                &[1e-3, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12]
             };
             for &rtol in tolerances {
                 let sol = run(m, rtol);
@@ -708,9 +748,8 @@ fn s4_switch_sequence_is_the_references_at_every_tolerance() {
                     .zip(&reference.switches)
                     .map(|(a, b)| (a.t - b.t).abs())
                     .fold(0.0, f64::max);
-                let bound = if m == SmoothMethod::Bdf { 300.0 } else { 100.0 } * rtol;
                 assert!(
-                    dt <= bound,
+                    dt <= bound * rtol,
                     "{name} {m:?} at rtol {rtol:e}: switch times off by {dt:e}"
                 );
             }
@@ -723,6 +762,7 @@ fn s4_switch_sequence_is_the_references_at_every_tolerance() {
             k: 1.0,
             f_crit: 1.0,
         },
+        runs,
     );
     check(
         "approach 2",
@@ -731,6 +771,7 @@ fn s4_switch_sequence_is_the_references_at_every_tolerance() {
             k: 1.0,
             f_crit: 1.0,
         },
+        runs,
     );
 }
 

@@ -376,8 +376,14 @@ pub fn urdf(config: &Config) -> Section {
                     SVector::<f64, $n>::from_column_slice(&s[0].1),
                     SVector::<f64, $n>::from_column_slice(&s[0].2),
                 );
+                // Inputs through black_box, as in every other kernel timing: with
+                // loop-invariant inputs the compiler may hoist the call out of the loop.
                 let ns = ns_timed(config.repeats, config.kernel_calls, || {
-                    $s.forward_dynamics(&q, &v, &tau)
+                    $s.forward_dynamics(
+                        std::hint::black_box(&q),
+                        std::hint::black_box(&v),
+                        std::hint::black_box(&tau),
+                    )
                 });
                 (s, ns, $n)
             }};

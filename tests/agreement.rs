@@ -59,7 +59,12 @@ fn random_scenes_agree() {
     let described: Vec<String> = tally
         .typed
         .iter()
-        .map(|(seed, m)| format!("seed {seed}: typed error {m}\n  {}", agreement::summary(*seed)))
+        .map(|(seed, m)| {
+            format!(
+                "seed {seed}: typed error {m}\n  {}",
+                agreement::summary(*seed)
+            )
+        })
         .chain(
             tally
                 .failed

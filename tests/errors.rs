@@ -376,7 +376,9 @@ fn an_element_that_keeps_switching_is_named() {
         h: 1e-6,
         theta: 1.0,
     };
-    let every = p.clone().with_output(filippov::runtime::Output::Every(1000));
+    let every = p
+        .clone()
+        .with_output(filippov::runtime::Output::Every(1000));
     let sol = solve_nonsmooth(&s, &shake, &every, &ts).expect("time-stepping integrates it");
     assert_eq!(sol.last().map(|(t, _)| t), Some(1.0));
     let bound = 0.2 / 1e5 + 0.2 / 1e10;

@@ -173,7 +173,10 @@ fn maximal_dissipation_plateaus_are_where_the_largest_force_jumps() {
     // the middle piece (minimum φ(B1) > φ(B2)) is never selected.
     let p = phi_coefficients();
     let (v1, v2) = (horner(&p, B1), horner(&p, B2));
-    assert!(0.0 < v2 && v2 < v1, "the law's set-up: φ(B2) = {v2}, φ(B1) = {v1}");
+    assert!(
+        0.0 < v2 && v2 < v1,
+        "the law's set-up: φ(B2) = {v2}, φ(B1) = {v1}"
+    );
     let (scene, g) = graph(four_folds, Selection::MaximalDissipation);
     let b = g.branches(&scene).expect("branches");
     assert_eq!(b.plateaus.len(), 1, "{b:?}");
@@ -182,7 +185,10 @@ fn maximal_dissipation_plateaus_are_where_the_largest_force_jumps() {
     let roots = real_roots(&shifted, 1.0, 16.0);
     let plateau = b.plateaus[0];
     assert!(close(plateau.velocity, v2), "{plateau:?}, φ(B2) = {v2}");
-    assert!(close(plateau.f_lo, roots[0]), "{plateau:?}, roots {roots:?}");
+    assert!(
+        close(plateau.f_lo, roots[0]),
+        "{plateau:?}, roots {roots:?}"
+    );
     assert!(close(plateau.f_hi, B2), "{plateau:?}");
     assert_eq!(b.slip.len(), 2, "{b:?}");
 
@@ -197,7 +203,17 @@ fn maximal_dissipation_plateaus_are_where_the_largest_force_jumps() {
     let roots = real_roots(&shifted, 1.0, 32.0);
     assert_eq!(b.plateaus.len(), 1, "{b:?}");
     let plateau = b.plateaus[0];
-    assert!(close(plateau.velocity, v_min), "{plateau:?}, φ(min) = {v_min}");
-    assert!(close(plateau.f_lo, roots[0]), "{plateau:?}, roots {roots:?}");
-    assert!(close(plateau.f_hi, folds[1]), "{plateau:?}, fold {}", folds[1]);
+    assert!(
+        close(plateau.velocity, v_min),
+        "{plateau:?}, φ(min) = {v_min}"
+    );
+    assert!(
+        close(plateau.f_lo, roots[0]),
+        "{plateau:?}, roots {roots:?}"
+    );
+    assert!(
+        close(plateau.f_hi, folds[1]),
+        "{plateau:?}, fold {}",
+        folds[1]
+    );
 }

@@ -471,7 +471,10 @@ fn mode_steps(sol: &Solution, elements: &[Element], n: usize) -> Vec<Steps> {
             (1..times.len())
                 .map(|i| {
                     let y = sol.state(i);
-                    (times[i], mode_value(el, y[el.coordinate], y[n + el.coordinate]))
+                    (
+                        times[i],
+                        mode_value(el, y[el.coordinate], y[n + el.coordinate]),
+                    )
                 })
                 .collect()
         })
@@ -488,7 +491,10 @@ fn dense_mode_steps(sol: &Solution, elements: &[Element], n: usize) -> Vec<Steps
     for i in (1..times.len()).filter(|&i| times[i] > times[i - 1]) {
         sol.at_into(0.5 * (times[i - 1] + times[i]), &mut y);
         for (steps, el) in out.iter_mut().zip(elements) {
-            steps.push((times[i], mode_value(el, y[el.coordinate], y[n + el.coordinate])));
+            steps.push((
+                times[i],
+                mode_value(el, y[el.coordinate], y[n + el.coordinate]),
+            ));
         }
     }
     out

@@ -99,7 +99,11 @@ impl Tree {
                 format!("b{}", self.parents[i] % i)
             };
             // The first link moves (a tree of fixed joints only is a mistake of its own).
-            let k = if i == 0 { self.kinds[i] % 5 } else { self.kinds[i] };
+            let k = if i == 0 {
+                self.kinds[i] % 5
+            } else {
+                self.kinds[i]
+            };
             let kind = if i == at && matches!(bad, Some(Defect::ZeroAxis)) {
                 quoted = "axis";
                 "revolute([0.0, 0.0, 0.0])".to_string()
@@ -134,7 +138,11 @@ impl Tree {
             );
             if k < 5 && name == format!("j{i}") {
                 match self.elements[i] {
-                    1 => s += &format!("#[spring(j{i}, k = k, rest = {x})]\n#[damper(j{i}, c = 0.1)]\n"),
+                    1 => {
+                        s += &format!(
+                            "#[spring(j{i}, k = k, rest = {x})]\n#[damper(j{i}, c = 0.1)]\n"
+                        )
+                    }
                     2 => s += &format!("#[friction(j{i}, f_crit = 0.5)]\n"),
                     3 => s += &format!("#[stop(j{i}, max = l, restitution = 0.5)]\n"),
                     _ => {}

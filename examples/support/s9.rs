@@ -100,9 +100,10 @@ pub fn s9_balance(arm: &PandaS9, traj: &Solution, sub: usize) -> Balance {
     let mut hits: Vec<(f64, Vec<(usize, f64, f64)>)> = Vec::new();
     let (mut impacts, mut settled) = (0, 0);
     for s in &traj.switches {
-        let (settles, eps_if_newton) = match s.kind {
-            SwitchKind::Impact => (false, true),
-            SwitchKind::Settled => (true, false),
+        // A settled stop comes to rest (ε = 0); a rebound follows Newton's law.
+        let settles = match s.kind {
+            SwitchKind::Impact => false,
+            SwitchKind::Settled => true,
             _ => continue,
         };
         if settles {
@@ -119,7 +120,7 @@ pub fn s9_balance(arm: &PandaS9, traj: &Solution, sub: usize) -> Balance {
             ElementKind::Stop {
                 kind: StopKind::Rigid { restitution },
                 ..
-            } if eps_if_newton => restitution,
+            } if !settles => restitution,
             _ => 0.0,
         };
         match hits.last_mut() {

@@ -1169,15 +1169,14 @@ fn build_tree(
             return None;
         }
     }
-    // (A joint declared wrongly may have been the moving one: its error stands alone.)
-    if coordinate == 0 && claimed.is_empty() {
-        diag.error_at(
-            &joints[0].name,
-            "a mechanism needs at least one moving joint (revolute, prismatic, spherical or free)",
-        );
-        return None;
-    }
     if coordinate == 0 {
+        // A joint declared wrongly may have been the moving one: its error stands alone.
+        if claimed.is_empty() {
+            diag.error_at(
+                &joints[0].name,
+                "a mechanism needs at least one moving joint (revolute, prismatic, spherical or free)",
+            );
+        }
         return None;
     }
     if coordinate > MAX_DOF {

@@ -38,20 +38,28 @@ VERSIONS="$("$PY" -c "import pinocchio, scipy, sympy, numpy, platform; print(f'P
 GCCV="$(gcc -dumpfullversion 2>/dev/null || gcc -dumpversion)"
 CPU="$(lscpu 2>/dev/null | sed -n 's/^Model name:[[:space:]]*//p' | head -1)"
 MACHINE="nproc $(nproc), CPU ${CPU:-unknown}, $(uname -sm)"
-CXXFLAGS="-std=c++17 -O3 -march=native -DNDEBUG"
+# Two builds of the C++ benchmark: for the baseline x86-64 target (no -march, as rustc's
+# default release build of ours; the one pin_bench.py and the report's URDF section use)
+# and for this machine (-march=native, the report's section on CPU flags).
+CXXFLAGS="-std=c++17 -O3 -DNDEBUG"
+NATIVE="-march=native"
 
 # 2a. Pinocchio: C++ benchmark against the wheel's headers (fallback: Python bindings)
 PREFIX="$("$PY" -c "import site; print(site.getsitepackages()[0])")/cmeel.prefix"
 BIN="$BUILD/pin_bench"
-if [ ! -x "$BIN" ] || [ "$HERE/pin_bench.cpp" -nt "$BIN" ] || [ "$HERE/requirements.txt" -nt "$BIN" ]; then
-  echo "== compiling peers/pin_bench.cpp against $PREFIX/include (a few minutes)"
-  if ! g++ $CXXFLAGS -DBOOST_MPL_LIMIT_LIST_SIZE=30 -DBOOST_MPL_LIMIT_VECTOR_SIZE=30 \
-      -DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS -DBOOST_FUSION_INVOKE_MAX_ARITY=12 \
-      -I"$PREFIX/include" -I"$PREFIX/include/eigen3" "$HERE/pin_bench.cpp" -o "$BIN" 2> "$BUILD/pin_bench.log"; then
-    echo "peers/run.sh: warning: C++ build failed (see $BUILD/pin_bench.log); timing the Python bindings instead" >&2
-    rm -f "$BIN"
+for flavour in baseline native; do
+  if [ "$flavour" = native ]; then out="$BIN"_native; flags="$CXXFLAGS $NATIVE"; else out="$BIN"; flags="$CXXFLAGS"; fi
+  if [ ! -x "$out" ] || [ "$HERE/pin_bench.cpp" -nt "$out" ] || [ "$HERE/requirements.txt" -nt "$out" ]; then
+    echo "== compiling peers/pin_bench.cpp ($flavour: $flags) against $PREFIX/include (a few minutes)"
+    if ! g++ $flags -DBOOST_MPL_LIMIT_LIST_SIZE=30 -DBOOST_MPL_LIMIT_VECTOR_SIZE=30 \
+        -DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS -DBOOST_FUSION_INVOKE_MAX_ARITY=12 \
+        -I"$PREFIX/include" -I"$PREFIX/include/eigen3" "$HERE/pin_bench.cpp" -o "$out" 2> "$BUILD/pin_bench_$flavour.log"; then
+      echo "peers/run.sh: warning: C++ build ($flavour) failed (see $BUILD/pin_bench_$flavour.log)" >&2
+      rm -f "$out"
+    fi
   fi
-fi
+done
+[ -x "$BIN" ] || echo "peers/run.sh: warning: no baseline C++ build; timing the Python bindings instead" >&2
 echo "== Pinocchio"
 "$PY" "$HERE/pin_bench.py" "$MODELS" "$BUILD" "$RES/pinocchio.json" "$( [ -x "$BIN" ] && echo "$BIN" || echo "")" \
   || fail "Pinocchio benchmark failed"
@@ -85,7 +93,7 @@ done
 "$PY" - "$RES/header.json" <<PYEOF
 import json, sys, datetime
 json.dump({"date": datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z"),
-           "machine": """$MACHINE""", "versions": """$VERSIONS, gcc $GCCV""", "cxxflags": """$CXXFLAGS"""},
+           "machine": """$MACHINE""", "versions": """$VERSIONS, gcc $GCCV""", "cxxflags": """$CXXFLAGS (and $NATIVE for pin_bench_native)"""},
           open(sys.argv[1], "w"))
 PYEOF
 "$PY" "$HERE/collect.py" "$OUT" "$RES/header.json" || fail "writing the tables failed"

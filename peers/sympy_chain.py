@@ -1,6 +1,12 @@
 """One SymPy mechanics (Kane's method) derivation of a planar n-link rod pendulum chain,
-CSE'd C code for M(q) and forcing(q, u), and a gcc -O3 harness timing M + forcing +
-Cholesky solve. Usage: sympy_chain.py N BUILD_DIR OUT_JSON"""
+CSE'd C code for M(q) and forcing(q, u), and a C harness timing M + forcing + Cholesky
+solve. Usage: sympy_chain.py N BUILD_DIR OUT_JSON
+
+Evened out with filippov's side (report, section "chains"): the parameters (m_i, l_i, g)
+are substituted as literal numbers before the common-subexpression elimination, as the
+generated chains of the report declare them as literals; and the harness is compiled
+twice, with `gcc -O3` (the baseline x86-64 target, as rustc's default build of ours) and
+with `-O3 -march=native` for reference."""
 import json
 import os
 import subprocess
@@ -46,7 +52,7 @@ C_HARNESS = r"""
 #include <stdlib.h>
 #include <time.h>
 #define N %(n)d
-void eval_MF(const double *q, const double *u, const double *p, double *M, double *F);
+void eval_MF(const double *q, const double *u, double *M, double *F);
 static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec * 1e9 + t.tv_nsec; }
 /* M a = F by Cholesky (M symmetric positive definite) */
 static void solve(double *M, double *F, double *a) {
@@ -65,24 +71,23 @@ static void solve(double *M, double *F, double *a) {
 }
 static int cmp(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y); }
 int main(void) {
-  double q[N], u[N], p[2 * N + 1], M[N * N], F[N], a[N], sink = 0;
-  for (int i = 0; i < N; ++i) { q[i] = 0.3 + 0.17 * i; u[i] = 0.5 - 0.23 * i; p[i] = 1.0 - 0.1 * i; p[N + i] = 0.5 + 0.05 * i; }
-  p[2 * N] = 9.81;
-  eval_MF(q, u, p, M, F); solve(M, F, a);
+  double q[N], u[N], M[N * N], F[N], a[N], sink = 0;
+  for (int i = 0; i < N; ++i) { q[i] = 0.3 + 0.17 * i; u[i] = 0.5 - 0.23 * i; }
+  eval_MF(q, u, M, F); solve(M, F, a);
   printf("ddq");
   for (int i = 0; i < N; ++i) printf(" %%.17g", a[i]);
   printf("\n");
   long reps = 1000;
   for (;;) {
     double t0 = now();
-    for (long r = 0; r < reps; ++r) { q[0] += 1e-12; eval_MF(q, u, p, M, F); solve(M, F, a); sink += a[N - 1]; }
+    for (long r = 0; r < reps; ++r) { q[0] += 1e-12; eval_MF(q, u, M, F); solve(M, F, a); sink += a[N - 1]; }
     if (now() - t0 > 2e7) break;
     reps *= 2;
   }
   double per[21];
   for (int k = 0; k < 21; ++k) {
     double t0 = now();
-    for (long r = 0; r < reps; ++r) { q[0] += 1e-12; eval_MF(q, u, p, M, F); solve(M, F, a); sink += a[N - 1]; }
+    for (long r = 0; r < reps; ++r) { q[0] += 1e-12; eval_MF(q, u, M, F); solve(M, F, a); sink += a[N - 1]; }
     per[k] = (now() - t0) / reps;
   }
   qsort(per, 21, sizeof(double), cmp);
@@ -104,15 +109,18 @@ def main():
     t0 = time.perf_counter()
     qs, us = sm.symbols(f"q_0:{n}"), sm.symbols(f"u_0:{n}")
     sub = dict(zip(q, qs)) | dict(zip(u, us))
-    exprs = [e.xreplace(sub) for e in list(M) + list(F)]
+    # Literal parameters, the values of the report's 7-link chain (m_i = 1 - 0.1 i,
+    # l_i = 0.5 + 0.05 i, g = 9.81), as filippov's chains declare them.
+    values = {m[i]: sm.Float(1.0 - 0.1 * i) for i in range(n)}
+    values |= {l[i]: sm.Float(0.5 + 0.05 * i) for i in range(n)}
+    values[g] = sm.Float(9.81)
+    exprs = [e.xreplace(sub).xreplace(values) for e in list(M) + list(F)]
     repl, red = sm.cse(exprs)
     ops = int(sum(sm.count_ops(e) for _, e in repl) + sum(sm.count_ops(e) for e in red))
-    params = list(m) + list(l) + [g]
     names = {s: sm.Symbol(f"q[{i}]") for i, s in enumerate(qs)}
     names |= {s: sm.Symbol(f"u[{i}]") for i, s in enumerate(us)}
-    names |= {s: sm.Symbol(f"p[{i}]") for i, s in enumerate(params)}
     lines = ["#include <math.h>",
-             "void eval_MF(const double *q, const double *u, const double *p, double *M, double *F) {"]
+             "void eval_MF(const double *q, const double *u, double *M, double *F) {"]
     for s, e in repl:
         lines.append(f"  const double {s} = {sm.ccode(e.xreplace(names))};")
     for i, e in enumerate(red):
@@ -127,18 +135,22 @@ def main():
         f.write(C_HARNESS % {"n": n})
     codegen_s = time.perf_counter() - t0
 
-    exe = os.path.join(build, f"chain{n}")
-    t0 = time.perf_counter()
-    subprocess.run(["gcc", "-O3", "-march=native", "-o", exe, harness, src, "-lm"], check=True)
-    compile_s = time.perf_counter() - t0
-    res = subprocess.run([exe], capture_output=True, text=True, check=True)
-    vals = {}
-    for line in res.stdout.splitlines():
-        k, *x = line.split()
-        vals[k] = [float(t) for t in x]
-    out = {"n": n, "derive_s": derive_s, "codegen_s": codegen_s, "compile_s": compile_s, "ops": ops,
-           "cse_terms": len(repl), "solve_ns": vals["solve_ns"][0], "solve_ns_min": vals["solve_ns"][1],
-           "solve_ns_max": vals["solve_ns"][2], "ddq": vals["ddq"]}
+    out = {"n": n, "derive_s": derive_s, "codegen_s": codegen_s, "ops": ops, "cse_terms": len(repl),
+           "parameters": "literal"}
+    # Baseline target first (the flags of ours in the report), then native for reference.
+    for key, flags in (("", ["-O3"]), ("_native", ["-O3", "-march=native"])):
+        exe = os.path.join(build, f"chain{n}{key}")
+        t0 = time.perf_counter()
+        subprocess.run(["gcc", *flags, "-o", exe, harness, src, "-lm"], check=True)
+        out[f"compile{key}_s"] = time.perf_counter() - t0
+        res = subprocess.run([exe], capture_output=True, text=True, check=True)
+        vals = {}
+        for line in res.stdout.splitlines():
+            k, *x = line.split()
+            vals[k] = [float(t) for t in x]
+        out[f"solve{key}_ns"], out[f"solve{key}_ns_min"], out[f"solve{key}_ns_max"] = vals["solve_ns"]
+        out[f"flags{key}"] = " ".join(flags)
+        out["ddq"] = vals["ddq"]
     with open(out_json, "w") as f:
         json.dump(out, f)
     print(json.dumps(out), flush=True)

@@ -1,8 +1,9 @@
 //! Planar n-link rod chains (n = 2…7), the same chains `peers/sympy_chain.py` derives
 //! with SymPy's Kane's method: our expansion time, operation counts and forward-dynamics
-//! ns per call, side by side with SymPy's derivation + code generation time, operation
-//! count and compiled M + forcing + Cholesky solve (from `target/report/peers/peers.tsv`
-//! when `bash peers/run.sh` has been run).
+//! ns per call, side by side with SymPy's derivation + code generation time and operation
+//! count (from `target/report/peers/peers.tsv` when `bash peers/run.sh` has been run) and
+//! its compiled M + forcing + Cholesky solve (the harness `peers/run.sh` builds, timed by
+//! this report in interleaved rounds beside ours).
 //!
 //! The declarations below are both compiled (for the kernel timings) and read back from
 //! this file and expanded (for the expansion timings), so the two measure the same thing.
@@ -15,7 +16,7 @@ use filippov::nalgebra::SVector;
 
 use super::config::Config;
 use super::markdown::Page;
-use super::timing::{Timing, ns_timed, timed};
+use super::timing::{Timing, in_rounds, ns_timed, program_timing, timed};
 use super::workprecision::Section;
 
 /// Planar 2-link rod chain (the SymPy peer's chain: m_i = 1 − 0.1 i, l_i = 0.5 + 0.05 i).
@@ -113,9 +114,8 @@ fn fd_ns<S: Mechanism<N>, const N: usize>(s: &S, config: &Config) -> Timing {
     })
 }
 
-/// `(derive + codegen seconds, ops, solve ns)` of SymPy's chain `n`, if measured; the
-/// solve's spread over its batches where the peer recorded it.
-fn sympy(tsv: &str, n: usize) -> Option<(f64, f64, Timing)> {
+/// `(derive + codegen seconds, ops)` of SymPy's chain `n`, if `peers/run.sh` measured it.
+fn sympy(tsv: &str, n: usize) -> Option<(f64, f64)> {
     let get = |q: &str| {
         tsv.lines().find_map(|l| {
             let f: Vec<&str> = l.split('\t').collect();
@@ -124,16 +124,7 @@ fn sympy(tsv: &str, n: usize) -> Option<(f64, f64, Timing)> {
                 .flatten()
         })
     };
-    let median = get("solve_ns")?;
-    Some((
-        get("derive_s")? + get("codegen_s")?,
-        get("ops")?,
-        Timing {
-            median,
-            min: get("solve_ns_min").unwrap_or(median),
-            max: get("solve_ns_max").unwrap_or(median),
-        },
-    ))
+    Some((get("derive_s")? + get("codegen_s")?, get("ops")?))
 }
 
 pub fn chains(config: &Config) -> Section {
@@ -152,14 +143,28 @@ pub fn chains(config: &Config) -> Section {
             _ => None,
         })
         .collect();
-    let ns = [
-        fd_ns(&Chain2, config),
-        fd_ns(&Chain3, config),
-        fd_ns(&Chain4, config),
-        fd_ns(&Chain5, config),
-        fd_ns(&Chain6, config),
-        fd_ns(&Chain7, config),
+    // Ours in this process, SymPy's compiled harness (built by peers/run.sh for the
+    // baseline target, as this report is) as a separate program, in interleaved rounds.
+    let build = config.out_dir.join("peers").join("build");
+    let beside = |k: usize, ours: &mut dyn FnMut() -> Option<Timing>| {
+        let bin = build.join(format!("chain{}", k + 2));
+        let mut theirs = || {
+            bin.exists()
+                .then(|| program_timing(&bin, &[], "solve_ns"))
+                .flatten()
+        };
+        let t = in_rounds(3, &mut [ours, &mut theirs]);
+        (t[0].unwrap_or_default(), t[1])
+    };
+    let timings = [
+        beside(0, &mut || Some(fd_ns(&Chain2, config))),
+        beside(1, &mut || Some(fd_ns(&Chain3, config))),
+        beside(2, &mut || Some(fd_ns(&Chain4, config))),
+        beside(3, &mut || Some(fd_ns(&Chain5, config))),
+        beside(4, &mut || Some(fd_ns(&Chain6, config))),
+        beside(5, &mut || Some(fd_ns(&Chain7, config))),
     ];
+    let ns: Vec<Timing> = timings.iter().map(|t| t.0).collect();
     let tsv = std::fs::read_to_string(
         Path::new(env!("CARGO_MANIFEST_DIR")).join("target/report/peers/peers.tsv"),
     )
@@ -179,7 +184,10 @@ pub fn chains(config: &Config) -> Section {
                 .find(|f| f.name == "forward_dynamics")
                 .map(|f| f.ops.add + f.ops.mul + f.ops.div)
         });
-        let peer = sympy(&tsv, n);
+        // SymPy's derivation and operation count from peers/run.sh; its time from this run.
+        let peer = sympy(&tsv, n)
+            .zip(timings[k].1)
+            .map(|((d, o), t)| (d, o, t));
         have_sympy |= peer.is_some();
         rows.push(vec![
             n.to_string(),
@@ -205,7 +213,7 @@ pub fn chains(config: &Config) -> Section {
                 format!("{} ns", ns[k].show(1)),
                 format!("{} ns (M + forcing + Cholesky, gcc -O3)", p.2.show(1)),
                 p.2.ratio_to(&ns[k], 2),
-                "median (min–max); SymPy's of 21 batches (peers/run.sh)",
+                "both with literal parameters and built for the baseline x86-64 target (rustc's default, gcc -O3 without -march); median of 3 interleaved rounds in this run (min–max over their batches)",
             );
             summary.push(format!(
                 "7-link chain vs SymPy (Kane + cse + gcc -O3): expansion {:.1} ms vs derivation + codegen {:.0} ms; \
@@ -226,9 +234,12 @@ pub fn chains(config: &Config) -> Section {
          count of the generated forward dynamics (add + mul + div; sin/cos pairs not counted), ns per call; times are \
          median (min–max) of the repetitions. \
          SymPy: derivation + `cse` + `ccode` wall time, operation count (`count_ops` after `cse` of M and forcing), and \
-         ns per call of the gcc -O3 compiled M + forcing + Cholesky solve (one derivation; ns median (min–max) of 21 batches). {}",
+         ns per call of the compiled M + forcing + Cholesky solve. Evened out: both sides take the parameters as literal \
+         numbers (SymPy's are substituted before `cse`) and both are built for the baseline x86-64 target (rustc's default \
+         build, `gcc -O3` without `-march`); the two ns columns are timed in this run, in three interleaved rounds (median of \
+         the rounds' medians, min–max over their batches). {}",
         if have_sympy {
-            "SymPy figures are from the last `bash peers/run.sh` (`target/report/peers/peers.tsv`), not from this run."
+            "SymPy's derivation time and operation count are from the last `bash peers/run.sh` (`target/report/peers/peers.tsv`); its compiled code is timed in this run."
         } else {
             "SymPy has not been run on this machine (`bash peers/run.sh`), so only our columns are filled."
         }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// The sections' keys for `--only`, in the report's order.
-pub const SECTIONS: [&str; 12] = [
+pub const SECTIONS: [&str; 13] = [
     "smooth",
     "nonsmooth",
     "dense",
@@ -20,6 +20,7 @@ pub const SECTIONS: [&str; 12] = [
     "scaling",
     "chains",
     "urdf",
+    "flags",
 ];
 
 pub struct Config {

@@ -21,6 +21,8 @@ mod chains;
 mod config;
 #[path = "dense.rs"]
 mod dense;
+#[path = "flags.rs"]
+mod flags;
 #[path = "kernels.rs"]
 mod kernels;
 #[path = "lie.rs"]
@@ -57,7 +59,7 @@ pub use config::Config;
 /// Runs every section and writes the report; returns the path of the Markdown page.
 pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     std::fs::create_dir_all(&config.out_dir)?;
-    let progress = config.progress(12);
+    let progress = config.progress(13);
     let load_before = timing::load();
     let started = std::time::Instant::now();
     let mut page = markdown::Page::new("filippov report");
@@ -130,9 +132,14 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
         chains::chains(config)
     );
     let u = section!("urdf", "robots from URDF", urdf::urdf(config));
+    let fl = section!(
+        "flags",
+        "ours and the peers' compiled code, baseline and native CPU flags",
+        flags::flags(config)
+    );
     let p = if config.runs("kernels") {
         peers::export_models(config)?;
-        peers::peers(config, &k.forward_ns)
+        peers::peers(config)
     } else {
         Default::default()
     };
@@ -177,6 +184,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     summary.extend(sc.summary.iter().cloned());
     summary.extend(ch.summary.iter().cloned());
     summary.extend(u.summary.iter().cloned());
+    summary.extend(fl.summary.iter().cloned());
     summary.extend(p.summary.iter().cloned());
     page.bullets(&summary);
     page.append(wp.page);
@@ -191,6 +199,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     page.append(sc.page);
     page.append(ch.page);
     page.append(u.page);
+    page.append(fl.page);
     page.append(p.page);
     let path = config.out_dir.join("report.md");
     std::fs::write(&path, page.finish())?;

@@ -42,44 +42,20 @@ pub fn export_models(config: &Config) -> std::io::Result<()> {
     Ok(())
 }
 
-/// `peer<TAB>scene<TAB>quantity<TAB>value<TAB>unit` rows of the script's TSV.
-fn rows(text: &str) -> Vec<[String; 5]> {
-    text.lines()
-        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
-        .filter_map(|l| {
-            let f: Vec<&str> = l.split('\t').collect();
-            (f.len() == 5).then(|| [f[0], f[1], f[2], f[3], f[4]].map(|s| s.trim().to_string()))
-        })
-        .collect()
-}
-
-/// The peers section; `ours` gives our ns per forward-dynamics call per scene file name
-/// (as measured in this run) for the ratios in the summary.
-pub fn peers(config: &Config, ours: &[(&str, f64)]) -> Section {
+/// The peers section: the peer script's own tables, and diffsol.
+pub fn peers(config: &Config) -> Section {
     let mut page = Page::empty();
     let mut summary = Vec::new();
     page.h2("Peers");
     let dir = config.out_dir.join("peers");
-    let md = std::fs::read_to_string(dir.join("peers.md"));
-    let tsv = std::fs::read_to_string(dir.join("peers.tsv"));
-    match (md, tsv) {
-        (Ok(md), Ok(tsv)) => {
-            page.para("From `bash peers/run.sh` (its own run; see its header for when and with which versions). Ratios below compare with this run's measurements.");
+    match std::fs::read_to_string(dir.join("peers.md")) {
+        Ok(md) => {
+            page.para(
+                "From `bash peers/run.sh` (its own run; see its header for when and with which versions). Its times are \
+                 not compared with this run's: the ratios against Pinocchio and SymPy are in the sections on URDF robots, \
+                 planar chains and CPU flags, where this report times the peers' compiled programs beside ours.",
+            );
             page.append_raw(&md);
-            for r in rows(&tsv) {
-                let ns = ours.iter().find(|(s, _)| *s == r[1]).map(|(_, ns)| *ns);
-                if let (true, Some(ns), Ok(theirs)) = (r[2] == "aba_ns", ns, r[3].parse::<f64>()) {
-                    let (ratio, word) = if theirs > ns {
-                        (theirs / ns, "faster")
-                    } else {
-                        (ns / theirs, "slower")
-                    };
-                    summary.push(format!(
-                        "{}: generated forward dynamics {ns:.1} ns vs {} ABA {theirs:.1} ns ({ratio:.2}× {word})",
-                        r[1], r[0]
-                    ));
-                }
-            }
         }
         _ => {
             page.para(
@@ -92,6 +68,12 @@ pub fn peers(config: &Config, ours: &[(&str, f64)]) -> Section {
     diffsol_section(config, &mut page, &mut summary);
     Section { page, summary }
 }
+
+/// The smooth scenes of the peer program (the last one stiff).
+const SMOOTH_SCENES: [&str; 3] = ["DoublePendulum", "Panda", "StiffArm3"];
+/// Grid errors at which the fastest run of each library is compared: a loose one and
+/// the tight ones.
+const THRESHOLDS: [f64; 3] = [1e-2, 1e-6, 1e-8];
 
 /// One row of `diffsol.tsv` (see peers/diffsol/README.md).
 struct Row {
@@ -292,12 +274,29 @@ pub fn diffsol(config: &Config) -> Arc<Diffsol> {
 }
 
 /// The regularised runs of `scene` ("S5" or "S6") as work-precision series (run time in
-/// ms, max error in x over the grid), one per diffsol solver; with `ours`, filippov's
+/// ms, max error in x over the grid): each diffsol solver's tolerance sweep at the ε that
+/// reaches the smallest error (the table has every ε); with `ours`, filippov's
 /// event-driven rows of the same program too (same metric, for plots whose own series
 /// use another one).
 pub fn diffsol_series(config: &Config, scene: &str, ours: bool) -> Vec<Series> {
     let d = diffsol(config);
     let when = if d.this_run { "" } else { ", earlier run" };
+    fn ok(r: &Row) -> bool {
+        r.time.median.is_finite() && r.max_grid_error.is_finite()
+    }
+    /// `eps=1e-3 rtol=1e-8` → (`1e-3`, `1e-8`).
+    fn split(setting: &str) -> (&str, &str) {
+        let mut eps = "";
+        let mut rtol = setting;
+        for part in setting.split_whitespace() {
+            if let Some(e) = part.strip_prefix("eps=") {
+                eps = e;
+            } else if let Some(r) = part.strip_prefix("rtol=") {
+                rtol = r;
+            }
+        }
+        (eps, rtol)
+    }
     let mut labels: Vec<&str> = Vec::new();
     for r in &d.rows {
         let wanted = r.solver.contains("tanh") || (ours && r.solver.starts_with("filippov"));
@@ -305,54 +304,52 @@ pub fn diffsol_series(config: &Config, scene: &str, ours: bool) -> Vec<Series> {
             labels.push(&r.solver);
         }
     }
-    labels
-        .iter()
-        .map(|solver| {
-            let runs: Vec<&Row> = d
-                .rows
-                .iter()
-                .filter(|r| r.scene == scene && r.solver == *solver)
-                .collect();
-            let done: Vec<&&Row> = runs
-                .iter()
-                .filter(|r| r.time.median.is_finite() && r.max_grid_error.is_finite())
-                .collect();
-            let pts = done
-                .iter()
-                .map(|r| (r.time.median, r.max_grid_error))
-                .collect();
-            // The settings the curve spans, and those whose run failed.
-            let span = match (done.first(), done.last()) {
-                (Some(a), Some(b)) if done.len() > 1 => format!(
-                    "{}…{}",
-                    a.setting,
-                    b.setting
-                        .split_once('=')
-                        .map_or(b.setting.as_str(), |(_, v)| v)
-                ),
-                (Some(a), _) => a.setting.clone(),
-                _ => "none completed".into(),
-            };
-            let failed: Vec<&str> = runs
-                .iter()
-                .filter(|r| r.notes.starts_with("failed"))
-                .map(|r| r.setting.as_str())
-                .collect();
-            let failed = if failed.is_empty() {
-                String::new()
-            } else {
-                format!("; failed at {}", failed.join(", "))
-            };
-            let span = span.replace("eps=", "ε = ").replace("rtol=", "rtol ");
-            let label = match solver.strip_suffix(" tanh(v/eps)") {
-                Some(s) => {
-                    format!("{s}, f_crit·tanh(v/ε), {span}{failed} (max |x − x_ref|{when})")
-                }
-                None => format!("{solver}, {span} (max |x − x_ref|, peer program{when})"),
-            };
-            Series::new(label, pts)
-        })
-        .collect()
+    let mut out = Vec::new();
+    for solver in labels {
+        let runs: Vec<&Row> = d
+            .rows
+            .iter()
+            .filter(|r| r.scene == scene && r.solver == solver)
+            .collect();
+        // The ε whose sweep reaches the smallest error (none for our rows).
+        let eps = runs
+            .iter()
+            .filter(|r| ok(r))
+            .min_by(|a, b| a.max_grid_error.total_cmp(&b.max_grid_error))
+            .map(|r| split(&r.setting).0)
+            .unwrap_or("");
+        let curve: Vec<&&Row> = runs.iter().filter(|r| split(&r.setting).0 == eps).collect();
+        let done: Vec<&&&Row> = curve.iter().filter(|r| ok(r)).collect();
+        let pts = done
+            .iter()
+            .map(|r| (r.time.median, r.max_grid_error))
+            .collect();
+        let span = match (done.first(), done.last()) {
+            (Some(a), Some(b)) if done.len() > 1 => {
+                format!("rtol {}…{}", split(&a.setting).1, split(&b.setting).1)
+            }
+            (Some(a), _) => format!("rtol {}", split(&a.setting).1),
+            _ => "none completed".into(),
+        };
+        let failed: Vec<&str> = curve
+            .iter()
+            .filter(|r| r.notes.starts_with("failed"))
+            .map(|r| split(&r.setting).1)
+            .collect();
+        let failed = if failed.is_empty() {
+            String::new()
+        } else {
+            format!("; failed at rtol {}", failed.join(", "))
+        };
+        let label = match solver.strip_suffix(" tanh(v/eps)") {
+            Some(s) => format!(
+                "{s}, f_crit·tanh(v/ε), ε = {eps} (its best), {span}{failed} (max |x − x_ref|{when})"
+            ),
+            None => format!("{solver}, {span} (max |x − x_ref|, peer program{when})"),
+        };
+        out.push(Series::new(label, pts));
+    }
+    out
 }
 
 /// One work-precision series per solver on a smooth scene of the peer program (run time
@@ -379,33 +376,46 @@ fn smooth_series(d: &Diffsol, scene: &str) -> Vec<Series> {
         .collect()
 }
 
-/// A headline row: filippov's run `f` against diffsol's `g`.
-fn diffsol_headline(claim: String, f: &Row, g: &Row, basis: String) {
+/// `filippov DOPRI5 at rtol=1e-6: 0.186 (0.18–0.19) ms (error 3.1e-7)`, shortened.
+fn run_cell(r: &Row) -> String {
+    format!(
+        "{} at {}: {} ms (error {})",
+        r.solver
+            .trim_start_matches("filippov ")
+            .trim_start_matches("diffsol "),
+        r.setting,
+        r.time.show(3),
+        sci(r.max_grid_error)
+    )
+}
+
+/// A headline row: per threshold, filippov's fastest run `f` against diffsol's `g`.
+fn diffsol_headline(claim: String, pairs: &[(f64, &Row, &Row)], basis: String) {
+    if pairs.is_empty() {
+        return;
+    }
+    let each = |f: &dyn Fn(&Row, &Row) -> String| {
+        pairs
+            .iter()
+            .map(|(t, a, b)| format!("≤ {t:.0e}: {}", f(a, b)))
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
     super::markdown::headline(
         claim,
-        format!(
-            "{} at {}: {} ms (error {})",
-            f.solver.trim_start_matches("filippov "),
-            f.setting,
-            f.time.show(3),
-            sci(f.max_grid_error)
-        ),
-        format!(
-            "diffsol {} at {}: {} ms (error {})",
-            g.solver.trim_start_matches("diffsol "),
-            g.setting,
-            g.time.show(3),
-            sci(g.max_grid_error)
-        ),
-        format!(
-            "{} ({})",
-            g.time.ratio_to(&f.time, 2),
-            if f.time.median <= g.time.median {
-                "filippov faster"
-            } else {
-                "diffsol faster"
-            }
-        ),
+        each(&|f, _| run_cell(f)),
+        each(&|_, g| format!("diffsol {}", run_cell(g))),
+        each(&|f, g| {
+            format!(
+                "{} ({})",
+                g.time.ratio_to(&f.time, 2),
+                if f.time.median <= g.time.median {
+                    "filippov faster"
+                } else {
+                    "diffsol faster"
+                }
+            )
+        }),
         basis,
     );
 }
@@ -440,13 +450,16 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
         "diffsol (crates.io) solves the same problems through its closure API (`OdeBuilder::rhs_implicit` with the generated \
          forward dynamics and, as the Jacobian-vector product, the generated symbolic Jacobian; dense nalgebra matrices and LU). \
          The peer program also times filippov's own methods on exactly the same problems with the same harness, so the rows \
-         compare like with like. On S5 and S6 diffsol integrates the smooth ODE a user would write, \
-         m x'' = −k x + F(t) − f_crit·tanh(v/ε), for a sweep of ε; its error is measured against the exact non-smooth solution \
+         compare like with like. The smooth scenes are the double pendulum, the Panda and a stiff three-link arm (stiff, \
+         heavily damped joint springs; its stiffness ratio is in the list below), each swept from rtol 1e-4 to 1e-9, and every \
+         row of a scene, diffsol's and ours, is measured against one reference. On S5 and S6 diffsol integrates the smooth ODE a user would write, \
+         m x'' = −k x + F(t) − f_crit·tanh(v/ε), for a sweep of ε, each ε at the same tolerances as filippov's event-driven runs \
+         (rtol 1e-4 … 1e-10), all of a scene's runs timed in interleaved rounds; its error is measured against the exact non-smooth solution \
          (S6: the closed form; S5: filippov's event-driven run at rtol 1e-12), next to filippov's event-driven integrator on the \
          Coulomb law itself. The S5 and S6 plots above carry these runs as extra series.",
     );
     page.bullets(&d.header);
-    for scene in ["DoublePendulum", "Panda"] {
+    for scene in SMOOTH_SCENES {
         let series = smooth_series(&d, scene);
         if series.iter().all(|s| s.points.is_empty()) {
             continue;
@@ -513,7 +526,7 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
     fn ok(r: &Row) -> bool {
         r.time.median.is_finite() && r.max_grid_error.is_finite()
     }
-    for scene in ["DoublePendulum", "Panda"] {
+    for scene in SMOOTH_SCENES {
         let rows: Vec<&Row> = d
             .rows
             .iter()
@@ -554,81 +567,59 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
             })
             .collect();
         summary.push(format!("{scene}, filippov vs diffsol at rtol {tight:.0e} ({when}, same problem and harness): {}", list.join(", ")));
-        // Work-precision: the fastest of each library to a grid error ≤ 1e-2.
-        let best = |prefix: &str| {
-            rows.iter()
-                .filter(|r| r.solver.starts_with(prefix) && r.max_grid_error <= 1e-2)
-                .min_by(|a, b| a.time.median.total_cmp(&b.time.median))
-        };
-        if let (Some(f), Some(g)) = (best("filippov"), best("diffsol")) {
-            diffsol_headline(
-                format!("{scene}: fastest to a max grid error ≤ 1e-2, filippov against diffsol"),
-                f,
-                g,
-                format!(
-                    "same problem and harness in the peer program ({when}), median (min–max) of 5 runs; error against filippov DOPRI5 at rtol 1e-13"
-                ),
-            );
-        }
-        match (best("filippov"), best("diffsol")) {
-            (Some(f), Some(g)) => summary.push(format!(
-                "{scene}: fastest to a max grid error ≤ 1e-2 — filippov {} at {} ({:.3} ms) vs diffsol {} at {} ({:.3} ms): {:.1}× {}",
-                f.solver.trim_start_matches("filippov "), f.setting, f.time.median,
-                g.solver.trim_start_matches("diffsol "), g.setting, g.time.median,
-                if f.time.median <= g.time.median { g.time.median / f.time.median } else { f.time.median / g.time.median },
-                if f.time.median <= g.time.median { "faster (filippov)" } else { "faster (diffsol)" }
-            )),
-            (Some(f), None) => summary.push(format!("{scene}: filippov reaches a max grid error ≤ 1e-2 ({} at {}, {:.3} ms); no diffsol run of the sweep does", f.solver, f.setting, f.time.median)),
-            (None, Some(g)) => summary.push(format!("{scene}: diffsol reaches a max grid error ≤ 1e-2 ({} at {}, {:.3} ms); no filippov run of the sweep does", g.solver, g.setting, g.time.median)),
-            (None, None) => {}
-        }
-        // The stiff solvers alone (filippov SDIRK4; diffsol BDF, ESDIRK34, TR-BDF2): where
-        // filippov loses, it shows here.
+        // Work-precision: the fastest run of each library to a grid error ≤ threshold,
+        // among all solvers and among the stiff ones alone (filippov SDIRK4 and BDF;
+        // diffsol BDF, ESDIRK34, TR-BDF2): where filippov loses, it shows here.
         let implicit = |r: &Row| {
             ["SDIRK4", "BDF", "ESDIRK34", "TR-BDF2"]
                 .iter()
                 .any(|m| r.solver.ends_with(m))
         };
-        for threshold in [1e-1, 1e-2] {
-            let best = |prefix: &str| {
-                rows.iter()
-                    .filter(|r| {
-                        r.solver.starts_with(prefix) && implicit(r) && r.max_grid_error <= threshold
-                    })
-                    .min_by(|a, b| a.time.median.total_cmp(&b.time.median))
-            };
-            if let (Some(f), Some(g)) = (best("filippov"), best("diffsol")) {
-                diffsol_headline(
-                    format!(
-                        "{scene}: stiff solvers, fastest to a max grid error ≤ {threshold:.0e}"
-                    ),
-                    f,
-                    g,
-                    format!("same problem and harness ({when}), median (min–max) of 5 runs"),
-                );
+        for (group, stiff_only) in [("all solvers", false), ("stiff solvers", true)] {
+            let mut pairs = Vec::new();
+            for threshold in THRESHOLDS {
+                let best = |prefix: &str| {
+                    rows.iter()
+                        .filter(|r| {
+                            r.solver.starts_with(prefix)
+                                && (!stiff_only || implicit(r))
+                                && r.max_grid_error <= threshold
+                        })
+                        .min_by(|a, b| a.time.median.total_cmp(&b.time.median))
+                };
+                match (best("filippov"), best("diffsol")) {
+                    (Some(f), Some(g)) => {
+                        pairs.push((threshold, *f, *g));
+                        summary.push(format!(
+                            "{scene}, {group}, fastest to a max grid error ≤ {threshold:.0e}: filippov {} against diffsol {}: {} ({})",
+                            run_cell(f),
+                            run_cell(g),
+                            g.time.ratio_to(&f.time, 2),
+                            if f.time.median <= g.time.median { "filippov faster" } else { "diffsol faster" }
+                        ));
+                    }
+                    (Some(f), None) => summary.push(format!(
+                        "{scene}, {group}: only filippov reaches a max grid error ≤ {threshold:.0e} ({})",
+                        run_cell(f)
+                    )),
+                    (None, Some(g)) => summary.push(format!(
+                        "{scene}, {group}: only diffsol reaches a max grid error ≤ {threshold:.0e} ({})",
+                        run_cell(g)
+                    )),
+                    (None, None) => summary.push(format!(
+                        "{scene}, {group}: neither library reaches a max grid error ≤ {threshold:.0e} in the sweep"
+                    )),
+                }
             }
-            match (best("filippov"), best("diffsol")) {
-                (Some(f), Some(g)) => summary.push(format!(
-                    "{scene}, stiff solvers, fastest to a max grid error ≤ {threshold:.0e}: filippov {} at {} ({:.3} ms) vs diffsol {} at {} ({:.3} ms): {:.1}× faster ({})",
-                    f.solver.trim_start_matches("filippov "),
-                    f.setting,
-                    f.time.median,
-                    g.solver.trim_start_matches("diffsol "),
-                    g.setting,
-                    g.time.median,
-                    f.time.median.max(g.time.median) / f.time.median.min(g.time.median),
-                    if f.time.median <= g.time.median { "filippov" } else { "diffsol" }
-                )),
-                (Some(f), None) => summary.push(format!(
-                    "{scene}, stiff solvers: only filippov reaches a max grid error ≤ {threshold:.0e} ({} at {}, {:.3} ms)",
-                    f.solver, f.setting, f.time.median
-                )),
-                (None, Some(g)) => summary.push(format!(
-                    "{scene}, stiff solvers: only diffsol reaches a max grid error ≤ {threshold:.0e} ({} at {}, {:.3} ms)",
-                    g.solver, g.setting, g.time.median
-                )),
-                (None, None) => {}
-            }
+            diffsol_headline(
+                format!(
+                    "{scene}: {group}, fastest to a max grid error ≤ threshold, filippov against diffsol"
+                ),
+                &pairs,
+                format!(
+                    "same problem and harness in the peer program ({when}), all runs of the scene timed in 5 interleaved rounds, median (min–max); every row's error against one reference (RK4, h = 1e-5)"
+                ),
+            );
         }
     }
     for scene in ["S6", "S5"] {
@@ -661,7 +652,9 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
             "{scene} ({when}): the best regularised diffsol run reaches a max error in x of {} ({} at {}, {:.3} ms)",
             sci(reg.max_grid_error),
             reg.solver.trim_end_matches(" tanh(v/eps)"),
-            reg.setting.replace("eps=", "ε = "),
+            reg.setting
+                .replace("eps=", "ε = ")
+                .replace(" rtol=", ", rtol "),
             reg.time.median
         );
         // The fastest regularised run within 10 % of that error, when another one is.
@@ -675,7 +668,9 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
             line += &format!(
                 " (within 10 % of it fastest: {} at {}, {} in {:.3} ms)",
                 fast.solver.trim_end_matches(" tanh(v/eps)"),
-                fast.setting.replace("eps=", "ε = "),
+                fast.setting
+                    .replace("eps=", "ε = ")
+                    .replace(" rtol=", ", rtol "),
                 sci(fast.max_grid_error),
                 fast.time.median
             );

@@ -94,6 +94,93 @@ pub fn ns_timed<T>(repeats: usize, calls: usize, mut f: impl FnMut() -> T) -> Ti
     t.scaled(1e9 / calls as f64)
 }
 
+/// Timings of several programs taken in `rounds` interleaved rounds: round `r` runs
+/// every job once, starting from job `r` (so none is always first), and each job returns
+/// its own timing (or `None` when it cannot run). A change of the shared machine's load
+/// during the rounds reaches every job alike, so ratios between the results are
+/// meaningful. Each job's result: the median of its rounds' medians, with the fastest and
+/// slowest repetition over all rounds.
+pub fn in_rounds(
+    rounds: usize,
+    jobs: &mut [&mut dyn FnMut() -> Option<Timing>],
+) -> Vec<Option<Timing>> {
+    let n = jobs.len();
+    let mut got: Vec<Vec<Timing>> = vec![Vec::new(); n];
+    let mut failed = vec![false; n];
+    for round in 0..rounds.max(1) {
+        for k in 0..n {
+            let j = (round + k) % n;
+            if failed[j] {
+                continue;
+            }
+            match jobs[j]() {
+                Some(t) => got[j].push(t),
+                None => failed[j] = true,
+            }
+        }
+    }
+    got.into_iter()
+        .zip(failed)
+        .map(|(ts, failed)| (!failed && !ts.is_empty()).then(|| combine(&ts)))
+        .collect()
+}
+
+/// The median of the timings' medians, the fastest minimum and the slowest maximum.
+pub fn combine(ts: &[Timing]) -> Timing {
+    let mut m: Vec<f64> = ts.iter().map(|t| t.median).collect();
+    m.sort_by(f64::total_cmp);
+    Timing {
+        median: m[m.len() / 2],
+        min: ts.iter().map(|t| t.min).fold(f64::INFINITY, f64::min),
+        max: ts.iter().map(|t| t.max).fold(f64::NEG_INFINITY, f64::max),
+    }
+}
+
+/// Runs `program` with `args` and reads the timing `KEY median min max` (or `KEY median`
+/// with a `KEY_range min max` line) from its output; `None`, with a message on standard
+/// error, when it fails.
+pub fn program_timing(
+    program: &std::path::Path,
+    args: &[&std::ffi::OsStr],
+    key: &str,
+) -> Option<Timing> {
+    let out = match std::process::Command::new(program).args(args).output() {
+        Ok(out) if out.status.success() => out,
+        Ok(out) => {
+            eprintln!(
+                "report: {} failed: {}",
+                program.display(),
+                String::from_utf8_lossy(&out.stderr)
+            );
+            return None;
+        }
+        Err(e) => {
+            eprintln!("report: cannot run {}: {e}", program.display());
+            return None;
+        }
+    };
+    let text = String::from_utf8_lossy(&out.stdout);
+    let field = |k: &str| -> Option<Vec<f64>> {
+        text.lines().find_map(|l| {
+            let mut w = l.split_whitespace();
+            (w.next()? == k).then(|| w.filter_map(|x| x.parse().ok()).collect())
+        })
+    };
+    let v = field(key)?;
+    let (min, max) = match (v.get(1), v.get(2)) {
+        (Some(&a), Some(&b)) => (a, b),
+        _ => {
+            let r = field(&format!("{key}_range"))?;
+            (*r.first()?, *r.get(1)?)
+        }
+    };
+    Some(Timing {
+        median: *v.first()?,
+        min,
+        max,
+    })
+}
+
 /// How much the repetitions of this run's timings spread: `(max − min) / median` over
 /// every timing with at least three repetitions.
 pub fn spread_note() -> String {

@@ -7,7 +7,7 @@
 //! `peers/urdf_pin.py`.
 
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use filippov::nalgebra::{DVector, SVector, Vector3};
 use filippov::prelude::*;
@@ -17,7 +17,7 @@ use filippov::runtime::numeric::{self, Model};
 use super::agreement_support::Rng;
 use super::config::Config;
 use super::markdown::{Page, sci};
-use super::timing::{Timing, ns_timed, timed};
+use super::timing::{Timing, in_rounds, ns_timed, program_timing, timed};
 
 #[derive(Mechanism)]
 #[mechanism(
@@ -58,24 +58,30 @@ struct Humanoid;
 )]
 struct ThreeLinkArm;
 
+/// Interleaved rounds of our timing and Pinocchio's.
+const ROUNDS: usize = 3;
+
 #[derive(Default)]
 pub struct Section {
     pub page: Page,
     pub summary: Vec<String>,
 }
 
-struct Robot {
-    name: &'static str,
-    file: &'static str,
-    lock: &'static [&'static str],
-    free_base: bool,
+pub struct Robot {
+    pub name: &'static str,
+    /// The name's CamelCase, for declarations made from this table.
+    pub ident: &'static str,
+    pub file: &'static str,
+    pub lock: &'static [&'static str],
+    pub free_base: bool,
     /// `#[mechanism(…)]` options for the expansion timing.
-    options: &'static str,
+    pub options: &'static str,
 }
 
-const ROBOTS: [Robot; 5] = [
+pub const ROBOTS: [Robot; 5] = [
     Robot {
         name: "panda",
+        ident: "Panda",
         file: "robots/panda.urdf",
         lock: &["panda_finger_joint1", "panda_finger_joint2"],
         free_base: false,
@@ -83,6 +89,7 @@ const ROBOTS: [Robot; 5] = [
     },
     Robot {
         name: "ur5",
+        ident: "Ur5",
         file: "robots/ur5.urdf",
         lock: &[],
         free_base: false,
@@ -90,6 +97,7 @@ const ROBOTS: [Robot; 5] = [
     },
     Robot {
         name: "solo12",
+        ident: "Solo12",
         file: "robots/solo12.urdf",
         lock: &[],
         free_base: true,
@@ -97,6 +105,7 @@ const ROBOTS: [Robot; 5] = [
     },
     Robot {
         name: "humanoid",
+        ident: "Humanoid",
         file: "robots/simple_humanoid.urdf",
         lock: &[],
         free_base: true,
@@ -104,6 +113,7 @@ const ROBOTS: [Robot; 5] = [
     },
     Robot {
         name: "three_link_arm",
+        ident: "ThreeLinkArm",
         file: "robots/three_link_arm.urdf",
         lock: &[],
         free_base: false,
@@ -284,45 +294,15 @@ fn pinocchio(dir: &Path) -> Vec<(String, [f64; 6])> {
         .collect()
 }
 
-/// Pinocchio's ABA in C++ on `robot`, timed now, beside our forward dynamics: the binary
-/// `peers/run.sh` builds from `peers/pin_bench.cpp`, on the model Pinocchio built from the
-/// same URDF (`peers/urdf_pin.py` writes it to `peers/urdf/<robot>.txt` and checks the
-/// binary's ABA against the bindings'). `None` before `bash peers/run.sh`.
-fn pinocchio_aba(out_dir: &Path, robot: &str) -> Option<Timing> {
+/// Pinocchio's ABA in C++ on `robot`: the binary `peers/run.sh` builds from
+/// `peers/pin_bench.cpp` with the baseline target's flags (as this report is built), and
+/// the model Pinocchio built from the same URDF (`peers/urdf_pin.py` writes it to
+/// `peers/urdf/<robot>.txt` and checks the binary's ABA against the bindings'). `None`
+/// before `bash peers/run.sh`.
+fn pinocchio_aba(out_dir: &Path, robot: &str) -> Option<(PathBuf, PathBuf)> {
     let bin = out_dir.join("peers/build/pin_bench");
     let model = out_dir.join("peers/urdf").join(format!("{robot}.txt"));
-    if !bin.exists() || !model.exists() {
-        return None;
-    }
-    let out = match std::process::Command::new(&bin).arg(&model).output() {
-        Ok(out) if out.status.success() => out,
-        Ok(out) => {
-            eprintln!(
-                "report: {} {} failed: {}",
-                bin.display(),
-                model.display(),
-                String::from_utf8_lossy(&out.stderr)
-            );
-            return None;
-        }
-        Err(e) => {
-            eprintln!("report: cannot run {}: {e}", bin.display());
-            return None;
-        }
-    };
-    let text = String::from_utf8_lossy(&out.stdout);
-    let field = |key: &str| -> Option<Vec<f64>> {
-        text.lines().find_map(|l| {
-            let mut w = l.split_whitespace();
-            (w.next()? == key).then(|| w.filter_map(|x| x.parse().ok()).collect())
-        })
-    };
-    let (median, range) = (field("aba_ns")?, field("aba_ns_range")?);
-    Some(Timing {
-        median: *median.first()?,
-        min: *range.first()?,
-        max: *range.get(1)?,
-    })
+    (bin.exists() && model.exists()).then_some((bin, model))
 }
 
 fn expansion_ms(config: &Config, robot: &Robot) -> (Timing, usize) {
@@ -355,6 +335,7 @@ pub fn urdf(config: &Config) -> Section {
             .expect("the robot's URDF");
         let model = Model::from_urdf(&text, g, robot.free_base, robot.lock).expect("reads");
         let (exp_ms, lets) = expansion_ms(config, robot);
+        let pin_program = pinocchio_aba(&config.out_dir, robot.name);
         macro_rules! measure {
             ($s:expr, $n:literal, $nq:literal, $rot:expr) => {{
                 let s = samples::<$n, $nq>(
@@ -378,42 +359,51 @@ pub fn urdf(config: &Config) -> Section {
                 );
                 // Inputs through black_box, as in every other kernel timing: with
                 // loop-invariant inputs the compiler may hoist the call out of the loop.
-                let ns = ns_timed(config.repeats, config.kernel_calls, || {
-                    $s.forward_dynamics(
-                        std::hint::black_box(&q),
-                        std::hint::black_box(&v),
-                        std::hint::black_box(&tau),
-                    )
-                });
-                (s, ns, $n)
+                // Pinocchio's ABA (a separate program) in interleaved rounds beside it.
+                let mut ours = || {
+                    Some(ns_timed(config.repeats, config.kernel_calls, || {
+                        $s.forward_dynamics(
+                            std::hint::black_box(&q),
+                            std::hint::black_box(&v),
+                            std::hint::black_box(&tau),
+                        )
+                    }))
+                };
+                let mut theirs = || {
+                    pin_program.as_ref().and_then(|(bin, model)| {
+                        program_timing(bin, &[model.as_os_str(), "aba".as_ref()], "aba_ns")
+                    })
+                };
+                let t = in_rounds(ROUNDS, &mut [&mut ours, &mut theirs]);
+                (s, t[0].unwrap_or_default(), t[1], $n)
             }};
         }
-        let ((s, fd_ns, dof), joints, frame_names): (_, Vec<&str>, &[&str]) = match robot.name {
-            "panda" => (
-                measure!(PandaUrdf, 7, 7, &[]),
-                PandaUrdf::JOINTS.to_vec(),
-                PandaUrdf::FRAMES,
-            ),
-            "ur5" => (measure!(Ur5, 6, 6, &[]), Ur5::JOINTS.to_vec(), Ur5::FRAMES),
-            // The free base's six coordinates first, then one per joint.
-            "solo12" => (
-                measure!(Solo12, 18, 19, Solo12::ROTATIONS),
-                Solo12::COORDINATES[6..].to_vec(),
-                Solo12::FRAMES,
-            ),
-            "three_link_arm" => (
-                measure!(ThreeLinkArm, 3, 3, &[]),
-                ThreeLinkArm::JOINTS.to_vec(),
-                ThreeLinkArm::FRAMES,
-            ),
-            _ => (
-                measure!(Humanoid, 35, 36, Humanoid::ROTATIONS),
-                Humanoid::COORDINATES[6..].to_vec(),
-                Humanoid::FRAMES,
-            ),
-        };
+        let ((s, fd_ns, pin_aba, dof), joints, frame_names): (_, Vec<&str>, &[&str]) =
+            match robot.name {
+                "panda" => (
+                    measure!(PandaUrdf, 7, 7, &[]),
+                    PandaUrdf::JOINTS.to_vec(),
+                    PandaUrdf::FRAMES,
+                ),
+                "ur5" => (measure!(Ur5, 6, 6, &[]), Ur5::JOINTS.to_vec(), Ur5::FRAMES),
+                // The free base's six coordinates first, then one per joint.
+                "solo12" => (
+                    measure!(Solo12, 18, 19, Solo12::ROTATIONS),
+                    Solo12::COORDINATES[6..].to_vec(),
+                    Solo12::FRAMES,
+                ),
+                "three_link_arm" => (
+                    measure!(ThreeLinkArm, 3, 3, &[]),
+                    ThreeLinkArm::JOINTS.to_vec(),
+                    ThreeLinkArm::FRAMES,
+                ),
+                _ => (
+                    measure!(Humanoid, 35, 36, Humanoid::ROTATIONS),
+                    Humanoid::COORDINATES[6..].to_vec(),
+                    Humanoid::FRAMES,
+                ),
+            };
         let err = against_numeric(&model, &s);
-        let pin_aba = pinocchio_aba(&config.out_dir, robot.name);
         if let Some(p) = pin_aba {
             pin_speed.push((robot.name, fd_ns, p));
         }
@@ -500,7 +490,7 @@ pub fn urdf(config: &Config) -> Section {
             format!("{} ns", ours.join("; ")),
             format!("{} ns (Pinocchio C++ `aba`)", theirs.join("; ")),
             ratios.join("; "),
-            "ns per call, median (min–max) of batches, both timed in this run; Pinocchio's model built from the same file and its ABA checked against the Python bindings by peers/urdf_pin.py",
+            "ns per call, median of 3 interleaved rounds (min–max over their batches), both in this run and both built for the baseline x86-64 target (rustc's default; g++ -O3 without -march); the native builds are in the section on CPU flags; Pinocchio's model built from the same file and its ABA checked against the Python bindings by peers/urdf_pin.py",
         );
     }
     page.h2("Robots from URDF");
@@ -511,8 +501,9 @@ pub fn urdf(config: &Config) -> Section {
          second reader of the same file) at 20 random states. Pinocchio (columns filled after `bash peers/run.sh`, \
          which loads the same URDFs with `buildModelFromUrdf`; Panda fingers locked, Solo12 and the humanoid with \
          a free-flyer base, their velocities mapped to ours): the same differences at the same states, and \
-         Pinocchio's `aba` in C++ (`peers/pin_bench.cpp`, -O3 -march=native, on the model Pinocchio built from \
-         the file) timed by this report beside our FD, with the ratio Pinocchio / ours (> 1: ours faster); \
+         Pinocchio's `aba` in C++ (`peers/pin_bench.cpp`, g++ -O3 for the baseline x86-64 target as this report is built, on the model \
+         Pinocchio built from the file) timed by this report beside our FD in three interleaved rounds, with the ratio \
+         Pinocchio / ours (> 1: ours faster; both builds with native flags are in the section on CPU flags); \
          without the C++ build, the time through its Python bindings, call overhead included. Frames: every body and \
          the file's tool frames (`emit = [kinematics]`); against Pinocchio's `framesForwardKinematics` and \
          `computeFrameJacobian(…, LOCAL_WORLD_ALIGNED)` on the same frame names: the largest difference of rotation \

@@ -4,9 +4,12 @@
 //!   kernels and their symbolic Jacobian handed to diffsol's closure API: diffsol BDF,
 //!   ESDIRK34, TR-BDF2 and TSIT45 against filippov's DOPRI5, SDIRK4 and BDF on the same
 //!   problems, same tolerances, same timing.
+//!   The double pendulum, the Panda and a stiff three-link arm (stiff, damped joint
+//!   springs), at tolerances from 1e-4 to 1e-9, every row against one reference.
 //! * S6 and S5 with the friction regularised as `f_crit·tanh(v/ε)` for a sweep of ε
-//!   (diffsol BDF, ESDIRK34 and TSIT45 at rtol 1e-8), against the exact non-smooth
-//!   solution, next to filippov's event-driven integrator on the non-smooth law itself.
+//!   (diffsol BDF, ESDIRK34 and TSIT45, each ε at the event-driven runs' tolerances),
+//!   against the exact non-smooth solution, next to filippov's event-driven integrator on
+//!   the non-smooth law itself.
 //!
 //! Usage: `filippov-peer-diffsol [OUT.tsv]` (default `target/report/peers/diffsol.tsv`
 //! under the repository root). See README.md for the columns.
@@ -24,11 +27,11 @@ use filippov::runtime::{
     MechanicalSystem, Method, NonSmoothMethod, NonSmoothProblem, Options, Output, Problem,
     SmoothMethod, Solution, Stats, solve, solve_nonsmooth,
 };
-use filippov_scenes::{CoulombOscillator, DoublePendulum, Panda};
+use filippov_scenes::{CoulombOscillator, DoublePendulum, Panda, PlanarArm3};
 
 use exact::CoulombFreeDecay;
 use ode::{Mechanical, Regularised};
-use run::{Solver, Wall, interleaved, median};
+use run::{Solver, Wall, interleaved};
 
 /// Timed repetitions after one warm-up.
 const REPEATS: usize = 5;
@@ -41,9 +44,8 @@ const SMOOTH_RTOLS: [f64; 11] = [
     1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9,
 ];
 const EPSILONS: [f64; 5] = [1e-1, 1e-2, 1e-3, 1e-4, 1e-5];
-/// Tolerance of the regularised runs (atol = rtol·1e-2).
-const REG_RTOL: f64 = 1e-8;
-/// Tolerances of filippov's event-driven runs on S5/S6.
+/// Tolerances of filippov's event-driven runs on S5/S6, and of diffsol's regularised
+/// runs at every ε (atol = rtol·1e-2).
 const EVENT_RTOLS: [f64; 4] = [1e-4, 1e-6, 1e-8, 1e-10];
 
 struct Row {
@@ -159,10 +161,10 @@ fn smooth<S: Mechanism<N>, const N: usize>(
         header.push(format!("{scene}: the reference runs failed; no rows"));
         return;
     };
-    let (ref_dopri, ref_rk4) = (on_grid(&ref_dopri, &grid), on_grid(&ref_rk4, &grid));
-    let agree = errors(&ref_dopri, &ref_rk4, 2 * N).1;
+    let (ref_dopri, reference) = (on_grid(&ref_dopri, &grid), on_grid(&ref_rk4, &grid));
+    let agree = errors(&ref_dopri, &reference, 2 * N).1;
     header.push(format!(
-        "{scene}: y0 = {y0:?}, t in [0, {tf}]; references filippov DOPRI5 (rtol 1e-13, atol 1e-15) and RK4 (h = {h:e}) agree to {} over the grid; diffsol rows are measured against the DOPRI5 reference, filippov rows against the RK4 one",
+        "{scene}: y0 = {y0:?}, t in [0, {tf}]; every row, diffsol's and filippov's, is measured against one reference, classical RK4 at the fixed step h = {h:e} (a method no row uses); filippov DOPRI5 at rtol 1e-13 (atol 1e-15) agrees with it to {} over the grid, so errors below that are not resolved",
         sci(agree)
     ));
     let ode = Mechanical::new(sys);
@@ -234,7 +236,7 @@ fn smooth<S: Mechanism<N>, const N: usize>(
                     "atol={atol:.0e}; {} error-test failures, {} rhs calls, {} Jacobians ({} LU setups, {} Newton iterations)",
                     r.error_test_failures, r.rhs_calls, r.jacobians, r.lu_setups, r.newton_iterations
                 );
-                let errors = errors(&r.values, &ref_dopri, 2 * N);
+                let errors = errors(&r.values, &reference, 2 * N);
                 Row::measured(scene, solver.name(), setting, time, r.steps, errors, notes)
             }
             Err(e) => Row::failed(scene, solver.name(), setting, &e),
@@ -253,7 +255,7 @@ fn smooth<S: Mechanism<N>, const N: usize>(
                     s.lu_factorisations,
                     s.newton_iterations
                 );
-                let errors = errors(&values, &ref_rk4, 2 * N);
+                let errors = errors(&values, &reference, 2 * N);
                 Row::measured(scene, name, setting, time, s.steps, errors, notes)
             }
             Err(e) => Row::failed(scene, name, setting, &e),
@@ -275,7 +277,9 @@ fn switch_error(found: &[(f64, f64)], exact: &[(f64, f64)]) -> f64 {
 }
 
 /// S5 or S6 with regularised friction (diffsol) and event-driven (filippov), errors in x
-/// against `reference` on the grid.
+/// against `reference` on the grid. diffsol is swept like ours: every solver and ε at
+/// each of [`EVENT_RTOLS`], so each (solver, ε) is a work-precision curve beside the
+/// event-driven one; all runs of the scene are timed in interleaved rounds.
 #[allow(clippy::too_many_arguments)]
 fn regularised(
     rows: &mut Vec<Row>,
@@ -287,68 +291,101 @@ fn regularised(
     reference: &[Vec<f64>],
     turning_points: Option<&[(f64, f64)]>,
 ) {
+    eprintln!("== {scene}: regularised (diffsol) and event-driven (filippov)");
     let y0 = [problem.q0[0], problem.v0[0]];
-    for solver in [Solver::Bdf, Solver::Esdirk34, Solver::Tsit45] {
-        for eps in EPSILONS {
-            eprintln!("== {scene}: {} eps = {eps:e}", solver.name());
-            let ode = Regularised::new(coulomb, eps, forcing);
-            let (rtol, atol) = (REG_RTOL, REG_RTOL * 1e-2);
-            let setting = format!("eps={eps:.0e}");
-            let (time, result) = median(REPEATS, || {
-                run::solve(&ode, solver, rtol, atol, problem.t0, &y0, grid, false)
-            });
-            rows.push(match result {
-                Ok(r) => {
-                    let (fin, max) = errors(&r.values, reference, 1);
-                    let mut notes = format!(
-                        "rtol={rtol:.0e}, atol={atol:.0e}; errors in x; {} error-test failures, {} rhs calls, {} Jacobian-vector products",
-                        r.error_test_failures, r.rhs_calls, r.jacobians
-                    );
-                    if let Some(tp) = turning_points {
-                        // Untimed second solve, stepping manually (same steps) to locate
-                        // the velocity zeros.
-                        match run::solve(&ode, solver, rtol, atol, problem.t0, &y0, grid, true) {
-                            Ok(z) => {
-                                let _ = write!(
-                                    notes,
-                                    "; switch_error={}; {} velocity zeros (exact: {})",
-                                    sci(switch_error(&z.velocity_zeros, tp)),
-                                    z.velocity_zeros.len(),
-                                    tp.len()
-                                );
-                            }
-                            Err(e) => {
-                                let _ = write!(notes, "; switch points: failed ({e})");
-                            }
-                        }
-                    }
-                    let label = format!("{} tanh(v/eps)", solver.name());
-                    Row::measured(scene, &label, setting, time, r.steps, (fin, max), notes)
-                }
-                Err(e) => Row::failed(scene, &format!("{} tanh(v/eps)", solver.name()), setting, &e),
-            });
-        }
-    }
-    let name = "filippov event-driven DOPRI5";
-    eprintln!("== {scene}: {name}");
+    let settings: Vec<(Solver, f64, f64)> = [Solver::Bdf, Solver::Esdirk34, Solver::Tsit45]
+        .into_iter()
+        .flat_map(|solver| {
+            EPSILONS
+                .into_iter()
+                .flat_map(move |eps| EVENT_RTOLS.map(|rtol| (solver, eps, rtol)))
+        })
+        .collect();
+    let odes: Vec<Regularised> = settings
+        .iter()
+        .map(|&(_, eps, _)| Regularised::new(coulomb, eps, forcing))
+        .collect();
     let input = move |t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>| {
         SVector::<f64, 1>::new(forcing(t))
     };
-    for rtol in EVENT_RTOLS {
+    type Ours = Result<(Vec<Vec<f64>>, Stats, Vec<(f64, f64)>), String>;
+    let mut theirs: Vec<Option<Result<run::Run, String>>> = settings.iter().map(|_| None).collect();
+    let mut mine: Vec<Option<Ours>> = EVENT_RTOLS.iter().map(|_| None).collect();
+    let times = {
+        let mut jobs: Vec<Box<dyn FnMut() + '_>> = Vec::new();
+        for ((slot, &(solver, _, rtol)), ode) in theirs.iter_mut().zip(&settings).zip(&odes) {
+            let y0 = &y0;
+            jobs.push(Box::new(move || {
+                *slot = Some(run::solve(
+                    ode,
+                    solver,
+                    rtol,
+                    rtol * 1e-2,
+                    problem.t0,
+                    y0,
+                    grid,
+                    false,
+                ));
+            }));
+        }
+        for (slot, &rtol) in mine.iter_mut().zip(&EVENT_RTOLS) {
+            let m = NonSmoothMethod::EventDriven {
+                method: SmoothMethod::Dopri5,
+                options: Options::tolerances(rtol, rtol * 1e-2),
+            };
+            let (input, coulomb) = (&input, &coulomb);
+            jobs.push(Box::new(move || {
+                *slot = Some(
+                    solve_nonsmooth(coulomb, input, problem, &m)
+                        .map(|t| (on_grid(&t, grid), t.stats, velocity_zeros(&t)))
+                        .map_err(|e| e.to_string()),
+                );
+            }));
+        }
+        interleaved(REPEATS, &mut jobs)
+    };
+    let (their_times, our_times) = times.split_at(settings.len());
+    for (((&(solver, eps, rtol), result), &time), ode) in
+        settings.iter().zip(theirs).zip(their_times).zip(&odes)
+    {
         let atol = rtol * 1e-2;
-        let m = NonSmoothMethod::EventDriven {
-            method: SmoothMethod::Dopri5,
-            options: Options::tolerances(rtol, atol),
-        };
-        let setting = format!("rtol={rtol:.0e}");
-        let (time, result) = median(REPEATS, || {
-            solve_nonsmooth(&coulomb, &input, problem, &m).map(|t| {
-                let v = on_grid(&t, grid);
-                let zeros = velocity_zeros(&t);
-                (v, t.stats, zeros)
-            })
+        let label = format!("{} tanh(v/eps)", solver.name());
+        let setting = format!("eps={eps:.0e} rtol={rtol:.0e}");
+        rows.push(match result.expect("run") {
+            Ok(r) => {
+                let (fin, max) = errors(&r.values, reference, 1);
+                let mut notes = format!(
+                    "atol={atol:.0e}; errors in x; {} error-test failures, {} rhs calls, {} Jacobian-vector products",
+                    r.error_test_failures, r.rhs_calls, r.jacobians
+                );
+                if let Some(tp) = turning_points {
+                    // Untimed second solve, stepping manually (same steps) to locate
+                    // the velocity zeros.
+                    match run::solve(ode, solver, rtol, atol, problem.t0, &y0, grid, true) {
+                        Ok(z) => {
+                            let _ = write!(
+                                notes,
+                                "; switch_error={}; {} velocity zeros (exact: {})",
+                                sci(switch_error(&z.velocity_zeros, tp)),
+                                z.velocity_zeros.len(),
+                                tp.len()
+                            );
+                        }
+                        Err(e) => {
+                            let _ = write!(notes, "; switch points: failed ({e})");
+                        }
+                    }
+                }
+                Row::measured(scene, &label, setting, time, r.steps, (fin, max), notes)
+            }
+            Err(e) => Row::failed(scene, &label, setting, &e),
         });
-        rows.push(match result {
+    }
+    let name = "filippov event-driven DOPRI5";
+    for ((&rtol, result), &time) in EVENT_RTOLS.iter().zip(mine).zip(our_times) {
+        let atol = rtol * 1e-2;
+        let setting = format!("rtol={rtol:.0e}");
+        rows.push(match result.expect("run") {
             Ok((values, s, zeros)) => {
                 let (fin, max) = errors(&values, reference, 1);
                 let mut notes = format!(
@@ -366,7 +403,7 @@ fn regularised(
                 }
                 Row::measured(scene, name, setting, time, s.steps, (fin, max), notes)
             }
-            Err(e) => Row::failed(scene, name, setting, &e.to_string()),
+            Err(e) => Row::failed(scene, name, setting, &e),
         });
     }
 }
@@ -538,6 +575,44 @@ fn sensitivity<S: Mechanism<N>, const N: usize>(
     )
 }
 
+/// The stiff chain of the smooth sweep (see `main`).
+const STIFF_ARM: PlanarArm3 = PlanarArm3 {
+    m: 1.0,
+    l: 0.5,
+    k: 1e4,
+    c: 50.0,
+};
+const STIFF_ARM_Y0: [f64; 6] = [0.5, -0.3, 0.2, 0.0, 0.0, 0.0];
+
+/// The eigenvalues' real parts of the Jacobian of `[q; v]' = [v; FD]` at `y0`, largest and
+/// smallest in magnitude: how stiff the scene is.
+fn stiffness<S: Mechanism<N>, const N: usize>(sys: &S, y0: &[f64]) -> String {
+    let q = SVector::<f64, N>::from_column_slice(&y0[..N]);
+    let v = SVector::<f64, N>::from_column_slice(&y0[N..2 * N]);
+    let d = sys.forward_dynamics_jacobian(&q, &v, &SVector::zeros());
+    let mut j = filippov::nalgebra::DMatrix::<f64>::zeros(2 * N, 2 * N);
+    for i in 0..N {
+        j[(i, N + i)] = 1.0;
+        for k in 0..N {
+            j[(N + i, k)] = d.d_dq[(i, k)];
+            j[(N + i, N + k)] = d.d_dv[(i, k)];
+        }
+    }
+    let re: Vec<f64> = j.complex_eigenvalues().iter().map(|z| z.re).collect();
+    let fast = re.iter().copied().fold(0.0, f64::min);
+    let slow = re
+        .iter()
+        .copied()
+        .filter(|x| *x < 0.0)
+        .fold(f64::NEG_INFINITY, f64::max);
+    format!(
+        "at the start the Jacobian's eigenvalues have real parts from {} to {} (ratio {:.0})",
+        sci(fast),
+        sci(slow),
+        fast / slow
+    )
+}
+
 /// diffsol's version as resolved in this package's Cargo.lock.
 fn diffsol_version() -> String {
     let lock = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.lock"))
@@ -582,6 +657,27 @@ fn main() {
     y0[..7].copy_from_slice(&[0.0, 0.3, 0.0, -1.5, 0.0, 1.8, 0.8]);
     header.push(sensitivity("Panda", &Panda::default(), &y0, 2.0));
     smooth(&mut rows, &mut header, "Panda", &Panda::default(), y0, 2.0);
+    // A stiff chain: the three-link arm with stiff, heavily damped joint springs. Its
+    // fastest mode decays at about c / I of the last link (several thousand per second)
+    // while the motion lasts seconds, so an explicit method's step is held by stability,
+    // not accuracy.
+    let stiff = STIFF_ARM;
+    header.push(format!(
+        "StiffArm3: the planar three-link arm with k = {:e} N m/rad and c = {} N m s/rad in every joint (m = {}, l = {}): {}",
+        stiff.k,
+        stiff.c,
+        stiff.m,
+        stiff.l,
+        stiffness(&stiff, &STIFF_ARM_Y0)
+    ));
+    smooth(
+        &mut rows,
+        &mut header,
+        "StiffArm3",
+        &stiff,
+        STIFF_ARM_Y0.to_vec(),
+        2.0,
+    );
     nonsmooth(&mut rows, &mut header);
     header.push(format!(
         "whole run {:.1} s",

@@ -194,7 +194,6 @@ impl Wall {
     };
 }
 
-/// The wall time of `repeats` calls after one warm-up, and the last result.
 /// Times every job `repeats` times after one warm-up call each, in rounds: round `r`
 /// runs each job once, starting from job `r` (so no job is always first or last). A
 /// slow-down of the machine during the rounds reaches every job alike, so the ratios of
@@ -233,15 +232,4 @@ fn wall(mut times: Vec<f64>) -> Wall {
         min: times[0],
         max: times[n - 1],
     }
-}
-
-pub fn median<T>(repeats: usize, mut f: impl FnMut() -> T) -> (Wall, T) {
-    let mut out = f();
-    let mut times = Vec::with_capacity(repeats);
-    for _ in 0..repeats {
-        let start = Instant::now();
-        out = std::hint::black_box(f());
-        times.push(start.elapsed().as_secs_f64() * 1e3);
-    }
-    (wall(times), out)
 }

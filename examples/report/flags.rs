@@ -1,0 +1,478 @@
+//! The same CPU flags on both sides: our generated forward dynamics and the peers'
+//! compiled code (Pinocchio's ABA in C++, SymPy's C for the 7-link chain), each built for
+//! the baseline x86-64 target (rustc's default; `-O3` without `-march`) and for this
+//! machine (`-C target-cpu=native`; `-march=native`), all four timed in this run in
+//! interleaved rounds.
+//!
+//! Ours is a throwaway release crate (`target/report/flags/crate`) holding the scenes,
+//! the URDF robots and the chain, built twice (two target directories, `RUSTFLAGS` set
+//! for the native one). Its binary times one model's forward dynamics at a state read
+//! from a file, as `peers/pin_bench.cpp` does for Pinocchio: a warm-up, batches of about
+//! 20 ms, 21 batches, inputs through `black_box`. The peers' binaries are those
+//! `bash peers/run.sh` builds (`pin_bench`, `pin_bench_native`, `chain7`,
+//! `chain7_native`).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+
+use filippov::Mechanism;
+use filippov_scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
+
+use super::config::Config;
+use super::markdown::{Page, headline};
+use super::timing::{Timing, in_rounds, program_timing};
+use super::workprecision::Section;
+
+/// Interleaved rounds of the four programs per model.
+const ROUNDS: usize = 3;
+
+/// One model of the comparison.
+struct Model {
+    /// Name on the command line of our binary and in the table.
+    name: String,
+    /// The Rust expression of the system (its type's declaration is in the crate).
+    system: String,
+    /// `(nq, n)`: lengths of `q` and of `v` and `τ`.
+    dims: (usize, usize),
+    /// `q`, `v`, `τ` at which both sides are timed.
+    state: [Vec<f64>; 3],
+    /// The peer: its binaries (baseline, native), their arguments and the timing key.
+    peer: &'static str,
+    peer_args: Vec<PathBuf>,
+    key: &'static str,
+    baseline: PathBuf,
+    native: PathBuf,
+}
+
+/// The state `peers/pin_bench.py` times the scenes at.
+fn scene_state(n: usize) -> [Vec<f64>; 3] {
+    let f = |a: f64, b: f64| (0..n).map(|i| a + b * i as f64).collect::<Vec<f64>>();
+    [f(0.3, 0.17), f(0.5, -0.23), f(0.7, -0.11)]
+}
+
+/// The first state of a robot as the URDF section exported it (`"q":[…]` etc.).
+fn exported_state(path: &Path) -> Option<[Vec<f64>; 3]> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let field = |key: &str| -> Option<Vec<f64>> {
+        let start = text.find(&format!("\"{key}\":["))? + key.len() + 4;
+        let end = start + text[start..].find(']')?;
+        text[start..end]
+            .split(',')
+            .map(|x| x.trim().parse().ok())
+            .collect()
+    };
+    Some([field("q")?, field("v")?, field("tau")?])
+}
+
+/// The crate's `main.rs`: the declarations, then a timing harness dispatching on the
+/// model's name.
+fn source(models: &[Model], declarations: &str) -> String {
+    let mut arms = String::new();
+    for m in models {
+        let (nq, n) = m.dims;
+        arms += &format!(
+            "        {:?} => {{\n            let sys = {};\n            let q = SVector::<f64, {nq}>::from_column_slice(&s[0]);\n            let v = SVector::<f64, {n}>::from_column_slice(&s[1]);\n            let tau = SVector::<f64, {n}>::from_column_slice(&s[2]);\n            time_ns(|| bb(&sys).forward_dynamics(bb(&q), bb(&v), bb(&tau)))\n        }}\n",
+            m.name, m.system
+        );
+    }
+    format!(
+        r#"#![allow(dead_code)]
+use filippov::nalgebra::SVector;
+use filippov::prelude::*;
+use std::hint::black_box as bb;
+use std::time::Instant;
+
+{declarations}
+
+/// ns per call: median, fastest and slowest of 21 batches of about 20 ms, after a warm-up
+/// (as peers/pin_bench.cpp).
+fn time_ns<T>(mut f: impl FnMut() -> T) -> [f64; 3] {{
+    for _ in 0..20_000 {{
+        bb(f());
+    }}
+    let mut n = 1000u64;
+    loop {{
+        let t = Instant::now();
+        for _ in 0..n {{
+            bb(f());
+        }}
+        if t.elapsed().as_secs_f64() > 0.02 {{
+            break;
+        }}
+        n *= 2;
+    }}
+    let mut per: Vec<f64> = (0..21)
+        .map(|_| {{
+            let t = Instant::now();
+            for _ in 0..n {{
+                bb(f());
+            }}
+            t.elapsed().as_secs_f64() * 1e9 / n as f64
+        }})
+        .collect();
+    per.sort_by(f64::total_cmp);
+    [per[10], per[0], per[20]]
+}}
+
+fn main() {{
+    let args: Vec<String> = std::env::args().collect();
+    let (Some(name), Some(path)) = (args.get(1), args.get(2)) else {{
+        eprintln!("usage: fd MODEL STATE_FILE");
+        std::process::exit(2);
+    }};
+    let text = std::fs::read_to_string(path).expect("the state file");
+    let s: Vec<Vec<f64>> = text
+        .lines()
+        .map(|l| l.split_whitespace().map(|x| x.parse().expect("a number")).collect())
+        .collect();
+    let t = match name.as_str() {{
+{arms}        other => {{
+            eprintln!("unknown model {{other}}");
+            std::process::exit(2);
+        }}
+    }};
+    println!("fd_ns {{}} {{}} {{}}", t[0], t[1], t[2]);
+}}
+"#
+    )
+}
+
+/// Writes the crate and builds it into `target` with `rustflags` (empty: the default
+/// target); the build's seconds, or why it failed.
+fn build(dir: &Path, target: &Path, rustflags: &str) -> Result<f64, String> {
+    let start = Instant::now();
+    let mut cmd = Command::new(env!("CARGO"));
+    cmd.args(["build", "--release", "--quiet"])
+        .current_dir(dir)
+        .env("CARGO_TARGET_DIR", target)
+        .env_remove("CARGO_ENCODED_RUSTFLAGS");
+    if rustflags.is_empty() {
+        cmd.env_remove("RUSTFLAGS");
+    } else {
+        cmd.env("RUSTFLAGS", rustflags);
+    }
+    match cmd.output() {
+        Ok(o) if o.status.success() => Ok(start.elapsed().as_secs_f64()),
+        Ok(o) => Err(String::from_utf8_lossy(&o.stderr)
+            .chars()
+            .take(2000)
+            .collect()),
+        Err(e) => Err(format!("could not start cargo: {e}")),
+    }
+}
+
+/// The models whose peer binary and inputs exist: the four scenes and the URDF robots
+/// against Pinocchio, the 7-link chain against SymPy.
+fn models(config: &Config) -> (Vec<Model>, Vec<String>) {
+    let peers = config.out_dir.join("peers");
+    let build = peers.join("build");
+    let (pin, pin_native) = (build.join("pin_bench"), build.join("pin_bench_native"));
+    let mut models = Vec::new();
+    let mut missing = Vec::new();
+    let pinocchio = |name: &str, system: String, dims, state, model: PathBuf| {
+        if model.exists() && pin.exists() && pin_native.exists() {
+            Ok(Model {
+                name: name.to_string(),
+                system,
+                dims,
+                state,
+                peer: "Pinocchio `aba`",
+                peer_args: vec![model, PathBuf::from("aba")],
+                key: "aba_ns",
+                baseline: pin.clone(),
+                native: pin_native.clone(),
+            })
+        } else {
+            Err(name.to_string())
+        }
+    };
+    let scenes: [(&str, &str, usize); 4] = [
+        (
+            "double_pendulum",
+            "filippov_scenes::DoublePendulum::default()",
+            <DoublePendulum as Mechanism<2>>::DOF,
+        ),
+        (
+            "planar_arm3",
+            "filippov_scenes::PlanarArm3::default()",
+            <PlanarArm3 as Mechanism<3>>::DOF,
+        ),
+        (
+            "branched_tree",
+            "filippov_scenes::BranchedTree::default()",
+            BranchedTree::JOINTS.len(),
+        ),
+        (
+            "panda",
+            "filippov_scenes::Panda::default()",
+            <Panda as Mechanism<7>>::DOF,
+        ),
+    ];
+    for (name, system, n) in scenes {
+        match pinocchio(
+            name,
+            system.into(),
+            (n, n),
+            scene_state(n),
+            build.join(format!("{name}.txt")),
+        ) {
+            Ok(m) => models.push(m),
+            Err(name) => missing.push(name),
+        }
+    }
+    for robot in super::urdf::ROBOTS.iter() {
+        let json = config
+            .out_dir
+            .join("urdf")
+            .join(format!("{}.json", robot.name));
+        match exported_state(&json) {
+            Some(state) => {
+                let dims = (state[0].len(), state[1].len());
+                match pinocchio(
+                    &format!("{} (URDF)", robot.name),
+                    format!("Urdf{}", robot.ident),
+                    dims,
+                    state,
+                    peers.join("urdf").join(format!("{}.txt", robot.name)),
+                ) {
+                    Ok(m) => models.push(m),
+                    Err(name) => missing.push(name),
+                }
+            }
+            None => missing.push(format!("{} (URDF)", robot.name)),
+        }
+    }
+    let (chain, chain_native) = (build.join("chain7"), build.join("chain7_native"));
+    if chain.exists() && chain_native.exists() {
+        models.push(Model {
+            name: "chain7".into(),
+            system: "Chain7".into(),
+            dims: (7, 7),
+            state: {
+                let [q, v, _] = scene_state(7);
+                [q, v, vec![0.0; 7]]
+            },
+            peer: "SymPy's C (M + forcing + Cholesky)",
+            peer_args: Vec::new(),
+            key: "solve_ns",
+            baseline: chain,
+            native: chain_native,
+        });
+    } else {
+        missing.push("chain7".into());
+    }
+    (models, missing)
+}
+
+/// The declarations the crate needs: the URDF robots (as the URDF section declares them)
+/// and the 7-link chain (read from `chains.rs`, as the chains section expands it).
+fn declarations() -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut out = String::new();
+    for robot in super::urdf::ROBOTS.iter() {
+        out += &format!(
+            "#[derive(Mechanism)]\n#[mechanism(urdf = {:?}, {}gravity = [0.0, 0.0, -9.81])]\nstruct Urdf{};\n\n",
+            root.join(robot.file).display().to_string(),
+            robot.options,
+            robot.ident
+        );
+    }
+    let chains =
+        std::fs::read_to_string(root.join("examples/report/chains.rs")).unwrap_or_default();
+    if let Ok(file) = syn::parse_file(&chains) {
+        for item in file.items {
+            if let syn::Item::Struct(s) = item
+                && s.ident == "Chain7"
+            {
+                out += &quote::ToTokens::to_token_stream(&s).to_string();
+                out.push('\n');
+            }
+        }
+    }
+    out
+}
+
+pub fn flags(config: &Config) -> Section {
+    let mut page = Page::empty();
+    let mut summary = Vec::new();
+    page.h2("The same CPU flags on both sides");
+    if !config.compile {
+        page.para("Not measured in this configuration: it builds a release crate twice (run the default or `--long` report).");
+        return Section { page, summary };
+    }
+    let (models, missing) = models(config);
+    if models.is_empty() {
+        page.para(
+            "The peers' binaries or models are missing (`bash peers/run.sh` builds Pinocchio's and SymPy's, baseline and native, \
+             after one report run has written the models), so nothing is compared here.",
+        );
+        summary.push("CPU flags: not measured (run `bash peers/run.sh`, then the report)".into());
+        return Section { page, summary };
+    }
+    let work = config.out_dir.join("flags");
+    let dir = work.join("crate");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let written = std::fs::create_dir_all(dir.join("src"))
+        .and_then(|_| {
+            std::fs::write(
+                dir.join("Cargo.toml"),
+                format!(
+                    "[package]\nname = \"fd\"\nversion = \"0.0.0\"\nedition = \"2024\"\npublish = false\n\n[dependencies]\nfilippov = {{ path = {:?} }}\nfilippov-scenes = {{ path = {:?} }}\n\n[workspace]\n",
+                    root.display().to_string(),
+                    root.join("scenes").display().to_string()
+                ),
+            )
+        })
+        .and_then(|_| {
+            std::fs::write(
+                dir.join("src/main.rs"),
+                source(&models, &declarations()),
+            )
+        })
+        .and_then(|_| {
+            for m in &models {
+                let lines: Vec<String> = m
+                    .state
+                    .iter()
+                    .map(|x| {
+                        x.iter()
+                            .map(|v| format!("{v:e}"))
+                            .collect::<Vec<_>>()
+                            .join(" ")
+                    })
+                    .collect();
+                std::fs::write(work.join(format!("{}.state", m.name)), lines.join("\n") + "\n")?;
+            }
+            Ok(())
+        });
+    if let Err(e) = written {
+        page.para(&format!("Could not write the timing crate: {e}."));
+        return Section { page, summary };
+    }
+    let (base_target, native_target) = (work.join("target-baseline"), work.join("target-native"));
+    let builds = (
+        build(&dir, &base_target, ""),
+        build(&dir, &native_target, "-C target-cpu=native"),
+    );
+    let (Ok(base_s), Ok(native_s)) = (&builds.0, &builds.1) else {
+        let why = [builds.0.err(), builds.1.err()]
+            .into_iter()
+            .flatten()
+            .collect::<Vec<_>>()
+            .join("\n");
+        page.para("**The timing crate did not build**; nothing is compared here.");
+        page.code(&why);
+        summary.push("CPU flags: the timing crate did not build (see its section)".into());
+        return Section { page, summary };
+    };
+    let ours = |target: &Path| target.join("release").join("fd");
+    let mut rows = Vec::new();
+    let mut head: Vec<(String, Timing, Timing, Timing, Timing)> = Vec::new();
+    for m in &models {
+        let state = work.join(format!("{}.state", m.name));
+        let our_args = [m.name.as_ref(), state.as_os_str()];
+        let peer_args: Vec<&std::ffi::OsStr> = m.peer_args.iter().map(|p| p.as_os_str()).collect();
+        let (b, n) = (ours(&base_target), ours(&native_target));
+        let mut ob = || program_timing(&b, &our_args, "fd_ns");
+        let mut on = || program_timing(&n, &our_args, "fd_ns");
+        let mut pb = || program_timing(&m.baseline, &peer_args, m.key);
+        let mut pn = || program_timing(&m.native, &peer_args, m.key);
+        let t = in_rounds(ROUNDS, &mut [&mut ob, &mut on, &mut pb, &mut pn]);
+        let cell = |t: Option<Timing>| t.map_or("failed".into(), |t| t.show(0));
+        let ratio = |p: Option<Timing>, o: Option<Timing>| match (p, o) {
+            (Some(p), Some(o)) => p.ratio_to(&o, 1),
+            _ => "—".into(),
+        };
+        rows.push(vec![
+            m.name.clone(),
+            m.dims.1.to_string(),
+            m.peer.into(),
+            cell(t[0]),
+            cell(t[2]),
+            ratio(t[2], t[0]),
+            cell(t[1]),
+            cell(t[3]),
+            ratio(t[3], t[1]),
+        ]);
+        if let [Some(a), Some(b), Some(c), Some(d)] = t[..] {
+            head.push((m.name.clone(), a, b, c, d));
+            summary.push(format!(
+                "{} against {}: baseline flags {:.0} vs {:.0} ns ({}), native {:.0} vs {:.0} ns ({})",
+                m.name,
+                m.peer,
+                a.median,
+                c.median,
+                c.ratio_to(&a, 1),
+                b.median,
+                d.median,
+                d.ratio_to(&b, 1)
+            ));
+        }
+    }
+    page.para(&format!(
+        "Forward dynamics ns per call, ours against the peer's compiled code, each side built twice: for the baseline x86-64 \
+         target (rustc's default release build; `g++`/`gcc -O3` without `-march`) and for this machine (`RUSTFLAGS=\"-C \
+         target-cpu=native\"`; `-O3 -march=native`). All four programs of a model are timed in {ROUNDS} interleaved rounds in \
+         this run, each a median of 21 batches of about 20 ms after a warm-up, inputs through `black_box` (ours) or a \
+         sink (theirs); a cell shows the median of the rounds' medians (min–max over all batches), a ratio peer / ours \
+         (> 1: ours faster) with the range pairing the extremes. Ours is a throwaway crate (`target/report/flags/crate`, \
+         built in {base_s:.0} s and {native_s:.0} s); the peers' binaries are those `bash peers/run.sh` builds. \
+         Parameters: the scenes' are struct fields read at run time (the struct passes through `black_box`), the URDF \
+         robots' and the chain's are literals in the declaration, as the derive reads them; Pinocchio reads its model \
+         at run time, SymPy's C has the chain's parameters as literals. Scenes at the state `peers/pin_bench.py` times \
+         (q_i = 0.3 + 0.17 i, v_i = 0.5 − 0.23 i, τ_i = 0.7 − 0.11 i), robots at the URDF section's first exported state."
+    ));
+    if !missing.is_empty() {
+        page.para(&format!(
+            "Not compared (peer binary, model or state missing; `bash peers/run.sh` after a report run writes them): {}.",
+            missing.join(", ")
+        ));
+    }
+    page.table(
+        &[
+            "model",
+            "dof",
+            "peer",
+            "ours, baseline [ns]",
+            "peer, baseline [ns]",
+            "peer / ours, baseline",
+            "ours, native [ns]",
+            "peer, native [ns]",
+            "peer / ours, native",
+        ],
+        &rows,
+    );
+    let pin: Vec<&(String, Timing, Timing, Timing, Timing)> =
+        head.iter().filter(|h| h.0 != "chain7").collect();
+    if !pin.is_empty() {
+        let list = |f: &dyn Fn(&(String, Timing, Timing, Timing, Timing)) -> String| {
+            pin.iter()
+                .map(|h| format!("{} {}", h.0, f(h)))
+                .collect::<Vec<_>>()
+                .join("; ")
+        };
+        headline(
+            "Generated forward dynamics against Pinocchio's ABA in C++, both built with the same CPU flags",
+            format!(
+                "baseline: {} ns; native: {} ns",
+                list(&|h| format!("{:.0}", h.1.median)),
+                list(&|h| format!("{:.0}", h.2.median))
+            ),
+            format!(
+                "baseline: {} ns; native: {} ns",
+                list(&|h| format!("{:.0}", h.3.median)),
+                list(&|h| format!("{:.0}", h.4.median))
+            ),
+            format!(
+                "baseline: {}; native: {}",
+                list(&|h| h.3.ratio_to(&h.1, 1)),
+                list(&|h| h.4.ratio_to(&h.2, 1))
+            ),
+            format!(
+                "Pinocchio / ours; both sides built for the baseline x86-64 target and for this machine (-C target-cpu=native, -march=native), all four timed in {ROUNDS} interleaved rounds in this run; section on CPU flags"
+            ),
+        );
+    }
+    Section { page, summary }
+}

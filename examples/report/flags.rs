@@ -24,6 +24,9 @@ use super::markdown::{Page, headline};
 use super::timing::{Timing, in_rounds, program_timing};
 use super::workprecision::Section;
 
+/// A model's four timings: ours baseline and native, the peer's baseline and native.
+type Compared = (String, Timing, Timing, Timing, Timing);
+
 /// Interleaved rounds of the four programs per model.
 const ROUNDS: usize = 3;
 
@@ -318,7 +321,7 @@ pub fn flags(config: &Config) -> Section {
             std::fs::write(
                 dir.join("Cargo.toml"),
                 format!(
-                    "[package]\nname = \"fd\"\nversion = \"0.0.0\"\nedition = \"2024\"\npublish = false\n\n[dependencies]\nfilippov = {{ path = {:?} }}\nfilippov-scenes = {{ path = {:?} }}\n\n[workspace]\n",
+                    "[package]\nname = \"fd\"\nversion = \"0.0.0\"\nedition = \"2024\"\npublish = false\n\n[dependencies]\nfilippov = {{ path = {:?}, features = [\"urdf\"] }}\nfilippov-scenes = {{ path = {:?} }}\n\n[workspace]\n",
                     root.display().to_string(),
                     root.join("scenes").display().to_string()
                 ),
@@ -368,7 +371,7 @@ pub fn flags(config: &Config) -> Section {
     };
     let ours = |target: &Path| target.join("release").join("fd");
     let mut rows = Vec::new();
-    let mut head: Vec<(String, Timing, Timing, Timing, Timing)> = Vec::new();
+    let mut head: Vec<Compared> = Vec::new();
     for m in &models {
         let state = work.join(format!("{}.state", m.name));
         let our_args = [m.name.as_ref(), state.as_os_str()];
@@ -443,10 +446,9 @@ pub fn flags(config: &Config) -> Section {
         ],
         &rows,
     );
-    let pin: Vec<&(String, Timing, Timing, Timing, Timing)> =
-        head.iter().filter(|h| h.0 != "chain7").collect();
+    let pin: Vec<&Compared> = head.iter().filter(|h| h.0 != "chain7").collect();
     if !pin.is_empty() {
-        let list = |f: &dyn Fn(&(String, Timing, Timing, Timing, Timing)) -> String| {
+        let list = |f: &dyn Fn(&Compared) -> String| {
             pin.iter()
                 .map(|h| format!("{} {}", h.0, f(h)))
                 .collect::<Vec<_>>()

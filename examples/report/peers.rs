@@ -617,7 +617,7 @@ fn diffsol_section(config: &Config, page: &mut Page, summary: &mut Vec<String>) 
                 ),
                 &pairs,
                 format!(
-                    "same problem and harness in the peer program ({when}), all runs of the scene timed in 5 interleaved rounds, median (min–max); every row's error against one reference (RK4, h = 1e-5)"
+                    "same problem and harness in one peer binary (both libraries built with the same default release flags; {when}), all runs of the scene timed in 5 interleaved rounds, median (min–max); every row's error against one reference (RK4, h = 1e-5)"
                 ),
             );
         }

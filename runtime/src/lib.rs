@@ -69,11 +69,14 @@
 //! Generated scenes are plain `f64` structs: `Send + Sync + Copy`. [`Solution`],
 //! [`Stats`], [`Options`], [`Problem`], [`NonSmoothProblem`] and the steppers are `Send +
 //! Sync`; a parameter sweep may run one integration per thread.
+mod element;
 mod error;
+pub mod geometry;
 pub mod kernels;
 pub mod liegroup;
 mod mechanical;
 pub mod method;
+mod model;
 pub mod nonsmooth;
 pub mod numeric;
 pub mod numerics;
@@ -84,6 +87,7 @@ mod solve;
 mod stats;
 pub mod system;
 
+pub use element::{Mode, NonSmooth};
 pub use error::{ErrorKind, SolveError};
 pub use liegroup::{
     EventDirection, FnLieSystem, LieEvent, LieEventHit, LieInputFn, LieMechanical, LieMechanism,
@@ -92,8 +96,7 @@ pub use liegroup::{
 pub use mechanical::{InputFn, MechanicalSystem, NumericInputFn, NumericSystem};
 pub use method::{Bdf, Dopri5, Method, Rk4, Sdirk4, Stepper};
 pub use nonsmooth::{
-    NonSmooth, NonSmoothMethod, NonSmoothProblem, SmoothMethod, solve_nonsmooth,
-    solve_nonsmooth_with,
+    NonSmoothMethod, NonSmoothProblem, SmoothMethod, solve_nonsmooth, solve_nonsmooth_with,
 };
 pub use numerics::control::PiController;
 pub use numerics::tableau;

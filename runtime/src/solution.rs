@@ -6,7 +6,7 @@
 use std::io::{self, Write};
 
 use crate::Stats;
-use crate::nonsmooth::Mode;
+use crate::element::Mode;
 use crate::numerics::dense::{DenseStep, eval_poly};
 
 /// Which rows a [`Solution`] keeps.

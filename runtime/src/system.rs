@@ -12,7 +12,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use crate::numeric::Model;
+use crate::model::Model;
 
 /// Forward dynamics and its derivatives with respect to the state, from one call.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -36,7 +36,8 @@ pub fn read(
         let Some(joint) = raw.name.clone() else {
             continue;
         };
-        let coordinate = crate::validate::coordinate_of(&joint, links, "non-smooth elements", diag);
+        let coordinate =
+            crate::coordinate::coordinate_of(&joint, links, "non-smooth elements", diag);
         let (family, kinds) = match raw.family {
             Family::Friction => (
                 "friction",

@@ -1215,7 +1215,7 @@ fn read_elements(
         let Some(joint) = raw.name.clone() else {
             continue;
         };
-        let coord = coordinate_of(&joint, links, "springs and dampers", diag);
+        let coord = crate::coordinate::coordinate_of(&joint, links, "springs and dampers", diag);
         let mut value = |key: &str, raw: &mut RawAttr, required: bool| -> Option<PExpr> {
             match raw.take(key, diag) {
                 Some((_, e)) => lower(&e, names, diag),
@@ -1320,56 +1320,4 @@ fn read_inputs(e: &Expr, links: &[Link], diag: &mut Diagnostics) -> Vec<usize> {
         }
     }
     out
-}
-
-/// The coordinate of the joint an element names: the joint must exist and move (a
-/// fixed joint has no coordinate to act on). `what` names the elements in messages.
-pub(crate) fn coordinate_of(
-    joint: &Ident,
-    links: &[Link],
-    what: &str,
-    diag: &mut Diagnostics,
-) -> Option<usize> {
-    // The joint was declared with an error (or twice), and that is reported already.
-    if diag.is_excused(joint) {
-        return None;
-    }
-    match links.iter().rev().find(|l| *joint == l.joint_name) {
-        Some(l) if l.kind.is_lie() => {
-            diag.error_at(
-                joint,
-                format_args!(
-                    "joint `{joint}` is {}: {what} act on the one coordinate of a revolute or prismatic joint",
-                    if links.iter().any(|m| m.kind == JointKind::Translation && *joint == m.joint_name) { "free" } else { "spherical" }
-                ),
-            );
-            None
-        }
-        Some(Link {
-            coordinate: Some(c),
-            ..
-        }) => Some(*c),
-        Some(_) => {
-            diag.error_at(
-                joint,
-                format_args!("joint `{joint}` is fixed and has no coordinate for {what} to act on"),
-            );
-            None
-        }
-        None => {
-            let known: Vec<String> = links
-                .iter()
-                .filter(|l| l.coordinate.is_some())
-                .map(|l| format!("`{}`", l.joint_name))
-                .collect();
-            diag.error_at(
-                joint,
-                format_args!(
-                    "no joint named `{joint}`; {what} act on a joint's coordinate: one of {}",
-                    known.join(", ")
-                ),
-            );
-            None
-        }
-    }
 }

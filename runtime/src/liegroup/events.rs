@@ -23,8 +23,8 @@
 //!
 //! Located events are counted in [`Stats::events`](crate::Stats::events).
 
-use super::rkmk::{LieRun, LieTrajectory};
-use super::{LieProblem, LieState, LieSystem};
+use super::trajectory::{LieProblem, LieRun, LieTrajectory};
+use super::{LieState, LieSystem};
 use crate::ErrorKind;
 use crate::numerics::rootfind::find_root;
 

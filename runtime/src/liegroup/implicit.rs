@@ -78,12 +78,12 @@
 
 use nalgebra::{DMatrix, DVector, Vector3};
 
+use super::chart::{chart_field, magnitudes, retract};
+use super::drive::{LieMethod, LieStepper, attempt, begin, drive};
 use super::events::{LieEvent, LieEventHit};
-use super::rkmk::{
-    LieMethod, LieRun, LieStepper, attempt, begin, chart_field, drive, magnitudes, retract,
-};
-use super::so3::{self, UnitQuat};
-use super::{LieProblem, LieState, LieSystem, LieTrajectory};
+use super::trajectory::{LieProblem, LieRun, LieTrajectory};
+use super::{LieState, LieSystem};
+use crate::geometry::so3::{self, UnitQuat};
 use crate::numerics::newton::{
     DIRK_MAX_NEWTON_ITERATIONS as MAX_NEWTON_ITERATIONS,
     DIRK_THETA_REUSE_JACOBIAN as THETA_REUSE_JACOBIAN, NewtonMatrix, dirk_stage_tolerance,

@@ -26,7 +26,7 @@
 use nalgebra::{SMatrix, SVector, Vector3};
 
 use super::{LieState, LieSystem, UnitQuat};
-use crate::numeric::Model;
+use crate::model::Model;
 use crate::system::{ForwardJacobian, ParameterError};
 
 /// A rigid multibody tree with Lie-group joints: `N` velocity coordinates and `NQ`

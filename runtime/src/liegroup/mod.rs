@@ -24,24 +24,28 @@
 //! | [`Rkmk5`] | explicit, Dormand–Prince 5(4), dense output of order 4 | non-stiff problems |
 //! | [`LieSdirk`] | L-stable SDIRK4 (order 4, embedded 3), simplified Newton, quartic dense output through the previous point | stiff problems: stiff springs, strong damping |
 //!
-//! Both are step-level steppers (`rkmk::LieStepper`: start, then one accepted step at a
+//! Both are step-level steppers (`drive::LieStepper`: start, then one accepted step at a
 //! time, each stored with its chart's extension) under one driver, which validates the
 //! problem, checks [`LieEvent`]s after every step and locates them on the dense output
 //! (`solve_with_events`), and keeps the accepted steps on failure. It is the group's
 //! counterpart of [`Stepper`](crate::Stepper): a state here is a point of the group, not
 //! a vector. [`so3`] has the group's functions.
 
+mod chart;
+mod drive;
 pub mod events;
 pub mod implicit;
 pub mod mechanism;
 pub mod rkmk;
-pub mod so3;
+mod trajectory;
 
+pub use crate::geometry::so3;
+pub use crate::geometry::so3::UnitQuat;
 pub use events::{EventDirection, LieEvent, LieEventHit};
 pub use implicit::LieSdirk;
 pub use mechanism::{LieInputFn, LieMechanical, LieMechanism};
-pub use rkmk::{LieProblem, LieTrajectory, Rkmk5};
-pub use so3::UnitQuat;
+pub use rkmk::Rkmk5;
+pub use trajectory::{LieProblem, LieTrajectory};
 
 use nalgebra::{Matrix3, Vector3};
 

@@ -97,14 +97,11 @@ use std::collections::VecDeque;
 use nalgebra::{DMatrix, DVector, SVector};
 
 use super::law::{Branches, Graph};
-use super::mode::{self, Choices, Mode};
+use super::mode::{self, Choices};
 use super::timestepping::time_stepping_observed;
-use super::{
-    ElementKind, Law, NonSmooth, NonSmoothMethod, NonSmoothProblem, Selection, Side, SmoothMethod,
-    StopKind,
-};
+use super::{NonSmoothProblem, SmoothMethod};
+use crate::element::{Element, ElementKind, Law, Mode, NonSmooth, Selection, Side, StopKind};
 use crate::method::{DenseStep, Eval, Stepper};
-use crate::nonsmooth::Element;
 use crate::numerics::rootfind::find_root;
 use crate::solve::{Observer, unobserved};
 use crate::{
@@ -140,53 +137,6 @@ pub const FOLD_REFINEMENTS: usize = 8;
 /// Events at one and the same instant before the mode selection counts as cycling.
 const SAME_TIME_EVENTS: usize = 20;
 
-/// Integrates `problem` with the chosen non-smooth method.
-pub fn solve_nonsmooth<S, F, const N: usize>(
-    system: &S,
-    input: &F,
-    problem: &NonSmoothProblem<N>,
-    method: &NonSmoothMethod,
-) -> Result<Solution, SolveError>
-where
-    S: NonSmooth<N>,
-    F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
-{
-    solve_nonsmooth_with(system, input, problem, method, &mut unobserved)
-}
-
-/// [`solve_nonsmooth`] with an [`Observer`] called after every accepted step (of the
-/// state `[q; v]`); breaking ends the run with [`ErrorKind::Cancelled`].
-pub fn solve_nonsmooth_with<S, F, O, const N: usize>(
-    system: &S,
-    input: &F,
-    problem: &NonSmoothProblem<N>,
-    method: &NonSmoothMethod,
-    observer: &mut O,
-) -> Result<Solution, SolveError>
-where
-    S: NonSmooth<N>,
-    F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
-    O: Observer + ?Sized,
-{
-    // Parameters first: a non-positive mass or a negative critical force is reported by
-    // name before anything is integrated.
-    if let Err(e) = system.validate() {
-        return Err(SolveError::new(
-            ErrorKind::InvalidInput(e.to_string()),
-            Solution::new(names::<S, N>(system), 2 * N, problem.output.clone())
-                .with_dense_positions(Some(N)),
-        ));
-    }
-    match *method {
-        NonSmoothMethod::EventDriven { method, options } => {
-            event_driven_observed(system, input, problem, method, &options, observer)
-        }
-        NonSmoothMethod::TimeStepping { h, theta } => {
-            time_stepping_observed(system, input, problem, h, theta, observer)
-        }
-    }
-}
-
 /// Event-driven integration (see the module documentation). `input(t, q, v)` gives the
 /// applied generalised forces `τ`.
 pub fn event_driven<S, F, const N: usize>(
@@ -203,7 +153,7 @@ where
     event_driven_observed(system, input, problem, method, options, &mut unobserved)
 }
 
-fn event_driven_observed<S, F, O, const N: usize>(
+pub(super) fn event_driven_observed<S, F, O, const N: usize>(
     system: &S,
     input: &F,
     problem: &NonSmoothProblem<N>,
@@ -216,8 +166,12 @@ where
     F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
     O: Observer + ?Sized,
 {
-    let out = Solution::new(names::<S, N>(system), 2 * N, problem.output.clone())
-        .with_dense_positions(Some(N));
+    let out = Solution::new(
+        crate::element::column_names::<S, N>(system),
+        2 * N,
+        problem.output.clone(),
+    )
+    .with_dense_positions(Some(N));
     let elements: Vec<Element> = (0..S::ELEMENTS).map(|e| system.element(e)).collect();
     let mut driver = Driver {
         system,
@@ -255,14 +209,6 @@ where
         Ok(()) => Ok(driver.out),
         Err(kind) => Err(SolveError::new(kind, driver.out)),
     }
-}
-
-/// Column names of a non-smooth solution: those of the mechanism's state
-/// ([`state_names`](crate::system::state_names)), then `f_<element>`.
-pub(crate) fn names<S: NonSmooth<N>, const N: usize>(system: &S) -> Vec<String> {
-    let mut names = crate::system::state_names(&S::JOINTS);
-    names.extend((0..S::ELEMENTS).map(|e| format!("f_{}", system.element(e).name)));
-    names
 }
 
 /// The ODE of the driver's current modes (a macro rather than a method, so that it

@@ -39,7 +39,7 @@
 
 use std::fmt;
 
-use super::{Element, ElementKind, Law, NonSmooth, Selection, Side, StopKind};
+use crate::element::{Element, ElementKind, Law, NonSmooth, Selection, Side, StopKind};
 
 /// Non-monotone laws are scanned for folds on `f_crit < f ≤ FOLD_SCAN · (f_crit + 1)`.
 pub const FOLD_SCAN: f64 = 16.0;

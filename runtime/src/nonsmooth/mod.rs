@@ -13,15 +13,17 @@
 //! coordinates, their Delassus operator `W = J M⁻¹ Jᵀ` is the submatrix of
 //! [`NonSmooth::inverse_mass_matrix`] at their coordinates.
 
-mod element;
 mod event;
 mod mode;
 mod problem;
+mod solve;
 
-pub use element::*;
-pub use event::{event_driven, solve_nonsmooth, solve_nonsmooth_with};
-pub use mode::Mode;
+pub use crate::element::{
+    Element, ElementKind, Law, Mode, NonSmooth, Relation, Selection, Side, StopKind,
+};
+pub use event::event_driven;
 pub use problem::*;
+pub use solve::{solve_nonsmooth, solve_nonsmooth_with};
 pub mod law;
 mod timestepping;
 

@@ -63,8 +63,9 @@
 
 use nalgebra::{DMatrix, SMatrix, SVector};
 
+use super::NonSmoothProblem;
 use super::law::{Graph, LawError, Line, Mode, StepState, position_weight};
-use super::{ElementKind, NonSmooth, NonSmoothProblem};
+use crate::element::{ElementKind, NonSmooth};
 use crate::solve::{Observer, unobserved};
 use crate::{ErrorKind, Keep, Solution, SolveError};
 
@@ -123,7 +124,7 @@ where
     O: Observer + ?Sized,
 {
     let ne = S::ELEMENTS;
-    let names = super::event::names::<S, N>(system);
+    let names = crate::element::column_names::<S, N>(system);
     let mut traj = Solution::new(names, 2 * N, problem.output.clone());
     let invalid = |traj: Solution, msg: String| SolveError::new(ErrorKind::InvalidInput(msg), traj);
     let graphs = match validate(system, problem, h, theta) {

@@ -12,7 +12,7 @@ use nalgebra::{DVector, Matrix3, Matrix6, Vector3, Vector6};
 
 use super::spatial;
 use super::{JointKind, Model};
-use crate::liegroup::UnitQuat;
+use crate::geometry::UnitQuat;
 
 /// A rigid transform: the link frame's orientation and origin, in the world frame.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -22,7 +22,6 @@ mod dynamics;
 mod kinematics;
 #[cfg(test)]
 mod lie_tests;
-mod model;
 mod rnea;
 mod scene;
 mod spatial;
@@ -31,6 +30,7 @@ pub(crate) mod test_models;
 #[cfg(feature = "urdf")]
 mod urdf;
 
+pub use crate::model::*;
 pub use coriolis::{
     christoffel_symbols, coriolis_matrix, lie_coriolis_matrix, mass_matrix_derivatives,
 };
@@ -40,7 +40,6 @@ pub use dynamics::{
     potential_energy, spatial_momentum,
 };
 pub use kinematics::{Pose, axis_rotation, link_poses, rpy_matrix};
-pub use model::*;
 pub use rnea::rnea;
 pub use scene::{Scene, SlipLaw};
 

@@ -10,7 +10,7 @@
 use nalgebra::{DVector, SMatrix, SVector};
 
 use super::{Model, crba, dynamics};
-use crate::nonsmooth::{Element, NonSmooth};
+use crate::element::{Element, NonSmooth};
 use crate::system::{ForwardJacobian, Mechanism};
 
 /// A slip law `v = φ(f)` with its slope, for the scene's user-law elements.

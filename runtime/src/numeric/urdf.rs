@@ -7,7 +7,7 @@ use std::collections::HashMap;
 
 use nalgebra::{Matrix3, Rotation3, Vector3};
 
-use super::model::{JointKind, Link, Model};
+use crate::model::{JointKind, Link, Model};
 
 impl Model {
     /// The rigid-body tree of a URDF document (the file's text), with `gravity`.

@@ -5,7 +5,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::*;
-use crate::liegroup::rkmk::LieRun;
+use crate::liegroup::trajectory::LieRun;
 use crate::liegroup::{FnLieSystem, LieProblem, LieState, LieSystem, LieTrajectory, Rkmk5};
 
 /// Principal moments of inertia (S10's).

@@ -1,4 +1,7 @@
-//! Element descriptions and the trait generated code implements.
+//! What a scene's non-smooth elements are — their descriptions, the modes of their
+//! constitutive relations, and the trait generated code implements — on the ground
+//! floor: the result type, the numeric reference and the drivers all build on it, and it
+//! imports none of them.
 
 use nalgebra::{SMatrix, SVector};
 
@@ -107,4 +110,85 @@ pub enum Relation {
     Free,
     /// A spring-backed stop pressed in: `f = k_support · penetration`.
     Compressed,
+}
+
+/// The state of one element's constitutive relation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
+pub enum Mode {
+    /// Dash-pot stuck: `v_c = 0`, force from the constraint, `|f| ≤ f_crit`.
+    Stick,
+    /// Dash-pot slipping with `v_c > 0` (force `≥ f_crit`) on branch `k` of its law
+    /// (always `0` for monotone laws; non-monotone laws: the index into
+    /// `Branches::slip` of the selection rule).
+    SlipPos(usize),
+    /// Dash-pot slipping with `v_c < 0` on branch `k`.
+    SlipNeg(usize),
+    /// Non-monotone law, approach 2: moving at exactly `v_c = +v` of plateau `i`
+    /// (`Branches::plateaus`), force from the constraint, between the two branch
+    /// forces at that speed.
+    PlateauPos(usize),
+    /// As [`Mode::PlateauPos`] with `v_c = −v`.
+    PlateauNeg(usize),
+    /// Stop open: gap `> 0` (or `= 0` and opening), no force.
+    Free,
+    /// Rigid stop closed: gap `= 0`, `v_c = 0`, `λ ≥ 0` from the constraint.
+    Contact,
+    /// Spring-backed stop pressed in: `λ = k_s · penetration`.
+    Compressed,
+}
+
+impl Mode {
+    /// Whether the mode is a velocity constraint (`v_c = 0`, or `v_c = ±v` on a plateau).
+    pub fn is_constraint(self) -> bool {
+        matches!(
+            self,
+            Mode::Stick | Mode::Contact | Mode::PlateauPos(_) | Mode::PlateauNeg(_)
+        )
+    }
+
+    /// `(direction ±1, branch)` of a slip mode.
+    pub fn slip(self) -> Option<(f64, usize)> {
+        match self {
+            Mode::SlipPos(k) => Some((1.0, k)),
+            Mode::SlipNeg(k) => Some((-1.0, k)),
+            _ => None,
+        }
+    }
+
+    /// `(direction ±1, plateau)` of a plateau mode.
+    pub fn plateau(self) -> Option<(f64, usize)> {
+        match self {
+            Mode::PlateauPos(i) => Some((1.0, i)),
+            Mode::PlateauNeg(i) => Some((-1.0, i)),
+            _ => None,
+        }
+    }
+
+    /// Slip mode in direction `d` on branch `k`.
+    pub fn slipping(d: f64, k: usize) -> Mode {
+        if d > 0.0 {
+            Mode::SlipPos(k)
+        } else {
+            Mode::SlipNeg(k)
+        }
+    }
+
+    /// Plateau mode in direction `d` at plateau `i`.
+    pub fn on_plateau(d: f64, i: usize) -> Mode {
+        if d > 0.0 {
+            Mode::PlateauPos(i)
+        } else {
+            Mode::PlateauNeg(i)
+        }
+    }
+}
+
+/// Column names of a non-smooth solution: those of the mechanism's state
+/// ([`state_names`](crate::system::state_names)), then `f_<element>`.
+pub(crate) fn column_names<S: NonSmooth<N>, const N: usize>(system: &S) -> Vec<String> {
+    let mut names = crate::system::state_names(&S::JOINTS);
+    names.extend((0..S::ELEMENTS).map(|e| format!("f_{}", system.element(e).name)));
+    names
 }

@@ -3,7 +3,7 @@
 
 use nalgebra::{DVector, Matrix3, Vector3};
 
-use crate::liegroup::UnitQuat;
+use crate::geometry::UnitQuat;
 
 /// How a link moves relative to its parent.
 ///
@@ -219,7 +219,7 @@ impl Model {
     /// coordinates `φ` (length [`dof`](Self::dof)): `R ← R · exp(φ_rot)` for every
     /// spherical joint (quaternion product, renormalised), `x ← x + φ` on Euclidean
     /// coordinates. `∂/∂φ_k` at `φ = 0` is the derivative along the velocity
-    /// coordinate `k` (see [`super::mass_matrix_derivatives`]).
+    /// coordinate `k` (see [`crate::numeric::mass_matrix_derivatives`]).
     pub fn retract(&self, q: &DVector<f64>, phi: &DVector<f64>) -> DVector<f64> {
         let mut out = q.clone();
         for (s, k) in self.euclid_slots() {

@@ -525,6 +525,40 @@ struct Run {
 /// steps), velocities (L1, largest over coordinates; the integral split at event-driven's
 /// events and taken by the midpoint rule on each piece), modes (L1, largest over
 /// elements).
+/// The switch log's rules (runtime `SwitchKind::Settled`), checked on every event-driven
+/// run: at most one entry per element per instant; each entry's states are `[q; v]`; an
+/// entry for a mode change keeps the state; an impact changes only velocities; every
+/// instant with two rows (an event) is in the log.
+fn switch_log_broken(ed: &Solution, n: usize) -> Option<String> {
+    use filippov::runtime::SwitchKind;
+    let log = &ed.switches;
+    for (i, a) in log.iter().enumerate() {
+        if a.before.len() != 2 * n || a.after.len() != 2 * n {
+            return Some(format!("entry {i} carries states of the wrong size"));
+        }
+        if a.index.is_some()
+            && log[i + 1..]
+                .iter()
+                .any(|b| b.t == a.t && b.index == a.index)
+        {
+            return Some(format!("two entries for {:?} at t = {}", a.element, a.t));
+        }
+        match a.kind {
+            SwitchKind::Mode if a.before[..n] != a.after[..n] => {
+                return Some(format!("mode switch {i} moved the positions"));
+            }
+            SwitchKind::Impact | SwitchKind::Settled if a.before[..n] != a.after[..n] => {
+                return Some(format!("impact {i} moved the positions"));
+            }
+            _ => {}
+        }
+    }
+    let t = ed.times();
+    (1..t.len())
+        .find(|&i| t[i] == t[i - 1] && !log.iter().any(|s| s.t == t[i]))
+        .map(|i| format!("the event at t = {} is not in the log", t[i]))
+}
+
 fn to_event_driven(
     run: &Run,
     ed: &Solution,
@@ -714,6 +748,9 @@ fn check<const N: usize, const E: usize>(d: Description) -> Verdict {
         }
         Err(e) => return Verdict::TypedError(e.kind.to_string()),
     };
+    if let Some(why) = switch_log_broken(&ed, N) {
+        return Verdict::Failed(format!("switch log: {why}"));
+    }
     let ed_times = ed.times();
     let events: Vec<f64> = (1..ed_times.len())
         .filter(|&i| ed_times[i] == ed_times[i - 1])

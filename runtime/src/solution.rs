@@ -22,10 +22,11 @@ pub enum Output {
     /// between the kept rows cubic Hermite on their states and derivatives. For long runs
     /// where every step would not fit in memory.
     Every(usize),
-    /// Only the given times (increasing, inside the integration interval), evaluated
-    /// on the method's dense output as the integration passes them; non-smooth runs also
-    /// keep both rows of every event, so jumps still show. Between the kept rows cubic
-    /// Hermite.
+    /// Exactly the given times (increasing, inside the integration interval), evaluated
+    /// on the method's dense output as the integration passes them: `times()` is the
+    /// list asked for. A non-smooth run's events are in its switch log, each with the
+    /// states just before and after ([`Switch::before`], [`Switch::after`]). Between the
+    /// kept rows cubic Hermite.
     Times(Vec<f64>),
 }
 
@@ -59,12 +60,19 @@ pub enum SwitchKind {
     /// The element's mode changed from `from` to `to`; `jump` is the change of its force
     /// across the switch (`f⁺ − f⁻`).
     Mode,
-    /// A rigid stop's impact: `jump` is the generalised impulse `P` along its coordinate
-    /// (`v⁺ = v⁻ − M⁻¹ e_c P`).
+    /// A rigid stop's impact after which the coordinate leaves the stop (it rebounds, or
+    /// with `e = 0` is pulled away): `jump` is the generalised impulse `P` along its
+    /// coordinate (`v⁺ = v⁻ − M⁻¹ e_c P`).
     Impact,
-    /// A rigid stop reached so slowly that its rebound would stay within the position
-    /// tolerance: taken as plastic, the stop settles into contact (the Zeno limit of its
-    /// bounces); `jump` is the impulse.
+    /// A rigid stop's impact after which the stop is in contact: a plastic impact
+    /// (`e = 0`) pressed onto the stop, or a rebound so small that it would stay within
+    /// the position tolerance, taken as the Zeno limit of its bounces
+    /// ([`Switch::accumulation`]); `jump` is the impulse.
+    ///
+    /// The rule for both: one entry per stop per impact, `Settled` when the stop's mode
+    /// after the impact is [`Mode::Contact`], `Impact` otherwise; the entry's
+    /// `from`/`to` are the stop's modes across it, so no separate
+    /// [`Mode`](SwitchKind::Mode) entry is logged for that stop at that instant.
     Settled,
     /// Accumulating events (Zeno, chattering): the integration is handed to
     /// time-stepping from `t` on.
@@ -80,8 +88,10 @@ pub enum SwitchKind {
 pub struct Switch {
     pub t: f64,
     pub kind: SwitchKind,
-    /// The element (`None` for hand-overs).
+    /// The element's name as the scene declares it (`None` for hand-overs).
     pub element: Option<String>,
+    /// The element's index in the scene (`NonSmooth::element`), `None` for hand-overs.
+    pub index: Option<usize>,
     /// The element's mode before and after (equal for an impact that keeps it).
     pub from: Option<Mode>,
     pub to: Option<Mode>,
@@ -92,6 +102,10 @@ pub struct Switch {
     /// under the acceleration `a` pressing the coordinate onto its stop (`None` for
     /// `e = 1`, and for every other kind).
     pub accumulation: Option<f64>,
+    /// The state `[q; v]` just before the switch (an impact's pre-impact velocities).
+    pub before: Vec<f64>,
+    /// The state `[q; v]` just after it.
+    pub after: Vec<f64>,
 }
 
 /// Whether an accepted step's row is kept whatever the [`Output`] says.
@@ -101,7 +115,7 @@ pub(crate) enum Keep {
     AsAsked,
     /// The last step of the run: kept by [`Output::Every`], not by [`Output::Times`].
     Last,
-    /// The row just before an event: always kept.
+    /// The row just before an event: kept by every output but [`Output::Times`].
     Event,
 }
 
@@ -292,7 +306,7 @@ impl Solution {
                     self.store(t, y, dy, HERMITE);
                 }
             }
-            Output::Times(_) => self.push_requested(t, y, dy, dense, keep == Keep::Event),
+            Output::Times(_) => self.push_requested(t, y, dy, dense),
         }
         self.remember(t, y, dy);
     }
@@ -347,15 +361,8 @@ impl Solution {
 
     /// [`Output::Times`]: the requested times inside the step, then the row itself if
     /// it is to be kept.
-    fn push_requested(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        dy: &[f64],
-        dense: Option<&DenseStep>,
-        keep: bool,
-    ) {
-        if !keep && !self.requested_by(t, true) {
+    fn push_requested(&mut self, t: f64, y: &[f64], dy: &[f64], dense: Option<&DenseStep>) {
+        if !self.requested_by(t, true) {
             return;
         }
         let Output::Times(ts) = std::mem::take(&mut self.output) else {
@@ -365,7 +372,6 @@ impl Solution {
         let t0 = self.recorder.t;
         let mut val = vec![0.0; n];
         let mut der = vec![0.0; n];
-        let mut last_stored = f64::NAN;
         while self.recorder.next < ts.len() && ts[self.recorder.next] <= t {
             let tau = ts[self.recorder.next];
             self.recorder.next += 1;
@@ -373,7 +379,6 @@ impl Solution {
                 // The step's end itself: the accepted state, not the polynomial's
                 // rounding of it (a stuck velocity stays exactly 0.0).
                 self.store(t, y, dy, HERMITE);
-                last_stored = t;
                 continue;
             }
             let r = &self.recorder;
@@ -410,10 +415,6 @@ impl Solution {
                 der[i] = if h > 0.0 { (y[i] - r.row[i]) / h } else { 0.0 };
             }
             self.store(tau, &val, &der, HERMITE);
-            last_stored = tau;
-        }
-        if keep && last_stored != t {
-            self.store(t, y, dy, HERMITE);
         }
         self.output = Output::Times(ts);
     }
@@ -442,9 +443,11 @@ impl Solution {
     }
 
     /// A row at the same time as the previous one, after a jump (the second row of an
-    /// event). Always kept.
+    /// event). Kept unless only given times are asked for ([`Output::Times`]).
     pub(crate) fn push_jump(&mut self, t: f64, y: &[f64], dy: &[f64]) {
-        self.store(t, y, dy, HERMITE);
+        if !matches!(self.output, Output::Times(_)) {
+            self.store(t, y, dy, HERMITE);
+        }
         self.remember(t, y, dy);
     }
 

@@ -939,6 +939,7 @@ where
                 keep: Keep::Event,
             },
         )?;
+        let before: Vec<f64> = q.iter().chain(v.iter()).copied().collect();
         let old = self.modes.clone();
         let mut impacts: Vec<(usize, f64)> = Vec::new();
         // Stops whose rebound would be too small to see: they settle into contact.
@@ -1030,42 +1031,80 @@ where
             (Some(e), _) => Some((e, 1)),
             (None, _) => None,
         };
-        for (e, impulse) in impacts {
-            match settled.iter().find(|(s, _)| *s == e) {
-                Some(&(_, accumulation)) => {
-                    self.log(t, SwitchKind::Settled, e, old[e], impulse);
-                    if let Some(entry) = self.out.switches.last_mut() {
-                        entry.accumulation = accumulation.is_finite().then_some(accumulation);
-                    }
-                }
-                None => self.log(t, SwitchKind::Impact, e, old[e], impulse),
-            }
-        }
+        let after: Vec<f64> = q.iter().chain(v.iter()).copied().collect();
+        self.log_impacts(t, &impacts, &settled, &old, &before, &after);
+        // Mode changes of the elements that took no impulse (an impacted stop's entry
+        // already carries its modes across the instant).
         for e in 0..self.elements.len() {
-            if old[e] != self.modes[e] {
+            if old[e] != self.modes[e] && !impacts.iter().any(|(s, _)| *s == e) {
                 self.log(
                     t,
                     SwitchKind::Mode,
                     e,
                     old[e],
                     forces_after[e] - forces_before[e],
+                    &before,
+                    &after,
                 );
             }
         }
         Ok(())
     }
 
-    /// Adds a switch of element `e` (from mode `from` to its current mode) to the log.
-    fn log(&mut self, t: f64, kind: SwitchKind, e: usize, from: Mode, jump: f64) {
+    /// Adds a switch of element `e` (from mode `from` to its current mode) to the log,
+    /// with the states `[q; v]` just before and after it.
+    #[allow(clippy::too_many_arguments)]
+    fn log(
+        &mut self,
+        t: f64,
+        kind: SwitchKind,
+        e: usize,
+        from: Mode,
+        jump: f64,
+        before: &[f64],
+        after: &[f64],
+    ) {
         self.out.switches.push(Switch {
             t,
             kind,
             element: Some(self.elements[e].name.to_string()),
+            index: Some(e),
             from: Some(from),
             to: Some(self.modes[e]),
             jump,
             accumulation: None,
+            before: before.to_vec(),
+            after: after.to_vec(),
         });
+    }
+
+    /// Logs the impacts of one instant: `Settled` for a stop in contact after it,
+    /// `Impact` otherwise (the rule of [`SwitchKind::Settled`]); `settled` gives the
+    /// accumulation time of rebounds taken as their Zeno limit.
+    #[allow(clippy::too_many_arguments)]
+    fn log_impacts(
+        &mut self,
+        t: f64,
+        impacts: &[(usize, f64)],
+        settled: &[(usize, f64)],
+        old: &[Mode],
+        before: &[f64],
+        after: &[f64],
+    ) {
+        for &(e, impulse) in impacts {
+            let kind = if self.modes[e] == Mode::Contact {
+                SwitchKind::Settled
+            } else {
+                SwitchKind::Impact
+            };
+            self.log(t, kind, e, old[e], impulse, before, after);
+            if let (Some(&(_, accumulation)), Some(entry)) = (
+                settled.iter().find(|(s, _)| *s == e),
+                self.out.switches.last_mut(),
+            ) {
+                entry.accumulation = accumulation.is_finite().then_some(accumulation);
+            }
+        }
     }
 
     /// Whether the rebound of a rigid stop on coordinate `c` (state `q`, `v` at the
@@ -1362,6 +1401,8 @@ where
             }
         }
         let mut modes = Vec::with_capacity(self.elements.len());
+        // Impacts at t0: the state before each, and its impulses.
+        let mut start_impacts: Vec<(Vec<f64>, Vec<(usize, f64)>)> = Vec::new();
         for (e, el) in self.elements.iter().enumerate() {
             let c = el.coordinate;
             let g = mode::gap(el, q[c]);
@@ -1377,7 +1418,11 @@ where
                     if g <= 0.0 {
                         q[c] = position;
                         if mode::side_sign(side) * v[c] > 0.0 {
-                            let _impulses = self.impact(e, &mut q, &mut v, restitution);
+                            // Starting on the stop and moving into it: an impact at t0,
+                            // logged below with the state before it.
+                            let pre: Vec<f64> = q.iter().chain(v.iter()).copied().collect();
+                            let impulses = self.impact(e, &mut q, &mut v, restitution);
+                            start_impacts.push((pre, impulses));
                         }
                     }
                     Mode::Free
@@ -1405,8 +1450,34 @@ where
         self.t = problem.t0;
         self.q = q;
         self.v = v;
+        let Some((pre, _)) = start_impacts.first() else {
+            let row = if resuming { Row::Jump } else { Row::Start };
+            return self.push_row(problem.t0, &q, &v, row).map(|_| ());
+        };
+        // An impact at t0: the row before it (the impacted stops still free; the
+        // other elements' forces in their modes after it), then the row after it.
+        let (q_pre, v_pre) = (
+            SVector::<f64, N>::from_column_slice(&pre[..N]),
+            SVector::<f64, N>::from_column_slice(&pre[N..2 * N]),
+        );
+        let after_modes = self.modes.clone();
+        let mut old = after_modes.clone();
+        for (_, impulses) in &start_impacts {
+            for &(e, _) in impulses {
+                old[e] = Mode::Free;
+            }
+        }
+        self.modes = old.clone();
         let row = if resuming { Row::Jump } else { Row::Start };
-        self.push_row(problem.t0, &q, &v, row).map(|_| ())
+        self.push_row(problem.t0, &q_pre, &v_pre, row)?;
+        self.modes = after_modes;
+        self.push_row(problem.t0, &q, &v, Row::Jump)?;
+        let after: Vec<f64> = q.iter().chain(v.iter()).copied().collect();
+        for (pre, impulses) in start_impacts {
+            self.log_impacts(problem.t0, &impulses, &[], &old, &pre, &after);
+        }
+        self.out.stats.events += 1;
+        Ok(())
     }
 
     /// Zeno / chattering test after an event (see the module documentation): the end
@@ -1486,14 +1557,18 @@ where
         if end <= self.t {
             return Ok(());
         }
+        let state: Vec<f64> = self.q.iter().chain(self.v.iter()).copied().collect();
         self.out.switches.push(Switch {
             t: self.t,
             kind: SwitchKind::HandOverToTimeStepping,
             element: None,
+            index: None,
             from: None,
             to: None,
             jump: 0.0,
             accumulation: None,
+            before: state.clone(),
+            after: state,
         });
         let problem = NonSmoothProblem::new(self.t, end, self.q, self.v);
         let h = (end - self.t) / HANDOVER_STEPS as f64;
@@ -1539,14 +1614,18 @@ where
             .zip(&self.modes)
             .filter(|(a, b)| a != b)
             .count();
+        let state: Vec<f64> = self.q.iter().chain(self.v.iter()).copied().collect();
         self.out.switches.push(Switch {
             t,
             kind: SwitchKind::HandBack,
             element: None,
+            index: None,
             from: None,
             to: None,
             jump: 0.0,
             accumulation: None,
+            before: y[..2 * N].to_vec(),
+            after: state,
         });
         Ok(())
     }

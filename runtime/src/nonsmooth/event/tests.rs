@@ -6,10 +6,10 @@ use std::f64::consts::PI;
 use nalgebra::{SMatrix, SVector, Vector3};
 
 use super::*;
-use crate::ForwardJacobian;
 use crate::nonsmooth::{Law, Side};
 use crate::numeric::{JointKind, Link, Model};
 use crate::system::Mechanism;
+use crate::{ForwardJacobian, Output};
 
 /// Point masses `m` on prismatic coordinates with a stiffness matrix `K`
 /// (`τ_p = −K q`) and `E` non-smooth elements.
@@ -919,5 +919,116 @@ fn slip_force_continues_smoothly_past_a_cut_end_and_folds_are_told_apart() {
         } else {
             assert_eq!(f(b0.v_hi + 0.1), b0.f_hi);
         }
+    }
+}
+
+/// The switch log's rules (the doc of [`SwitchKind::Settled`]): one entry per element
+/// per instant, carrying the states around it; an impact at t0 is logged with the state
+/// before it, and the first row is that state.
+#[test]
+fn switch_log_has_one_entry_per_element_and_instant_with_its_states() {
+    let down = |_t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>| SVector::from([-1.0]);
+    // Starting on the floor and moving into it at 2 m/s: an impact at t0 (v⁺ = −e v⁻),
+    // then rebounds under the constant force −1 until they settle.
+    for e in [0.0, 0.5] {
+        let sys = oscillator(1.0, 0.0, floor(e));
+        let traj = event_driven(
+            &sys,
+            &down,
+            &problem1(10.0, 0.0, -2.0),
+            SmoothMethod::Dopri5,
+            &tight(),
+        )
+        .unwrap();
+        let first = &traj.switches[0];
+        assert_eq!(first.t, 0.0, "e = {e}: the t0 impact is logged");
+        assert_eq!(first.index, Some(0));
+        assert_eq!(first.element.as_deref(), Some("floor"));
+        assert_eq!(first.before, vec![0.0, -2.0], "e = {e}: the state before");
+        assert!(
+            (first.after[1] - 2.0 * e).abs() < 1e-12,
+            "e = {e}: v⁺ = −e v⁻"
+        );
+        assert!(
+            (first.jump - (-2.0 - 2.0 * e)).abs() < 1e-12,
+            "e = {e}: impulse P with v⁺ = v⁻ − P/m: {}",
+            first.jump
+        );
+        // The plastic hit leaves the stop in contact (pressed on by the force): Settled;
+        // the elastic one rebounds: Impact.
+        let expected = if e == 0.0 {
+            SwitchKind::Settled
+        } else {
+            SwitchKind::Impact
+        };
+        assert_eq!(first.kind, expected, "e = {e}");
+        assert_eq!(traj.times()[0], 0.0);
+        assert_eq!(
+            traj.state(0)[..2],
+            [0.0, -2.0],
+            "row 0 is the pre-impact state"
+        );
+        assert_eq!(traj.times()[1], 0.0);
+        assert!(
+            (traj.state(1)[1] - 2.0 * e).abs() < 1e-12,
+            "row 1 is after it"
+        );
+        // No element has two entries at one instant.
+        for (i, a) in traj.switches.iter().enumerate() {
+            for b in &traj.switches[i + 1..] {
+                assert!(
+                    !(a.t == b.t && a.index == b.index && a.index.is_some()),
+                    "e = {e}: two entries for {:?} at t = {}: {:?} and {:?}",
+                    a.element,
+                    a.t,
+                    a.kind,
+                    b.kind
+                );
+            }
+        }
+        for s in &traj.switches {
+            assert_eq!((s.before.len(), s.after.len()), (2, 2));
+            if s.kind == SwitchKind::Mode {
+                assert_eq!(s.before, s.after, "a mode switch keeps the state");
+            }
+        }
+        if e == 0.0 {
+            assert_eq!(
+                traj.switches.len(),
+                1,
+                "settled at once: {:?}",
+                traj.switches
+            );
+        }
+    }
+}
+
+/// `Output::Times(ts)` keeps exactly `ts` on a run with events, and each value is the
+/// run's dense output there.
+#[test]
+fn output_times_are_exactly_the_times_asked_for() {
+    let sys = oscillator(1.0, 1.0, dashpot(Law::Coulomb, 0.1));
+    let steps = event_driven(
+        &sys,
+        &no_input,
+        &problem1(10.0, 1.0, 0.0),
+        SmoothMethod::Dopri5,
+        &tight(),
+    )
+    .unwrap();
+    assert!(steps.stats.events >= 3, "the run has events");
+    let ts: Vec<f64> = (0..=37).map(|i| 10.0 * i as f64 / 37.0).collect();
+    let asked = problem1(10.0, 1.0, 0.0).with_output(Output::Times(ts.clone()));
+    let grid = event_driven(&sys, &no_input, &asked, SmoothMethod::Dopri5, &tight()).unwrap();
+    assert_eq!(grid.times(), &ts[..]);
+    assert_eq!(grid.switches.len(), steps.switches.len());
+    for (i, &t) in ts.iter().enumerate() {
+        let y = steps.at(t).unwrap();
+        assert!(
+            (grid.state(i)[0] - y[0]).abs() < 1e-10,
+            "t = {t}: {} against {}",
+            grid.state(i)[0],
+            y[0]
+        );
     }
 }

@@ -175,7 +175,12 @@ pub struct Solution {
     coeffs: Vec<f64>,
     /// Cost of the integration.
     pub stats: Stats,
-    /// Non-smooth runs: every switch, in time order.
+    /// Non-smooth runs: every switch, in time order, one entry per element per event
+    /// (the rules at [`SwitchKind::Settled`]). Event-driven runs log each at its located
+    /// time with the states just before and after; time-stepping logs each at the end of
+    /// the step in which it happened, with the states at that step's start and end (a
+    /// span handed over to time-stepping logs its entries between the hand-over and the
+    /// hand-back).
     pub switches: Vec<Switch>,
     output: Output,
     recorder: Recorder,

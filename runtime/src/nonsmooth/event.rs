@@ -1575,6 +1575,8 @@ where
         let traj = time_stepping_observed(self.system, self.input, &problem, h, 1.0, observer)
             .map_err(|e| e.kind)?;
         self.out.stats.zeno_handovers += 1;
+        // Its transitions join the log between the hand-over and the hand-back.
+        self.out.switches.extend(traj.switches.iter().cloned());
         self.out.stats.steps += traj.stats.steps;
         self.out.stats.rhs_evaluations += traj.stats.rhs_evaluations;
         self.out.stats.newton_iterations += traj.stats.newton_iterations;

@@ -65,9 +65,9 @@ use nalgebra::{DMatrix, SMatrix, SVector};
 
 use super::NonSmoothProblem;
 use super::law::{Graph, LawError, Line, Mode, StepState, position_weight};
-use crate::element::{ElementKind, NonSmooth};
+use crate::element::{self, ElementKind, NonSmooth, StopKind};
 use crate::solve::{Observer, unobserved};
-use crate::{ErrorKind, Keep, Solution, SolveError};
+use crate::{ErrorKind, Keep, Solution, SolveError, Switch, SwitchKind};
 
 /// Gauss–Seidel sweeps allowed per step for coupled elements.
 pub const MAX_SWEEPS: usize = 10_000;
@@ -172,6 +172,9 @@ where
     });
     let mut point_v = vec![0.0; ne];
     let mut exact = vec![false; ne];
+    // Each element's mode in the last step (its graph point), for the switch log.
+    let mut modes: Vec<Option<element::Mode>> = vec![None; ne];
+    let mut point_mode = vec![Mode::Open; ne];
     let mut t = problem.t0;
     for n in 0..steps {
         let t_next = if n + 1 == steps {
@@ -276,6 +279,7 @@ where
                 );
                 f[e] = p.f;
                 point_v[e] = p.v;
+                point_mode[e] = p.mode;
                 exact[e] = matches!(p.mode, Mode::Stick | Mode::Plateau)
                     || (p.mode == Mode::Contact && is_rigid(&graphs[e]));
             }
@@ -346,12 +350,96 @@ where
         };
         traj.push_step(t_next, &y, &dy, None, keep);
         traj.stats.steps += 1;
+        log_transitions(
+            &mut traj,
+            &graphs,
+            &mut modes,
+            (&point_mode, &f, &f_prev),
+            t_next,
+            hn,
+            (&row(&q, &v, &[])[..], &y[..2 * N]),
+        );
         (q, v, t) = (q_next, v_next, t_next);
         if observer.observe(t, &y[..2 * N]).is_break() {
             return fail(traj, ErrorKind::Cancelled { t });
         }
     }
     Ok(traj)
+}
+
+/// The switch log of time-stepping: each element's mode after the step, read from its
+/// graph point (a slip or plateau's direction from its velocity, a spring-backed stop in
+/// contact as compressed), against the step before; a change is logged at the step's end
+/// `t`, the step in which it happened, with the states at the step's start and end.
+/// A rigid stop's step that closes it is an impact whose impulse is `h f`: `Settled`
+/// when it holds the stop at rest (`v = 0` exactly), `Impact` when it rebounds (the
+/// rule of [`SwitchKind::Settled`]); opening again is a mode switch. The first step
+/// sets the modes without logging, except a rigid stop's impact there.
+fn log_transitions(
+    traj: &mut Solution,
+    graphs: &[Graph],
+    modes: &mut [Option<element::Mode>],
+    (points, f, f_prev): (&[Mode], &[f64], &[f64]),
+    t: f64,
+    h: f64,
+    (before, after): (&[f64], &[f64]),
+) {
+    let n = before.len() / 2;
+    for (e, g) in graphs.iter().enumerate() {
+        let c = g.element.coordinate;
+        let v = after[n + c];
+        let now = match (points[e], g.element.kind) {
+            (Mode::Stick, _) => element::Mode::Stick,
+            (Mode::Slip, _) => element::Mode::slipping(v, 0),
+            (Mode::Plateau, _) => element::Mode::on_plateau(v, 0),
+            (Mode::Open, _) => element::Mode::Free,
+            (
+                Mode::Contact,
+                ElementKind::Stop {
+                    kind: StopKind::SpringBacked { .. },
+                    ..
+                },
+            ) => element::Mode::Compressed,
+            (Mode::Contact, _) => element::Mode::Contact,
+        };
+        // A rigid stop closed in this step (an impact), or its rebound within it.
+        let impact = is_rigid(g)
+            && points[e] == Mode::Contact
+            && modes[e].is_none_or(|m| m != element::Mode::Contact)
+            && before[n + c] != v;
+        let logged_mode = if impact && v != 0.0 {
+            element::Mode::Free
+        } else {
+            now
+        };
+        let entry = match modes[e] {
+            _ if impact => Some((
+                if v == 0.0 {
+                    SwitchKind::Settled
+                } else {
+                    SwitchKind::Impact
+                },
+                h * f[e],
+            )),
+            Some(m) if m != logged_mode => Some((SwitchKind::Mode, f[e] - f_prev[e])),
+            _ => None,
+        };
+        if let Some((kind, jump)) = entry {
+            traj.switches.push(Switch {
+                t,
+                kind,
+                element: Some(g.element.name.to_string()),
+                index: Some(e),
+                from: Some(modes[e].unwrap_or(element::Mode::Free)),
+                to: Some(logged_mode),
+                jump,
+                accumulation: None,
+                before: before.to_vec(),
+                after: after.to_vec(),
+            });
+        }
+        modes[e] = Some(logged_mode);
+    }
 }
 
 /// A force scale for the relative tolerance: `f_crit` of dash-pots, else 1e-300.
@@ -1026,5 +1114,89 @@ mod tests {
                 .len(),
             1
         );
+    }
+
+    /// Time-stepping logs its transitions at the step where they happen (the rule of
+    /// `log_transitions`): S6's stick at the step whose end has v = 0 exactly, a ball's
+    /// impacts at the steps that reverse its velocity, and a plastic floor's one settle.
+    #[test]
+    fn transitions_are_logged_at_their_steps() {
+        let h = 1e-3;
+        // S6 (m = k = 1, f_crit = 0.1, x0 = 1): it sticks for good near t = 5π; the
+        // slip direction turns at t = π, 2π, …
+        let sys = oscillator(1.0, 1.0, [dashpot("friction", 0, Law::Coulomb, 0.1)], cubic);
+        let traj = time_stepping(&sys, &free, &problem1(20.0, 1.0, 0.0), h, 1.0).unwrap();
+        let t = traj.times();
+        for s in &traj.switches {
+            assert_eq!(s.index, Some(0));
+            let i = t.iter().position(|&ti| ti == s.t).expect("at a step's end");
+            assert_eq!(s.before, traj.state(i - 1)[..2], "the step's start");
+            assert_eq!(s.after, traj.state(i)[..2], "the step's end");
+            if s.to == Some(crate::element::Mode::Stick) {
+                assert_eq!(traj.state(i)[1], 0.0, "stuck exactly");
+            }
+        }
+        let sticks: Vec<f64> = traj
+            .switches
+            .iter()
+            .filter(|s| s.to == Some(crate::element::Mode::Stick))
+            .map(|s| s.t)
+            .collect();
+        let last = *sticks.last().expect("it sticks");
+        assert!(
+            (last - 5.0 * PI).abs() < 0.05,
+            "stuck for good near 5π: {sticks:?}"
+        );
+        // A unit mass dropped from 1 m under gravity onto a floor: with e = 0.5 every
+        // impact reverses the velocity in one step; with e = 0 the one impact settles.
+        let down = |_t: f64, _q: &V1, _v: &V1| V1::new(-9.81);
+        for e in [0.5, 0.0] {
+            let floor = stop(
+                "floor",
+                0,
+                Side::Lower,
+                0.0,
+                StopKind::Rigid { restitution: e },
+            );
+            let ball = oscillator(1.0, 0.0, [floor], cubic);
+            let traj = time_stepping(&ball, &down, &problem1(1.0, 1.0, 0.0), h, 1.0).unwrap();
+            let impacts: Vec<&Switch> = traj
+                .switches
+                .iter()
+                .filter(|s| matches!(s.kind, SwitchKind::Impact | SwitchKind::Settled))
+                .collect();
+            let first = impacts.first().expect("it lands");
+            // It lands at √(2/9.81) = 0.4515 s, within a step or two.
+            assert!(
+                (first.t - (2.0f64 / 9.81).sqrt()).abs() < 3.0 * h,
+                "e = {e}: {}",
+                first.t
+            );
+            // The impulse P along the coordinate, v⁺ = v⁻ − P/m: negative for a floor.
+            assert!(
+                first.before[1] < 0.0 && first.jump < 0.0,
+                "e = {e}: {first:?}"
+            );
+            if e == 0.0 {
+                // Every contact is plastic; Moreau's scheme closes the last gap of the
+                // landing step in a few short re-contacts, which the log shows, the
+                // first carrying nearly all of the impulse.
+                let total: f64 = impacts.iter().map(|s| s.jump.abs()).sum();
+                for s in &impacts {
+                    assert_eq!((s.kind, s.after[1]), (SwitchKind::Settled, 0.0), "{s:?}");
+                }
+                assert!(first.jump.abs() > 0.98 * total, "{impacts:?}");
+                assert!(
+                    impacts.last().unwrap().t < first.t + 20.0 * h,
+                    "{impacts:?}"
+                );
+            } else {
+                assert_eq!(first.kind, SwitchKind::Impact);
+                assert!(
+                    (first.after[1] + e * first.before[1]).abs() < 0.1,
+                    "v⁺ ≈ −e v⁻: {first:?}"
+                );
+            }
+        }
     }
 }

@@ -41,19 +41,24 @@ pub(crate) fn coordinate_of(
             None
         }
         None => {
-            let known: Vec<String> = links
-                .iter()
-                .filter(|l| l.coordinate.is_some())
-                .map(|l| format!("`{}`", l.joint_name))
-                .collect();
             diag.error_at(
                 joint,
                 format_args!(
                     "no joint named `{joint}`; {what} act on a joint's coordinate: one of {}",
-                    known.join(", ")
+                    moving_joints(links)
                 ),
             );
             None
         }
     }
+}
+
+/// The joints that have a coordinate, as a list for messages: `` `a`, `b` ``.
+pub(crate) fn moving_joints(links: &[Link]) -> String {
+    let known: Vec<String> = links
+        .iter()
+        .filter(|l| l.coordinate.is_some())
+        .map(|l| format!("`{}`", l.joint_name))
+        .collect();
+    known.join(", ")
 }

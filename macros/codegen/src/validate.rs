@@ -1303,20 +1303,13 @@ fn read_inputs(e: &Expr, links: &[Link], diag: &mut Diagnostics) -> Vec<usize> {
                 format_args!("joint `{id}` is fixed and cannot be actuated"),
             ),
             None if diag.is_excused(id) => {}
-            None => {
-                let known: Vec<String> = links
-                    .iter()
-                    .filter(|l| l.coordinate.is_some())
-                    .map(|l| format!("`{}`", l.joint_name))
-                    .collect();
-                diag.error_at(
-                    id,
-                    format_args!(
-                        "no joint named `{id}`; inputs are joints: {}",
-                        known.join(", ")
-                    ),
-                )
-            }
+            None => diag.error_at(
+                id,
+                format_args!(
+                    "no joint named `{id}`; inputs are joints: {}",
+                    crate::coordinate::moving_joints(links)
+                ),
+            ),
         }
     }
     out

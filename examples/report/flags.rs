@@ -13,14 +13,13 @@
 //! `chain7_native`).
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::time::Instant;
 
 use filippov::Mechanism;
 use filippov_scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
 
 use super::config::Config;
 use super::markdown::{Page, headline};
+use super::release_build::release_build;
 use super::timing::{Timing, in_rounds, program_timing};
 use super::workprecision::Section;
 
@@ -139,30 +138,6 @@ fn main() {{
 }}
 "#
     )
-}
-
-/// Writes the crate and builds it into `target` with `rustflags` (empty: the default
-/// target); the build's seconds, or why it failed.
-fn build(dir: &Path, target: &Path, rustflags: &str) -> Result<f64, String> {
-    let start = Instant::now();
-    let mut cmd = Command::new(env!("CARGO"));
-    cmd.args(["build", "--release", "--quiet"])
-        .current_dir(dir)
-        .env("CARGO_TARGET_DIR", target)
-        .env_remove("CARGO_ENCODED_RUSTFLAGS");
-    if rustflags.is_empty() {
-        cmd.env_remove("RUSTFLAGS");
-    } else {
-        cmd.env("RUSTFLAGS", rustflags);
-    }
-    match cmd.output() {
-        Ok(o) if o.status.success() => Ok(start.elapsed().as_secs_f64()),
-        Ok(o) => Err(String::from_utf8_lossy(&o.stderr)
-            .chars()
-            .take(2000)
-            .collect()),
-        Err(e) => Err(format!("could not start cargo: {e}")),
-    }
 }
 
 /// The models whose peer binary and inputs exist: the four scenes and the URDF robots
@@ -355,8 +330,8 @@ pub fn flags(config: &Config) -> Section {
     }
     let (base_target, native_target) = (work.join("target-baseline"), work.join("target-native"));
     let builds = (
-        build(&dir, &base_target, ""),
-        build(&dir, &native_target, "-C target-cpu=native"),
+        release_build(&dir, &base_target, Some("")),
+        release_build(&dir, &native_target, Some("-C target-cpu=native")),
     );
     let (Ok(base_s), Ok(native_s)) = (&builds.0, &builds.1) else {
         let why = [builds.0.err(), builds.1.err()]

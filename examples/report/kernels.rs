@@ -3,8 +3,6 @@
 
 use std::hint::black_box as bb;
 use std::path::Path;
-use std::process::Command;
-use std::time::Instant;
 
 use filippov::nalgebra::{DVector, SVector};
 use filippov::prelude::*;
@@ -13,6 +11,7 @@ use filippov_scenes::{BranchedTree, DoublePendulum, Panda, PlanarArm3};
 
 use super::config::Config;
 use super::markdown::{Page, sci};
+use super::release_build::timed_build;
 use super::timing::{Timing, ns_timed, timed};
 use super::workprecision::Section;
 
@@ -22,7 +21,7 @@ fn row<S: Mechanism<N> + Coriolis<N> + Gravity<N>, const N: usize>(
     s: &S,
     rows: &mut Vec<Vec<String>>,
     summary: &mut Vec<String>,
-) -> f64 {
+) {
     let q = SVector::<f64, N>::from_fn(|i, _| 0.3 + 0.7 * (i as f64).sin());
     let v = SVector::<f64, N>::from_fn(|i, _| 0.5 - 0.4 * (i as f64).cos());
     let tau = SVector::<f64, N>::from_fn(|i, _| 0.2 * i as f64);
@@ -84,37 +83,18 @@ fn row<S: Mechanism<N> + Coriolis<N> + Gravity<N>, const N: usize>(
             format!("ns per call, median (min–max) of {r} batches; same state"),
         );
     }
-    fd.0.median
 }
 
-/// The kernels section, with our forward-dynamics ns per call by model file name.
-#[derive(Default)]
-pub struct Kernels {
-    pub page: Page,
-    pub summary: Vec<String>,
-    pub forward_ns: Vec<(&'static str, f64)>,
-}
-
-pub fn kernels(config: &Config) -> Kernels {
+/// The kernels section: generated against numeric on the canonical scenes.
+pub fn kernels(config: &Config) -> Section {
     let mut page = Page::empty();
     let mut rows = Vec::new();
     let mut summary = Vec::new();
     let (r, s) = (&mut rows, &mut summary);
-    let forward_ns = vec![
-        (
-            "double_pendulum",
-            row(config, "DoublePendulum", &DoublePendulum::default(), r, s),
-        ),
-        (
-            "planar_arm3",
-            row(config, "PlanarArm3", &PlanarArm3::default(), r, s),
-        ),
-        (
-            "branched_tree",
-            row(config, "BranchedTree", &BranchedTree::default(), r, s),
-        ),
-        ("panda", row(config, "Panda", &Panda::default(), r, s)),
-    ];
+    row(config, "DoublePendulum", &DoublePendulum::default(), r, s);
+    row(config, "PlanarArm3", &PlanarArm3::default(), r, s);
+    row(config, "BranchedTree", &BranchedTree::default(), r, s);
+    row(config, "Panda", &Panda::default(), r, s);
     page.h2("Kernels: generated against the numeric implementation");
     page.para(&format!(
         "ns per call, generated / numeric (speed-up), median (min–max) of batches of up to {} calls; the speed-up's range pairs the slowest batch of one with the fastest of the other. The numeric implementation \
@@ -134,11 +114,7 @@ pub fn kernels(config: &Config) -> Kernels {
         ],
         &rows,
     );
-    Kernels {
-        page,
-        summary,
-        forward_ns,
-    }
+    Section { page, summary }
 }
 
 fn scene_sources() -> Vec<(String, String)> {
@@ -344,15 +320,7 @@ pub fn compile_times(config: &Config) -> Section {
         let target = work.join("target");
         let build = |lib: &str| -> Option<f64> {
             std::fs::write(dir.join("src/lib.rs"), lib).ok()?;
-            let t = Instant::now();
-            let ok = Command::new(env!("CARGO"))
-                .args(["build", "--release", "--quiet"])
-                .current_dir(&dir)
-                .env("CARGO_TARGET_DIR", &target)
-                .status()
-                .ok()?
-                .success();
-            ok.then(|| t.elapsed().as_secs_f64())
+            timed_build(&dir, &target)
         };
         // Dependencies first, then timed rebuilds of the scene crate alone.
         if build(&lib).is_none() {

@@ -39,6 +39,8 @@ mod nonsmooth;
 mod panda_limits;
 #[path = "peers.rs"]
 mod peers;
+#[path = "release_build.rs"]
+mod release_build;
 #[path = "../support/resting_arm.rs"]
 mod resting_arm;
 #[path = "s9.rs"]

@@ -5,10 +5,10 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::time::Instant;
 
 use super::config::Config;
 use super::markdown::{Page, headline};
+use super::release_build::timed_build;
 use super::support::{Scale, Series, line_plot};
 use super::workprecision::Section;
 
@@ -101,18 +101,6 @@ fn write_crate(dir: &Path, root: &Path, name: &str, n: usize, algorithm: &str) -
     std::fs::write(dir.join("src/main.rs"), src).ok()
 }
 
-fn build(dir: &Path, target: &Path) -> Option<f64> {
-    let t = Instant::now();
-    let ok = Command::new(env!("CARGO"))
-        .args(["build", "--release", "--quiet"])
-        .current_dir(dir)
-        .env("CARGO_TARGET_DIR", target)
-        .status()
-        .ok()?
-        .success();
-    ok.then(|| t.elapsed().as_secs_f64())
-}
-
 fn run(target: &Path, name: &str) -> Option<([[f64; 3]; 3], f64)> {
     let out = Command::new(target.join("release").join(name))
         .output()
@@ -158,7 +146,7 @@ pub fn scaling(config: &Config) -> Section {
     // Dependencies first (untimed), so each timed build compiles its own crate only.
     let warm = work.join("warm");
     let _ = write_crate(&warm, root, "warm", 2, "auto");
-    if build(&warm, &target).is_none() {
+    if timed_build(&warm, &target).is_none() {
         page.para("**The warm-up crate did not build**; nothing measured.");
         return Section {
             page,
@@ -177,7 +165,7 @@ pub fn scaling(config: &Config) -> Section {
             let name = format!("chain{n}_{algorithm}");
             let dir = work.join(&name);
             let measured = write_crate(&dir, root, &name, n, algorithm)
-                .and_then(|()| build(&dir, &target))
+                .and_then(|()| timed_build(&dir, &target))
                 .and_then(|build_s| run(&target, &name).map(|(ns, diff)| (build_s, ns, diff)));
             match measured {
                 Some((build_s, ns, diff)) => runs.push(Run {

@@ -1,6 +1,10 @@
 //! Runtime of filippov: what generated kernels implement, an independent numeric
 //! reference of the same physics, and the integrators that run them.
 //!
+//! * The ground floor, which imports none of the rest: what a scene's non-smooth
+//!   elements are and their modes (`element`: [`NonSmooth`], [`Mode`]; re-exported in
+//!   [`nonsmooth`]), the runtime model of a multibody tree (`model`, re-exported as
+//!   [`numeric::Model`]) and rotations ([`geometry`]: [`UnitQuat`], SO(3)).
 //! * [`system`]: the [`Mechanism`] trait the derive implements; [`kernels`]: the
 //!   traits of the kernels a scene asks for by name (Coriolis matrix, energies, …).
 //! * [`numeric`]: plain numeric RNEA / CRBA / exact `∂M/∂q` over a runtime

@@ -14,7 +14,7 @@
 //! θ̇_k = J_r(θ_k)⁻¹ ω_k(y),   δẋ = u(y),   δv̇ = f(t, y),    y = y₀ · exp(Θ)
 //! ```
 //!
-//! (`J_r⁻¹` = [`so3::dexp_inv`], closed form: no truncation error from the series). The
+//! (`J_r⁻¹` = [`so3::dexp_inv`](crate::geometry::so3::dexp_inv), closed form: no truncation error from the series). The
 //! Dormand–Prince stages are taken on this ODE, so the method has the tableau's orders:
 //! 5 for the propagated solution, 4 for the embedded one, 4 for the continuous
 //! extension. The step ends with `g₁ = g₀ · exp(Θ₁)` and the next step re-centres the

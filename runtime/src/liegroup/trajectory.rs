@@ -80,7 +80,7 @@ impl<S: LieSystem + ?Sized> LieRun<'_, S> {
 /// of every rotation, then `x`, then `v`; derivatives `q̇ = ½ q ⊗ (0, ω)`, `ẋ = u`,
 /// `v̇ = f`; its own interpolation is cubic Hermite and leaves the group), and per step
 /// the local-coordinate data of the continuous extension (Dormand–Prince for
-/// [`Rkmk5`], quartic through the previous point for [`LieSdirk`](super::LieSdirk)),
+/// [`Rkmk5`](super::Rkmk5), quartic through the previous point for [`LieSdirk`](super::LieSdirk)),
 /// used by
 /// [`at`](Self::at).
 #[derive(Clone, Debug, PartialEq)]
@@ -203,7 +203,7 @@ impl LieTrajectory {
     }
 
     /// The state at `t` from the continuous extension in the local coordinates of the
-    /// step containing `t` (on the group; fourth order for [`Rkmk5`], third for
+    /// step containing `t` (on the group; fourth order for [`Rkmk5`](super::Rkmk5), third for
     /// [`LieSdirk`](super::LieSdirk)), or `None` outside `[t_first, t_last]`.
     pub fn at(&self, t: f64) -> Option<LieState> {
         let times = self.times();

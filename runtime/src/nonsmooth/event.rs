@@ -1032,7 +1032,7 @@ where
             (None, _) => None,
         };
         let after: Vec<f64> = q.iter().chain(v.iter()).copied().collect();
-        self.log_impacts(t, &impacts, &settled, &old, &before, &after);
+        self.log_impacts(t, &impacts, &settled, &old, (&before, &after));
         // Mode changes of the elements that took no impulse (an impacted stop's entry
         // already carries its modes across the instant).
         for e in 0..self.elements.len() {
@@ -1043,8 +1043,7 @@ where
                     e,
                     old[e],
                     forces_after[e] - forces_before[e],
-                    &before,
-                    &after,
+                    (&before, &after),
                 );
             }
         }
@@ -1053,7 +1052,6 @@ where
 
     /// Adds a switch of element `e` (from mode `from` to its current mode) to the log,
     /// with the states `[q; v]` just before and after it.
-    #[allow(clippy::too_many_arguments)]
     fn log(
         &mut self,
         t: f64,
@@ -1061,8 +1059,7 @@ where
         e: usize,
         from: Mode,
         jump: f64,
-        before: &[f64],
-        after: &[f64],
+        (before, after): (&[f64], &[f64]),
     ) {
         self.out.switches.push(Switch {
             t,
@@ -1081,15 +1078,13 @@ where
     /// Logs the impacts of one instant: `Settled` for a stop in contact after it,
     /// `Impact` otherwise (the rule of [`SwitchKind::Settled`]); `settled` gives the
     /// accumulation time of rebounds taken as their Zeno limit.
-    #[allow(clippy::too_many_arguments)]
     fn log_impacts(
         &mut self,
         t: f64,
         impacts: &[(usize, f64)],
         settled: &[(usize, f64)],
         old: &[Mode],
-        before: &[f64],
-        after: &[f64],
+        states: (&[f64], &[f64]),
     ) {
         for &(e, impulse) in impacts {
             let kind = if self.modes[e] == Mode::Contact {
@@ -1097,7 +1092,7 @@ where
             } else {
                 SwitchKind::Impact
             };
-            self.log(t, kind, e, old[e], impulse, before, after);
+            self.log(t, kind, e, old[e], impulse, states);
             if let (Some(&(_, accumulation)), Some(entry)) = (
                 settled.iter().find(|(s, _)| *s == e),
                 self.out.switches.last_mut(),
@@ -1401,8 +1396,9 @@ where
             }
         }
         let mut modes = Vec::with_capacity(self.elements.len());
-        // Impacts at t0: the state before each, and its impulses.
-        let mut start_impacts: Vec<(Vec<f64>, Vec<(usize, f64)>)> = Vec::new();
+        // Impacts at t0: the state `[q; v]` before each, and its impulses.
+        type StartImpact = (Vec<f64>, Vec<(usize, f64)>);
+        let mut start_impacts: Vec<StartImpact> = Vec::new();
         for (e, el) in self.elements.iter().enumerate() {
             let c = el.coordinate;
             let g = mode::gap(el, q[c]);
@@ -1454,27 +1450,26 @@ where
             let row = if resuming { Row::Jump } else { Row::Start };
             return self.push_row(problem.t0, &q, &v, row).map(|_| ());
         };
-        // An impact at t0: the row before it (the impacted stops still free; the
-        // other elements' forces in their modes after it), then the row after it.
-        let (q_pre, v_pre) = (
-            SVector::<f64, N>::from_column_slice(&pre[..N]),
-            SVector::<f64, N>::from_column_slice(&pre[N..2 * N]),
-        );
-        let after_modes = self.modes.clone();
-        let mut old = after_modes.clone();
-        for (_, impulses) in &start_impacts {
-            for &(e, _) in impulses {
-                old[e] = Mode::Free;
-            }
+        // An impact at t0: the row before it (the impacted stops still free; the other
+        // elements' forces in their modes after it) unless a run is resumed (its last
+        // row is that state), then the row after it.
+        let mut old = self.modes.clone();
+        for &(e, _) in start_impacts.iter().flat_map(|(_, impulses)| impulses) {
+            old[e] = Mode::Free;
         }
-        self.modes = old.clone();
-        let row = if resuming { Row::Jump } else { Row::Start };
-        self.push_row(problem.t0, &q_pre, &v_pre, row)?;
-        self.modes = after_modes;
+        if !resuming {
+            let (q_pre, v_pre) = (
+                SVector::<f64, N>::from_column_slice(&pre[..N]),
+                SVector::<f64, N>::from_column_slice(&pre[N..2 * N]),
+            );
+            let after_modes = std::mem::replace(&mut self.modes, old.clone());
+            self.push_row(problem.t0, &q_pre, &v_pre, Row::Start)?;
+            self.modes = after_modes;
+        }
         self.push_row(problem.t0, &q, &v, Row::Jump)?;
         let after: Vec<f64> = q.iter().chain(v.iter()).copied().collect();
         for (pre, impulses) in start_impacts {
-            self.log_impacts(problem.t0, &impulses, &[], &old, &pre, &after);
+            self.log_impacts(problem.t0, &impulses, &[], &old, (&pre, &after));
         }
         self.out.stats.events += 1;
         Ok(())

@@ -357,7 +357,7 @@ where
             (&point_mode, &f, &f_prev),
             t_next,
             hn,
-            (&row(&q, &v, &[])[..], &y[..2 * N]),
+            (q.as_slice(), v.as_slice(), &y[..2 * N]),
         );
         (q, v, t) = (q_next, v_next, t_next);
         if observer.observe(t, &y[..2 * N]).is_break() {
@@ -382,9 +382,9 @@ fn log_transitions(
     (points, f, f_prev): (&[Mode], &[f64], &[f64]),
     t: f64,
     h: f64,
-    (before, after): (&[f64], &[f64]),
+    (q_before, v_before, after): (&[f64], &[f64], &[f64]),
 ) {
-    let n = before.len() / 2;
+    let n = q_before.len();
     for (e, g) in graphs.iter().enumerate() {
         let c = g.element.coordinate;
         let v = after[n + c];
@@ -406,7 +406,7 @@ fn log_transitions(
         let impact = is_rigid(g)
             && points[e] == Mode::Contact
             && modes[e].is_none_or(|m| m != element::Mode::Contact)
-            && before[n + c] != v;
+            && v_before[c] != v;
         let logged_mode = if impact && v != 0.0 {
             element::Mode::Free
         } else {
@@ -434,7 +434,7 @@ fn log_transitions(
                 to: Some(logged_mode),
                 jump,
                 accumulation: None,
-                before: before.to_vec(),
+                before: [q_before, v_before].concat(),
                 after: after.to_vec(),
             });
         }
@@ -1118,7 +1118,7 @@ mod tests {
 
     /// Time-stepping logs its transitions at the step where they happen (the rule of
     /// `log_transitions`): S6's stick at the step whose end has v = 0 exactly, a ball's
-    /// impacts at the steps that reverse its velocity, and a plastic floor's one settle.
+    /// impacts at the steps that reverse its velocity, and a plastic floor's settles.
     #[test]
     fn transitions_are_logged_at_their_steps() {
         let h = 1e-3;
@@ -1148,7 +1148,7 @@ mod tests {
             "stuck for good near 5π: {sticks:?}"
         );
         // A unit mass dropped from 1 m under gravity onto a floor: with e = 0.5 every
-        // impact reverses the velocity in one step; with e = 0 the one impact settles.
+        // impact reverses the velocity in one step; with e = 0 every contact settles.
         let down = |_t: f64, _q: &V1, _v: &V1| V1::new(-9.81);
         for e in [0.5, 0.0] {
             let floor = stop(

@@ -30,6 +30,42 @@
 //! assert!((p.kinetic_energy(&q, &v) - 0.5 * m[(0, 0)]).abs() < 1e-15);
 //! ```
 //!
+//! ## A non-smooth run driven by a controller
+//!
+//! Friction, dash-pots and stops make a scene non-smooth; `solve_nonsmooth` integrates
+//! it in one call, and its step-level [`Integrator`](runtime::nonsmooth::Integrator)
+//! lets a controller drive it: set the input, advance to the next sample, read the
+//! state. Every switch (stick, slip, impact) is in the solution's log.
+//!
+//! ```
+//! use filippov::prelude::*;
+//! use filippov::runtime::nonsmooth::Integrator;
+//! use filippov::runtime::{NonSmoothMethod, NonSmoothProblem};
+//!
+//! #[derive(Mechanism)]
+//! #[mechanism(inputs = [x])]
+//! #[body(block, mass = m, com = [0.0, 0.0, 0.0], inertia = point)]
+//! #[joint(x: prismatic(x), parent = world, child = block)]
+//! #[friction(x, f_crit = mu_m_g)]
+//! #[stop(x, max = 1.0, restitution = 0.0)]
+//! struct Block { m: f64, mu_m_g: f64 }
+//!
+//! let block = Block { m: 1.0, mu_m_g: 2.0 };
+//! let problem = NonSmoothProblem::new(0.0, 3.0, SVector::from([0.0]), SVector::from([0.0]));
+//! let mut run = Integrator::held(&block, &problem, &NonSmoothMethod::default()).unwrap();
+//! for k in 0..3000 {
+//!     // A PD controller at 1 kHz towards x = 1.2, past the stop at 1.0.
+//!     let u = 20.0 * (1.2 - run.q()[0]) - 5.0 * run.v()[0];
+//!     run.set_input(Block::input_forces(&SVector::from([u]))).unwrap();
+//!     run.advance_to((k + 1) as f64 * 1e-3).unwrap();
+//! }
+//! // The block rests on the stop, held there by the controller's force.
+//! assert_eq!(run.q()[0], 1.0);
+//! assert_eq!(run.v()[0], 0.0);
+//! let solution = run.into_solution();
+//! assert!(solution.switches.iter().any(|s| s.element.as_deref() == Some("stop_x")));
+//! ```
+//!
 //! ## Attributes
 //! - `#[mechanism(gravity = [gx, gy, gz], inputs = [joint, …], emit = [kernel, …])]` —
 //!   all optional; no gravity code without gravity; `inputs` names the actuated joints

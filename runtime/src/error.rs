@@ -123,3 +123,5 @@ impl fmt::Debug for SolveError {
 }
 
 impl std::error::Error for SolveError {}
+
+impl std::error::Error for ErrorKind {}

@@ -75,7 +75,9 @@
 //! Sync`; a parameter sweep may run one integration per thread.
 mod element;
 mod error;
+pub mod events;
 pub mod geometry;
+mod input;
 pub mod kernels;
 pub mod liegroup;
 mod mechanical;
@@ -93,9 +95,11 @@ pub mod system;
 
 pub use element::{Mode, NonSmooth};
 pub use error::{ErrorKind, SolveError};
+pub use events::{Event, EventDirection, EventHit};
+pub use input::Input;
 pub use liegroup::{
-    EventDirection, FnLieSystem, LieEvent, LieEventHit, LieInputFn, LieMechanical, LieMechanism,
-    LieProblem, LieSdirk, LieState, LieSystem, LieTrajectory, Rkmk5, UnitQuat,
+    FnLieSystem, LieEvent, LieEventHit, LieInputFn, LieMechanical, LieMechanism, LieProblem,
+    LieSdirk, LieState, LieSystem, LieTrajectory, Rkmk5, UnitQuat,
 };
 pub use mechanical::{InputFn, MechanicalSystem, NumericInputFn, NumericSystem};
 pub use method::{Bdf, Dopri5, Method, Rk4, Sdirk4, Stepper};
@@ -108,6 +112,6 @@ pub use options::Options;
 pub use problem::{FnSystem, OdeSystem, Problem};
 pub(crate) use solution::Keep;
 pub use solution::{Output, Solution, Switch, SwitchKind};
-pub use solve::{Observer, integrate, solve, solve_with};
+pub use solve::{Observer, integrate, solve, solve_with, solve_with_events};
 pub use stats::Stats;
 pub use system::{ForwardJacobian, Mechanism, ParameterError};

@@ -7,6 +7,7 @@ use std::io::{self, Write};
 
 use crate::Stats;
 use crate::element::Mode;
+use crate::events::EventHit;
 use crate::numerics::dense::{DenseStep, eval_poly};
 
 /// Which rows a [`Solution`] keeps.
@@ -182,6 +183,10 @@ pub struct Solution {
     /// span handed over to time-stepping logs its entries between the hand-over and the
     /// hand-back).
     pub switches: Vec<Switch>,
+    /// The user events located in the run, in time order (see [`crate::events`]); the
+    /// state is the row's `[q; v]` (or `y`) at the crossing.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub events: Vec<EventHit>,
     output: Output,
     recorder: Recorder,
     /// `Some(n)`: the first `n` columns are positions whose refined steps are the quintic
@@ -220,6 +225,7 @@ impl Solution {
             coeffs: Vec::new(),
             stats: Stats::default(),
             switches: Vec::new(),
+            events: Vec::new(),
             output,
             recorder: Recorder::default(),
             dense_positions: None,

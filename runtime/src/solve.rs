@@ -4,6 +4,7 @@
 
 use std::ops::ControlFlow;
 
+use crate::events::{Event, EventHit, Tracker};
 use crate::method::{Eval, Stepper, with_stepper};
 use crate::{ErrorKind, Keep, Method, OdeSystem, Problem, Solution, SolveError};
 
@@ -68,12 +69,61 @@ pub fn solve_with<S: OdeSystem + ?Sized, O: Observer + ?Sized>(
     ))
 }
 
+/// [`solve`] locating user [`Event`]s (see [`crate::events`]): each crossing is in the
+/// solution's [`events`](Solution::events), and a terminal one ends the run there.
+///
+/// ```
+/// use filippov_runtime::{Event, FnSystem, Method, Options, Problem, solve_with_events};
+/// // A ball thrown up at 10 m/s: when does it fall back through y = 0?
+/// let ball = FnSystem::new(2, |_t, y: &[f64], dy: &mut [f64]| {
+///     dy[0] = y[1];
+///     dy[1] = -9.81;
+/// });
+/// let ground = |_t: f64, y: &[f64]| y[0];
+/// let events = [Event::new(&ground).terminal()];
+/// let problem = Problem::new(0.0, 10.0, [0.0, 10.0]);
+/// let method = Method::Dopri5(Options::tolerances(1e-10, 1e-12));
+/// let sol = solve_with_events(&ball, &problem, &method, &events).unwrap();
+/// let landing = 2.0 * 10.0 / 9.81;
+/// assert!((sol.events[0].t - landing).abs() < 1e-9);
+/// assert_eq!(sol.last().unwrap().0, sol.events[0].t);
+/// ```
+pub fn solve_with_events<S: OdeSystem + ?Sized>(
+    system: &S,
+    problem: &Problem,
+    method: &Method,
+    events: &[Event<'_>],
+) -> Result<Solution, SolveError> {
+    with_stepper!(method, system.dim(), |stepper| integrate_with(
+        &mut stepper,
+        system,
+        problem,
+        &mut unobserved,
+        events
+    ))
+}
+
 /// The driver itself, for any [`Stepper`] (see the module documentation).
 pub fn integrate<St, S, O>(
     stepper: &mut St,
     system: &S,
     problem: &Problem,
     observer: &mut O,
+) -> Result<Solution, SolveError>
+where
+    St: Stepper,
+    S: OdeSystem + ?Sized,
+    O: Observer + ?Sized,
+{
+    integrate_with(stepper, system, problem, observer, &[])
+}
+
+fn integrate_with<St, S, O>(
+    stepper: &mut St,
+    system: &S,
+    problem: &Problem,
+    observer: &mut O,
+    events: &[Event<'_>],
 ) -> Result<Solution, SolveError>
 where
     St: Stepper,
@@ -93,10 +143,12 @@ where
             .validate()
             .and_then(|()| problem.validate(system.dim()))
     };
-    if let Err(msg) = checked {
-        return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
-    }
-    match run(stepper, system, problem, observer, &mut sol) {
+    let tracker = checked.and_then(|()| Tracker::new(events, problem.t0, &problem.y0));
+    let mut tracker = match tracker {
+        Ok(tracker) => tracker,
+        Err(msg) => return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol)),
+    };
+    match run(stepper, system, problem, observer, &mut sol, &mut tracker) {
         Ok(()) => Ok(sol),
         Err(kind) => Err(SolveError::new(kind, sol)),
     }
@@ -108,6 +160,7 @@ fn run<St, S, O>(
     problem: &Problem,
     observer: &mut O,
     sol: &mut Solution,
+    tracker: &mut Tracker<'_, '_, [f64]>,
 ) -> Result<(), ErrorKind>
 where
     St: Stepper,
@@ -123,8 +176,12 @@ where
     )?;
     sol.push_start(t0, stepper.y(), stepper.f());
     while stepper.t() < tf {
+        let t_prev = stepper.t();
         stepper.step(&mut Eval::new(system, &mut sol.stats), tf)?;
         let t = stepper.t();
+        if !tracker.is_empty() && locate_events(stepper, system, sol, tracker, t_prev)? {
+            return Ok(());
+        }
         let keep = if t >= tf { Keep::Last } else { Keep::AsAsked };
         let needs_dense = sol.needs_dense(t);
         if needs_dense {
@@ -137,4 +194,46 @@ where
         }
     }
     Ok(())
+}
+
+/// The user events of the step from `t_prev` to the stepper's point, recorded in `sol`;
+/// `true` when a terminal one ended the run (its row written, the step's dense output
+/// cut there).
+fn locate_events<St, S>(
+    stepper: &mut St,
+    system: &S,
+    sol: &mut Solution,
+    tracker: &mut Tracker<'_, '_, [f64]>,
+    t_prev: f64,
+) -> Result<bool, ErrorKind>
+where
+    St: Stepper,
+    S: OdeSystem + ?Sized,
+{
+    stepper.prepare_dense();
+    let dense = stepper.dense();
+    let at = |t: f64| {
+        let mut y = vec![0.0; stepper.y().len()];
+        dense.eval(t, &mut y);
+        y
+    };
+    let crossings = tracker.step(t_prev, stepper.t(), stepper.y(), at);
+    for &(event, t) in &crossings.found {
+        sol.events.push(EventHit {
+            event,
+            t,
+            state: at(t),
+        });
+        sol.stats.events += 1;
+    }
+    let Some(te) = crossings.terminal else {
+        return Ok(false);
+    };
+    let mut cut = dense.clone();
+    cut.truncate(te);
+    let y = at(te);
+    let mut f = vec![0.0; y.len()];
+    Eval::new(system, &mut sol.stats).rhs(te, &y, &mut f)?;
+    sol.push_step(te, &y, &f, Some(&cut), Keep::Last);
+    Ok(true)
 }

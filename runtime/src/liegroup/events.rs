@@ -1,119 +1,33 @@
-//! Event location for the Lie-group integrators ([`Rkmk5`](super::Rkmk5),
-//! [`LieSdirk`](super::LieSdirk)): `solve_with_events`.
-//!
-//! An event is a scalar function `g(t, y)` of the time and the [`LieState`]. After each
-//! accepted step from `t₀` to `t₁` the integrator evaluates `g(t₁, y₁)`; when the sign
-//! changed from the last accepted point (strictly: `g(t₀) > 0 ≥ g(t₁)` is a falling
-//! crossing, `g(t₀) < 0 ≤ g(t₁)` a rising one) in the event's [`EventDirection`], the
-//! crossing is located on the step's dense output ([`LieTrajectory::at`], on the group)
-//! by the Anderson–Björck bracketing method of
-//! [`numerics::rootfind`](crate::numerics::rootfind) to
-//! `|Δt| ≤ 1e-12 · max(1, |t₁|)`. The reported time is the end of the final bracket
-//! on the crossed side (where the sign has changed, or `g = 0`).
-//!
-//! * A value of exactly zero at the start does not count; the function must leave zero
-//!   and come back.
-//! * Two crossings of one function inside one step cancel and are not seen (as in every
-//!   step-end sign test); limit the step with [`Options::h_max`](crate::Options::h_max)
-//!   if events may be closer together than the steps.
-//! * A **terminal** event ends the integration at the first terminal crossing: the
-//!   trajectory's last point becomes the event state (the last interval keeps the
-//!   step's interpolant, so [`LieTrajectory::at`] stays exact up to there), and events
-//!   after it in the same step are dropped.
-//!
-//! Located events are counted in [`Stats::events`](crate::Stats::events).
+//! User events on Lie-group runs ([`Rkmk5`](super::Rkmk5),
+//! [`LieSdirk`](super::LieSdirk)): the shared [`crate::events`] with the
+//! [`LieState`] as the state, located on the group's dense output
+//! ([`LieTrajectory::at`]). A terminal event cuts the trajectory's last interval at the
+//! event (its interpolant kept, so `at` stays exact up to there).
 
+use super::LieState;
+use super::LieSystem;
 use super::trajectory::{LieProblem, LieRun, LieTrajectory};
-use super::{LieState, LieSystem};
 use crate::ErrorKind;
-use crate::numerics::rootfind::find_root;
+pub use crate::events::EventDirection;
+use crate::events::{Event, EventHit, Tracker};
 
-/// Which sign changes of an event function count.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum EventDirection {
-    /// Both directions.
-    #[default]
-    Either,
-    /// From negative to non-negative.
-    Rising,
-    /// From positive to non-positive.
-    Falling,
-}
+/// An event function `g(t, y)` of a Lie-group run.
+pub type LieEvent<'a> = Event<'a, LieState>;
 
-/// An event function `g(t, y)` for `solve_with_events` (see the
-/// [module documentation](self)).
-#[derive(Clone, Copy)]
-pub struct LieEvent<'a> {
-    pub function: &'a dyn Fn(f64, &LieState) -> f64,
-    /// End the integration at the first crossing.
-    pub terminal: bool,
-    pub direction: EventDirection,
-}
+/// A located event of a Lie-group run.
+pub type LieEventHit = EventHit<LieState>;
 
-impl<'a> LieEvent<'a> {
-    /// A non-terminal event in both directions.
-    pub fn new(function: &'a dyn Fn(f64, &LieState) -> f64) -> Self {
-        LieEvent {
-            function,
-            terminal: false,
-            direction: EventDirection::Either,
-        }
-    }
-
-    /// The same event, terminal.
-    pub fn terminal(self) -> Self {
-        LieEvent {
-            terminal: true,
-            ..self
-        }
-    }
-
-    /// The same event, counting only crossings in `direction`.
-    pub fn direction(self, direction: EventDirection) -> Self {
-        LieEvent { direction, ..self }
-    }
-}
-
-impl std::fmt::Debug for LieEvent<'_> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("LieEvent")
-            .field("terminal", &self.terminal)
-            .field("direction", &self.direction)
-            .finish_non_exhaustive()
-    }
-}
-
-/// A located event.
-#[derive(Clone, Debug, PartialEq)]
-pub struct LieEventHit {
-    /// Index of the event in the slice passed to `solve_with_events`.
-    pub event: usize,
-    /// The time of the crossing.
-    pub t: f64,
-    /// The state there (from the dense output).
-    pub state: LieState,
-}
-
-/// The event functions' values at the last accepted point and the events found.
+/// The shared tracker and the events found, for one Lie-group run.
 pub(super) struct EventTracker<'e, 'a> {
-    events: &'e [LieEvent<'a>],
-    values: Vec<f64>,
+    tracker: Tracker<'e, 'a, LieState>,
     hits: Vec<LieEventHit>,
 }
 
 impl<'e, 'a> EventTracker<'e, 'a> {
     /// Evaluates the functions at the initial point; a NaN there is invalid input.
     pub(super) fn new(events: &'e [LieEvent<'a>], problem: &LieProblem) -> Result<Self, String> {
-        let values: Vec<f64> = events
-            .iter()
-            .map(|e| (e.function)(problem.t0, &problem.y0))
-            .collect();
-        if let Some(k) = values.iter().position(|g| g.is_nan()) {
-            return Err(format!("event {k} is NaN at the initial point"));
-        }
         Ok(EventTracker {
-            events,
-            values,
+            tracker: Tracker::new(events, problem.t0, &problem.y0)?,
             hits: Vec::new(),
         })
     }
@@ -132,47 +46,16 @@ impl<'e, 'a> EventTracker<'e, 'a> {
         let n = traj.len();
         let (t0, t1) = (traj.times()[n - 2], traj.times()[n - 1]);
         let y1 = traj.state(n - 1);
-        let xtol = 1e-12 * t1.abs().max(1.0);
-        let mut found: Vec<(usize, f64)> = Vec::new();
-        for (k, event) in self.events.iter().enumerate() {
-            let (a, b) = (self.values[k], (event.function)(t1, &y1));
-            self.values[k] = b;
-            let falling = a > 0.0 && b <= 0.0;
-            let rising = a < 0.0 && b >= 0.0;
-            let counts = match event.direction {
-                EventDirection::Either => falling || rising,
-                EventDirection::Rising => rising,
-                EventDirection::Falling => falling,
-            };
-            if !counts {
-                continue;
-            }
-            // find_root wants g(lo) > 0 ≥ g(hi).
-            let sign = if falling { 1.0 } else { -1.0 };
-            let g = |t: f64| sign * (event.function)(t, &dense(traj, t));
-            let bracket = find_root(g, t0, t1, sign * a, sign * b, xtol);
-            found.push((k, bracket.hi));
-        }
-        if found.is_empty() {
-            return Ok(false);
-        }
-        found.sort_by(|x, y| x.1.total_cmp(&y.1));
-        let stop = found
-            .iter()
-            .find(|&&(k, _)| self.events[k].terminal)
-            .map(|&(_, t)| t);
-        for &(k, t) in &found {
-            if stop.is_some_and(|ts| t > ts) {
-                break;
-            }
+        let crossings = self.tracker.step(t0, t1, &y1, |t| dense(traj, t));
+        for &(event, t) in &crossings.found {
             self.hits.push(LieEventHit {
-                event: k,
+                event,
                 t,
                 state: dense(traj, t),
             });
         }
         run.traj.flat.stats.events = self.hits.len();
-        let Some(ts) = stop else {
+        let Some(ts) = crossings.terminal else {
             return Ok(false);
         };
         let state = dense(&run.traj, ts);

@@ -17,12 +17,14 @@
 //! always a modelling error, and hiding it costs more than reporting it). The solution
 //! up to the failure is returned in the [`SolveError`](crate::SolveError).
 
+mod any;
 mod bdf;
 mod dopri5;
 mod rk4;
 mod sdirk;
 pub mod stepper;
 
+pub use any::AnyStepper;
 pub use bdf::{Bdf, BdfStepper};
 pub use dopri5::{Dopri5, Dopri5Stepper};
 pub use rk4::{Rk4, Rk4Stepper};

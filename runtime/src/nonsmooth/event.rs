@@ -101,13 +101,12 @@ use super::mode::{self, Choices};
 use super::timestepping::time_stepping_observed;
 use super::{NonSmoothProblem, SmoothMethod};
 use crate::element::{Element, ElementKind, Law, Mode, NonSmooth, Selection, Side, StopKind};
+use crate::events::{EventHit, Tracker, hermite_qv};
+use crate::input::{Capped, Input};
 use crate::method::{DenseStep, Eval, Stepper};
 use crate::numerics::rootfind::find_root;
 use crate::solve::{Observer, unobserved};
-use crate::{
-    Bdf, Dopri5, ErrorKind, Keep, OdeSystem, Options, Sdirk4, Solution, SolveError, Stats, Switch,
-    SwitchKind,
-};
+use crate::{ErrorKind, Keep, OdeSystem, Options, Solution, SolveError, Stats, Switch, SwitchKind};
 /// Samples of the switching functions per accepted step (the last at the step's end).
 pub const SAMPLES: usize = 4;
 /// Relative width in time of a located event bracket, or `rtol / 100` where that is
@@ -166,45 +165,14 @@ where
     F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
     O: Observer + ?Sized,
 {
-    let out = Solution::new(
-        crate::element::column_names::<S, N>(system),
-        2 * N,
-        problem.output.clone(),
-    )
-    .with_dense_positions(Some(N));
-    let elements: Vec<Element> = (0..S::ELEMENTS).map(|e| system.element(e)).collect();
-    let mut driver = Driver {
-        system,
-        input,
-        branches: vec![Branches::default(); elements.len()],
-        hints: vec![None; elements.len()],
-        elements,
-        modes: Vec::new(),
-        t: problem.t0,
-        q: problem.q0,
-        v: problem.v0,
-        out,
-        event_times: VecDeque::new(),
-        bounces: None,
-        options: *options,
-        span: problem.tf - problem.t0,
-    };
-    if let Err(msg) = driver
-        .validate(problem)
-        .and_then(|()| driver.build_branches())
-    {
-        driver.out.stats = Stats::default();
-        return Err(SolveError::new(ErrorKind::InvalidInput(msg), driver.out));
-    }
-    let outcome = match method {
-        SmoothMethod::Dopri5 => {
-            driver.run(&mut Dopri5::new(*options).stepper(2 * N), problem, observer)
+    let mut driver = Driver::new(system, input, problem, options)?;
+    let mut stepper = method.stepper(*options, 2 * N);
+    let outcome = driver.begin(&mut stepper, problem).and_then(|()| {
+        while driver.t < problem.tf {
+            driver.advance(&mut stepper, problem.tf, observer)?;
         }
-        SmoothMethod::Sdirk4 => {
-            driver.run(&mut Sdirk4::new(*options).stepper(2 * N), problem, observer)
-        }
-        SmoothMethod::Bdf => driver.run(&mut Bdf::new(*options).stepper(2 * N), problem, observer),
-    };
+        Ok(())
+    });
     match outcome {
         Ok(()) => Ok(driver.out),
         Err(kind) => Err(SolveError::new(kind, driver.out)),
@@ -217,7 +185,8 @@ macro_rules! mode_system {
     ($d:expr) => {
         ModeSystem {
             system: $d.system,
-            input: $d.input,
+            input: &$d.input,
+            until: $d.until,
             elements: &$d.elements,
             branches: &$d.branches,
             modes: &$d.modes,
@@ -249,19 +218,32 @@ struct Arming {
     last_positive: Vec<(f64, f64)>,
 }
 
+impl Arming {
+    /// Before the first arc.
+    fn empty() -> Self {
+        Arming {
+            armed: Vec::new(),
+            level: Vec::new(),
+            last_positive: Vec::new(),
+        }
+    }
+}
+
 /// The smooth ODE `(q̇, v̇) = (v, a)` of one mode assignment.
-struct ModeSystem<'a, S, F, const N: usize> {
+struct ModeSystem<'a, S, I, const N: usize> {
     system: &'a S,
-    input: &'a F,
+    input: &'a I,
+    /// The input is read at `min(t, until)` (see [`Driver::until`]).
+    until: f64,
     elements: &'a [Element],
     branches: &'a [Branches],
     modes: &'a [Mode],
 }
 
-impl<S, F, const N: usize> OdeSystem for ModeSystem<'_, S, F, N>
+impl<S, I, const N: usize> OdeSystem for ModeSystem<'_, S, I, N>
 where
     S: NonSmooth<N>,
-    F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
+    I: Input<N>,
 {
     fn dim(&self) -> usize {
         2 * N
@@ -270,7 +252,7 @@ where
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         let q = SVector::<f64, N>::from_column_slice(&y[..N]);
         let v = SVector::<f64, N>::from_column_slice(&y[N..]);
-        let tau = (self.input)(t, &q, &v);
+        let tau = self.input.forces(t.min(self.until), &q, &v);
         match mode::evaluate(
             self.system,
             self.elements,
@@ -301,9 +283,9 @@ where
 }
 
 /// One event-driven integration in progress.
-struct Driver<'a, S, F, const N: usize> {
+pub(super) struct Driver<'a, S, I, const N: usize> {
     system: &'a S,
-    input: &'a F,
+    pub(super) input: I,
     elements: Vec<Element>,
     /// Slip branches and plateaus of non-monotone laws (empty for the others).
     branches: Vec<Branches>,
@@ -311,10 +293,10 @@ struct Driver<'a, S, F, const N: usize> {
     /// initialised again after a hand-over.
     hints: Vec<Option<f64>>,
     modes: Vec<Mode>,
-    t: f64,
-    q: SVector<f64, N>,
-    v: SVector<f64, N>,
-    out: Solution,
+    pub(super) t: f64,
+    pub(super) q: SVector<f64, N>,
+    pub(super) v: SVector<f64, N>,
+    pub(super) out: Solution,
     /// Times of the recent events, for the Zeno test.
     event_times: VecDeque<f64>,
     /// The rigid stop of the latest run of events that were each one rebound of it and
@@ -325,6 +307,26 @@ struct Driver<'a, S, F, const N: usize> {
     bounces: Option<(usize, usize)>,
     options: Options,
     span: f64,
+    /// The end of the run.
+    tf: f64,
+    /// The switching functions' state along the current arc.
+    arming: Arming,
+    /// Approaching a fold (see [`refine_fold`](Self::refine_fold)): the time the steps
+    /// land on short of it, and the last estimate of when it is reached.
+    landing: Option<f64>,
+    approach: Option<FoldApproach>,
+    /// Scratch for dense-output evaluations.
+    buf: Vec<f64>,
+    /// The element forces of the last row written.
+    last_forces: Vec<f64>,
+    /// While a step ends at a time where the input may jump (a `tstop`), the float just
+    /// before it: the input is read at `min(t, until)`, so that the step sees the input
+    /// of its own interval up to its end (∞ otherwise).
+    pub(super) until: f64,
+    /// The user events (none unless the integrator was given some).
+    pub(super) tracker: Tracker<'a, 'a, [f64]>,
+    /// The time a terminal user event ended the run at.
+    pub(super) ended: Option<f64>,
 }
 
 /// The last estimate of when `element` reaches a fold, and how many times its step has
@@ -343,11 +345,66 @@ struct Located {
     triggered: Vec<usize>,
 }
 
-impl<S, F, const N: usize> Driver<'_, S, F, N>
+impl<'a, S, I, const N: usize> Driver<'a, S, I, N>
 where
     S: NonSmooth<N>,
-    F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
+    I: Input<N>,
 {
+    /// A driver for `problem` with checked options, time span, initial state and
+    /// elements (the first row is written by [`begin`](Self::begin)).
+    pub(super) fn new(
+        system: &'a S,
+        input: I,
+        problem: &NonSmoothProblem<N>,
+        options: &Options,
+    ) -> Result<Self, SolveError> {
+        let out = Solution::new(
+            crate::element::column_names::<S, N>(system),
+            2 * N,
+            problem.output.clone(),
+        )
+        .with_dense_positions(Some(N));
+        let elements: Vec<Element> = (0..S::ELEMENTS).map(|e| system.element(e)).collect();
+        let mut driver = Driver {
+            system,
+            input,
+            branches: vec![Branches::default(); elements.len()],
+            hints: vec![None; elements.len()],
+            elements,
+            modes: Vec::new(),
+            t: problem.t0,
+            q: problem.q0,
+            v: problem.v0,
+            out,
+            event_times: VecDeque::new(),
+            bounces: None,
+            options: *options,
+            span: problem.tf - problem.t0,
+            tf: problem.tf,
+            arming: Arming::empty(),
+            landing: None,
+            approach: None,
+            buf: vec![0.0; 2 * N],
+            last_forces: Vec::new(),
+            until: f64::INFINITY,
+            tracker: Tracker::none(),
+            ended: None,
+        };
+        if let Err(msg) = driver
+            .validate(problem)
+            .and_then(|()| driver.build_branches())
+        {
+            driver.out.stats = Stats::default();
+            return Err(SolveError::new(ErrorKind::InvalidInput(msg), driver.out));
+        }
+        Ok(driver)
+    }
+
+    /// The applied forces at `(t, q, v)`, read at `min(t, until)`.
+    fn tau(&self, t: f64, q: &SVector<f64, N>, v: &SVector<f64, N>) -> SVector<f64, N> {
+        self.input.forces(t.min(self.until), q, v)
+    }
+
     fn validate(&self, problem: &NonSmoothProblem<N>) -> Result<(), String> {
         self.options.validate()?;
         if !problem.t0.is_finite() || !problem.tf.is_finite() || problem.tf < problem.t0 {
@@ -405,92 +462,260 @@ where
         Ok(())
     }
 
-    fn run<St: Stepper, O: Observer + ?Sized>(
+    /// The first row and consistent modes at `t0`; the stepper started there.
+    pub(super) fn begin<St: Stepper>(
         &mut self,
         stepper: &mut St,
         problem: &NonSmoothProblem<N>,
-        observer: &mut O,
     ) -> Result<(), ErrorKind> {
         self.initialise(problem, false)?;
-        let tf = problem.tf;
-        let mut y = self.state();
+        let y = self.state();
         {
             let sys = mode_system!(self);
             stepper.start(
                 &mut Eval::new(&sys, &mut self.out.stats),
                 self.t,
                 &y,
-                tf - self.t,
+                self.tf - self.t,
             )?;
         }
-        let mut arming = self.arm(self.t, &y);
-        let mut buf = vec![0.0; 2 * N];
-        // Approaching a fold (see `refine_fold`): the time the steps land on short of it,
-        // and the last estimate of when it is reached.
-        let mut landing: Option<f64> = None;
-        let mut approach: Option<FoldApproach> = None;
-        while self.t < tf {
-            {
-                let sys = mode_system!(self);
-                let t_end = landing.map_or(tf, |t| t.min(tf));
-                let stepped = stepper.step(&mut Eval::new(&sys, &mut self.out.stats), t_end);
-                stepped.map_err(|kind| self.explain(kind))?;
-            }
-            // Events are located on the step's extension: always needed here.
-            stepper.prepare_dense();
-            let (t1, y1) = (stepper.t(), stepper.y());
-            match self.scan(stepper.dense(), t1, y1, &mut arming, &mut buf) {
-                None => {
-                    let q = SVector::from_column_slice(&y1[..N]);
-                    let v = SVector::from_column_slice(&y1[N..]);
-                    let keep = if t1 >= tf { Keep::Last } else { Keep::AsAsked };
-                    self.push_row(
-                        t1,
-                        &q,
-                        &v,
-                        Row::Step {
-                            dense: Some(stepper.dense()),
-                            keep,
-                        },
-                    )?;
-                    self.t = t1;
-                    self.q = q;
-                    self.v = v;
-                    if landing.is_some_and(|t| t1 >= t) {
-                        landing = None;
-                    }
+        self.arming = self.arm(self.t, &y);
+        Ok(())
+    }
+
+    /// One accepted step towards `t_stop` (≤ `tf`), or one step cut at an event and the
+    /// switch there; a hand-over to time-stepping ends by `t_stop`.
+    pub(super) fn advance<St: Stepper, O: Observer + ?Sized>(
+        &mut self,
+        stepper: &mut St,
+        t_stop: f64,
+        observer: &mut O,
+    ) -> Result<(), ErrorKind> {
+        let mut buf = std::mem::take(&mut self.buf);
+        buf.resize(2 * N, 0.0);
+        let stepped = self.advance_with(stepper, t_stop, observer, &mut buf);
+        self.buf = buf;
+        stepped
+    }
+
+    fn advance_with<St: Stepper, O: Observer + ?Sized>(
+        &mut self,
+        stepper: &mut St,
+        t_stop: f64,
+        observer: &mut O,
+        buf: &mut [f64],
+    ) -> Result<(), ErrorKind> {
+        let tf = self.tf;
+        {
+            let sys = mode_system!(self);
+            // Approaching a fold (see `refine_fold`), the steps land short of it.
+            let t_end = self.landing.map_or(t_stop, |t| t.min(t_stop));
+            let stepped = stepper.step(&mut Eval::new(&sys, &mut self.out.stats), t_end);
+            stepped.map_err(|kind| self.explain(kind))?;
+        }
+        // Events are located on the step's extension: always needed here.
+        stepper.prepare_dense();
+        let (t1, y1) = (stepper.t(), stepper.y());
+        let mut arming = std::mem::replace(&mut self.arming, Arming::empty());
+        let located = self.scan(stepper.dense(), t1, y1, &mut arming, buf);
+        self.arming = arming;
+        match located {
+            None => {
+                if let Some(te) = self.user_events(stepper.dense(), t1, y1) {
+                    let mut cut = stepper.dense().clone();
+                    cut.truncate(te);
+                    return self.end_at(te, &cut, buf);
                 }
-                Some(event) => {
-                    if self.refine_fold(&event, stepper.dense(), &mut approach, &mut buf) {
-                        // The step straddled a fold too far from its start: taken again
-                        // from its start, landing short of the estimate, so that the next
-                        // step straddles the fold from closer by.
-                        landing = Some(self.t + FOLD_LANDING * (event.t - self.t));
-                    } else {
-                        (landing, approach) = (None, None);
-                        let mut dense = stepper.dense().clone();
-                        dense.truncate(event.t);
-                        dense.eval(event.t, &mut buf);
-                        self.transition(event.t, &buf, &event.triggered, &dense)?;
-                        if let Some(end) = self.check_accumulation(tf)? {
-                            self.hand_over(end, observer)?;
+                let (t1, y1) = (stepper.t(), stepper.y());
+                let q = SVector::from_column_slice(&y1[..N]);
+                let v = SVector::from_column_slice(&y1[N..]);
+                let keep = if t1 >= tf { Keep::Last } else { Keep::AsAsked };
+                self.push_row(
+                    t1,
+                    &q,
+                    &v,
+                    Row::Step {
+                        dense: Some(stepper.dense()),
+                        keep,
+                    },
+                )?;
+                self.t = t1;
+                self.q = q;
+                self.v = v;
+                if self.landing.is_some_and(|t| t1 >= t) {
+                    self.landing = None;
+                }
+            }
+            Some(event) => {
+                let mut approach = self.approach;
+                let refine = self.refine_fold(&event, stepper.dense(), &mut approach, buf);
+                self.approach = approach;
+                if refine {
+                    // The step straddled a fold too far from its start: taken again
+                    // from its start, landing short of the estimate, so that the next
+                    // step straddles the fold from closer by.
+                    self.landing = Some(self.t + FOLD_LANDING * (event.t - self.t));
+                } else {
+                    (self.landing, self.approach) = (None, None);
+                    let mut dense = stepper.dense().clone();
+                    dense.truncate(event.t);
+                    dense.eval(event.t, buf);
+                    if let Some(te) = self.user_events(&dense, event.t, buf) {
+                        dense.truncate(te);
+                        return self.end_at(te, &dense, buf);
+                    }
+                    self.transition(event.t, buf, &event.triggered, &dense)?;
+                    if self.user_jump() {
+                        return Ok(());
+                    }
+                    if let Some(end) = self.check_accumulation(t_stop)? {
+                        self.hand_over(end, observer)?;
+                        if self.ended.is_some() {
+                            return Ok(());
                         }
                     }
-                    y = self.state();
-                    let sys = mode_system!(self);
-                    stepper.restart(
-                        &mut Eval::new(&sys, &mut self.out.stats),
-                        self.t,
-                        &y,
-                        tf - self.t,
-                    )?;
-                    arming = self.arm(self.t, &y);
                 }
-            }
-            if observer.observe(self.t, &self.state()).is_break() {
-                return Err(ErrorKind::Cancelled { t: self.t });
+                self.restart(stepper)?;
             }
         }
+        if observer.observe(self.t, &self.state()).is_break() {
+            return Err(ErrorKind::Cancelled { t: self.t });
+        }
+        Ok(())
+    }
+
+    /// The applied forces changed at the current time (a controller's new sample):
+    /// the modes are selected again at the current state, as at a switch (a stuck
+    /// element whose holding force now passes its limit breaks away, a stop in contact
+    /// whose force would pull opens), their changes logged with a second row at this
+    /// time, and the stepper restarts.
+    pub(super) fn input_changed<St: Stepper>(&mut self, stepper: &mut St) -> Result<(), ErrorKind> {
+        let forces_before = self.last_forces.clone();
+        self.until = f64::INFINITY;
+        let (t, mut q, mut v) = (self.t, self.q, self.v);
+        let old = self.modes.clone();
+        let none = vec![None; self.elements.len()];
+        self.select_modes(t, &mut q, &mut v, &none, false)?;
+        if old != self.modes {
+            let before = self.state();
+            (self.q, self.v) = (q, v);
+            let forces_after = self.push_row(t, &q, &v, Row::Jump)?;
+            let after = self.state();
+            self.out.stats.events += 1;
+            for e in 0..self.elements.len() {
+                if old[e] != self.modes[e] {
+                    self.out.stats.mode_changes += 1;
+                    self.log(
+                        t,
+                        SwitchKind::Mode,
+                        e,
+                        old[e],
+                        forces_after[e] - forces_before[e],
+                        (&before, &after),
+                    );
+                }
+            }
+        }
+        self.restart(stepper)
+    }
+
+    /// The user events of the arc from the current point to `(t1, y1)` on `dense`,
+    /// recorded; the time of a terminal one.
+    fn user_events(&mut self, dense: &DenseStep, t1: f64, y1: &[f64]) -> Option<f64> {
+        if self.tracker.is_empty() {
+            return None;
+        }
+        let at = |t: f64| {
+            let mut y = vec![0.0; 2 * N];
+            dense.eval(t, &mut y);
+            y
+        };
+        let crossings = self.tracker.step(self.t, t1, y1, at);
+        for &(event, t) in &crossings.found {
+            self.out.events.push(EventHit {
+                event,
+                t,
+                state: at(t),
+            });
+        }
+        crossings.terminal
+    }
+
+    /// The user events crossed by the jump of the state at the switch just applied;
+    /// `true` when a terminal one ended the run there.
+    fn user_jump(&mut self) -> bool {
+        if self.tracker.is_empty() {
+            return false;
+        }
+        let state = self.state();
+        let crossings = self.tracker.jump(self.t, &state);
+        for &(event, t) in &crossings.found {
+            self.out.events.push(EventHit {
+                event,
+                t,
+                state: state.clone(),
+            });
+        }
+        self.ended = crossings.terminal;
+        self.ended.is_some()
+    }
+
+    /// The user events between two rows of time-stepping (see [`hermite_qv`]),
+    /// recorded; the time of a terminal one.
+    fn user_events_between(&mut self, a: (f64, &[f64]), b: (f64, &[f64])) -> Option<f64> {
+        if self.tracker.is_empty() {
+            return None;
+        }
+        let at = |t: f64| {
+            let mut y = vec![0.0; 2 * N];
+            hermite_qv(a, b, t, &mut y);
+            y
+        };
+        let crossings = self.tracker.step(a.0, b.0, b.1, at);
+        for &(event, t) in &crossings.found {
+            self.out.events.push(EventHit {
+                event,
+                t,
+                state: at(t),
+            });
+        }
+        crossings.terminal
+    }
+
+    /// Ends the run at a terminal user event at `te`, on the arc's extension `dense`
+    /// (cut at `te`).
+    fn end_at(&mut self, te: f64, dense: &DenseStep, buf: &mut [f64]) -> Result<(), ErrorKind> {
+        dense.eval(te, buf);
+        let q = SVector::from_column_slice(&buf[..N]);
+        let v = SVector::from_column_slice(&buf[N..2 * N]);
+        self.push_row(
+            te,
+            &q,
+            &v,
+            Row::Step {
+                dense: Some(dense),
+                keep: Keep::Last,
+            },
+        )?;
+        (self.t, self.q, self.v) = (te, q, v);
+        self.ended = Some(te);
+        Ok(())
+    }
+
+    /// The stepper started again at the current point (after a switch, or an input
+    /// that changed), and the switching functions armed anew.
+    pub(super) fn restart<St: Stepper>(&mut self, stepper: &mut St) -> Result<(), ErrorKind> {
+        let y = self.state();
+        {
+            let sys = mode_system!(self);
+            stepper.restart(
+                &mut Eval::new(&sys, &mut self.out.stats),
+                self.t,
+                &y,
+                self.tf - self.t,
+            )?;
+        }
+        self.arming = self.arm(self.t, &y);
         Ok(())
     }
 
@@ -630,7 +855,7 @@ where
         v: &SVector<f64, N>,
         row: Row<'_>,
     ) -> Result<Vec<f64>, ErrorKind> {
-        let tau = (self.input)(t, q, v);
+        let tau = self.tau(t, q, v);
         let ev = mode::evaluate(
             self.system,
             &self.elements,
@@ -668,6 +893,7 @@ where
             Row::Step { dense, keep } => self.out.push_step(t, &y, &dy, dense, keep),
             Row::Jump => self.out.push_jump(t, &y, &dy),
         }
+        self.last_forces.clone_from(&ev.f);
         Ok(ev.f)
     }
 
@@ -749,7 +975,7 @@ where
     ) {
         let q = SVector::<f64, N>::from_column_slice(&y[..N]);
         let v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
-        let tau = (self.input)(t, &q, &v);
+        let tau = self.tau(t, &q, &v);
         let ev = mode::evaluate(
             self.system,
             &self.elements,
@@ -1120,7 +1346,7 @@ where
         side: Side,
         restitution: f64,
     ) -> Option<f64> {
-        let tau = (self.input)(t, q, v);
+        let tau = self.tau(t, q, v);
         let Some(ev) = mode::evaluate(
             self.system,
             &self.elements,
@@ -1344,7 +1570,7 @@ where
                 };
             }
         }
-        let tau = (self.input)(t, q, v);
+        let tau = self.tau(t, q, v);
         self.modes = mode::select(
             self.system,
             &self.elements,
@@ -1567,23 +1793,38 @@ where
         });
         let problem = NonSmoothProblem::new(self.t, end, self.q, self.v);
         let h = (end - self.t) / HANDOVER_STEPS as f64;
-        let traj = time_stepping_observed(self.system, self.input, &problem, h, 1.0, observer)
+        let input = Capped {
+            input: &self.input,
+            until: self.until,
+        };
+        let traj = time_stepping_observed(self.system, &input, &problem, h, 1.0, observer)
             .map_err(|e| e.kind)?;
         self.out.stats.zeno_handovers += 1;
-        // Its transitions join the log between the hand-over and the hand-back.
-        self.out.switches.extend(traj.switches.iter().cloned());
         self.out.stats.steps += traj.stats.steps;
         self.out.stats.rhs_evaluations += traj.stats.rhs_evaluations;
         self.out.stats.newton_iterations += traj.stats.newton_iterations;
         for i in 1..traj.len() {
-            self.out.push_step(
-                traj.times()[i],
-                traj.state(i),
-                traj.derivative(i),
-                None,
-                Keep::AsAsked,
-            );
+            let (ta, tb) = (traj.times()[i - 1], traj.times()[i]);
+            let (ya, yb) = (&traj.state(i - 1)[..2 * N], &traj.state(i)[..2 * N]);
+            if let Some(te) = self.user_events_between((ta, ya), (tb, yb)) {
+                let mut row = vec![0.0; 2 * N];
+                hermite_qv((ta, ya), (tb, yb), te, &mut row);
+                row.extend_from_slice(&traj.state(i)[2 * N..]);
+                self.out
+                    .push_step(te, &row, traj.derivative(i), None, Keep::Last);
+                let ended = traj.switches.iter().filter(|s| s.t <= te).cloned();
+                self.out.switches.extend(ended);
+                self.t = te;
+                self.q = SVector::from_column_slice(&row[..N]);
+                self.v = SVector::from_column_slice(&row[N..2 * N]);
+                self.ended = Some(te);
+                return Ok(());
+            }
+            self.out
+                .push_step(tb, traj.state(i), traj.derivative(i), None, Keep::AsAsked);
         }
+        // Its transitions join the log between the hand-over and the hand-back.
+        self.out.switches.extend(traj.switches.iter().cloned());
         let (t, y) = traj.last().expect("time-stepping keeps the first row");
         let mut q = SVector::<f64, N>::from_column_slice(&y[..N]);
         let v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);

@@ -14,6 +14,7 @@
 //! [`NonSmooth::inverse_mass_matrix`] at their coordinates.
 
 mod event;
+mod integrator;
 mod mode;
 mod problem;
 mod solve;
@@ -22,6 +23,7 @@ pub use crate::element::{
     Element, ElementKind, Law, Mode, NonSmooth, Relation, Selection, Side, StopKind,
 };
 pub use event::event_driven;
+pub use integrator::{Integrator, NoInput};
 pub use problem::*;
 pub use solve::{solve_nonsmooth, solve_nonsmooth_with};
 pub mod law;

@@ -18,6 +18,14 @@ pub struct NonSmoothProblem<const N: usize> {
     pub forces0: Vec<Option<f64>>,
     /// Which rows the solution keeps (every step by default; event rows always).
     pub output: Output,
+    /// Times where the input may jump (a sampled controller's updates given as a
+    /// function of time): steps end exactly there, and the event-driven method selects
+    /// the modes again and restarts its smooth method, as at a
+    /// [`set_input`](super::Integrator::set_input). Increasing, inside `(t0, tf)`.
+    /// A step that ends at a stop `s` reads the input at no time later than the float
+    /// just below `s`, so a function that takes its value `u_k` on `[s_k, s_{k+1})`
+    /// acts with `u_k` over that whole interval.
+    pub tstops: Vec<f64>,
 }
 
 impl<const N: usize> NonSmoothProblem<N> {
@@ -29,12 +37,19 @@ impl<const N: usize> NonSmoothProblem<N> {
             v0,
             forces0: Vec::new(),
             output: Output::Steps,
+            tstops: Vec::new(),
         }
     }
 
     /// The same problem keeping the rows `output` says.
     pub fn with_output(mut self, output: Output) -> Self {
         self.output = output;
+        self
+    }
+
+    /// With times where the input may jump (see [`tstops`](Self::tstops)).
+    pub fn with_tstops(mut self, tstops: Vec<f64>) -> Self {
+        self.tstops = tstops;
         self
     }
 
@@ -56,6 +71,22 @@ pub enum SmoothMethod {
     /// Variable-order multistep implicit, for stiff arcs that are long between switches
     /// (it restarts at order 1 after each).
     Bdf,
+}
+
+impl SmoothMethod {
+    /// This method with `options`, as a [`Method`](crate::Method).
+    pub fn with(self, options: crate::Options) -> crate::Method {
+        match self {
+            SmoothMethod::Dopri5 => crate::Method::Dopri5(options),
+            SmoothMethod::Sdirk4 => crate::Method::Sdirk4(options),
+            SmoothMethod::Bdf => crate::Method::Bdf(options),
+        }
+    }
+
+    /// Its stepper for `dim` components.
+    pub(crate) fn stepper(self, options: crate::Options, dim: usize) -> crate::method::AnyStepper {
+        self.with(options).stepper(dim)
+    }
 }
 
 /// How to integrate a non-smooth problem.

@@ -1,14 +1,13 @@
-//! The entry points of a non-smooth run: parameters checked, then the chosen driver
+//! The entry points of a non-smooth run: the step-level [`Integrator`] run to the end
 //! (event-driven, [`super::event`], or time-stepping, [`super::timestepping`]).
 
 use nalgebra::SVector;
 
-use super::event::event_driven_observed;
-use super::timestepping::time_stepping_observed;
+use super::integrator::Integrator;
 use super::{NonSmoothMethod, NonSmoothProblem};
 use crate::element::NonSmooth;
 use crate::solve::{Observer, unobserved};
-use crate::{ErrorKind, Solution, SolveError};
+use crate::{Solution, SolveError};
 
 /// Integrates `problem` with the chosen non-smooth method.
 pub fn solve_nonsmooth<S, F, const N: usize>(
@@ -38,25 +37,11 @@ where
     F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
     O: Observer + ?Sized,
 {
-    // Parameters first: a non-positive mass or a negative critical force is reported by
-    // name before anything is integrated.
-    if let Err(e) = system.validate() {
-        return Err(SolveError::new(
-            ErrorKind::InvalidInput(e.to_string()),
-            Solution::new(
-                crate::element::column_names::<S, N>(system),
-                2 * N,
-                problem.output.clone(),
-            )
-            .with_dense_positions(Some(N)),
-        ));
-    }
-    match *method {
-        NonSmoothMethod::EventDriven { method, options } => {
-            event_driven_observed(system, input, problem, method, &options, observer)
-        }
-        NonSmoothMethod::TimeStepping { h, theta } => {
-            time_stepping_observed(system, input, problem, h, theta, observer)
+    let mut run = Integrator::start(system, input, problem, method)?;
+    while run.t() < problem.tf && run.ended().is_none() {
+        if let Err(kind) = run.step_observed(problem.tf, observer) {
+            return Err(SolveError::new(kind, run.into_solution()));
         }
     }
+    Ok(run.into_solution())
 }

@@ -66,6 +66,8 @@ use nalgebra::{DMatrix, SMatrix, SVector};
 use super::NonSmoothProblem;
 use super::law::{Graph, LawError, Line, Mode, StepState, position_weight};
 use crate::element::{self, ElementKind, NonSmooth, StopKind};
+use crate::events::{EventHit, Tracker, hermite_qv};
+use crate::input::Input;
 use crate::solve::{Observer, unobserved};
 use crate::{ErrorKind, Keep, Solution, SolveError, Switch, SwitchKind};
 
@@ -110,9 +112,9 @@ where
 }
 
 /// [`time_stepping`] with an [`Observer`] called after every step.
-pub(crate) fn time_stepping_observed<S, F, O, const N: usize>(
+pub(crate) fn time_stepping_observed<S, I, O, const N: usize>(
     system: &S,
-    input: &F,
+    input: &I,
     problem: &NonSmoothProblem<N>,
     h: f64,
     theta: f64,
@@ -120,88 +122,171 @@ pub(crate) fn time_stepping_observed<S, F, O, const N: usize>(
 ) -> Result<Solution, SolveError>
 where
     S: NonSmooth<N>,
-    F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
+    I: Input<N> + ?Sized,
     O: Observer + ?Sized,
 {
-    let ne = S::ELEMENTS;
-    let names = crate::element::column_names::<S, N>(system);
-    let mut traj = Solution::new(names, 2 * N, problem.output.clone());
-    let invalid = |traj: Solution, msg: String| SolveError::new(ErrorKind::InvalidInput(msg), traj);
-    let graphs = match validate(system, problem, h, theta) {
-        Ok(graphs) => graphs,
-        Err(msg) => return Err(invalid(traj, msg)),
-    };
-    for g in &graphs {
-        let el = &g.element;
-        if let Err(msg) = super::mode::check_not_penetrating(el, problem.q0[el.coordinate]) {
-            return Err(SolveError::new(
-                ErrorKind::InconsistentInitialData(msg),
-                traj,
-            ));
+    let mut run = TimeSteps::new(system, problem, h, theta)?;
+    while run.t < problem.tf {
+        if let Err(kind) = run.step(system, input, problem.tf) {
+            return Err(SolveError::new(kind, run.traj));
+        }
+        if observer.observe(run.t, run.state()).is_break() {
+            let t = run.t;
+            return Err(SolveError::new(ErrorKind::Cancelled { t }, run.traj));
         }
     }
-    let coord: Vec<usize> = graphs.iter().map(|g| g.element.coordinate).collect();
-    let (mut q, mut v) = (problem.q0, problem.v0);
-    let mut f = match initial_forces(system, problem, &graphs) {
-        Ok(f) => f,
-        Err(msg) => return Err(invalid(traj, msg)),
-    };
-    let row = |q: &SVector<f64, N>, v: &SVector<f64, N>, f: &[f64]| -> Vec<f64> {
-        q.iter().chain(v.iter()).chain(f.iter()).copied().collect()
-    };
-    let mut dy0 = vec![0.0; 2 * N + ne];
-    dy0[..N].copy_from_slice(v.as_slice());
-    traj.push_start(problem.t0, &row(&q, &v, &f), &dy0);
+    Ok(run.traj)
+}
 
-    let span = problem.tf - problem.t0;
-    // Steps of size h, the last one shortened; a remainder below 1e-9 h is dropped.
-    let steps = ((span / h) - 1e-9).ceil().max(0.0) as usize;
-    // Each coordinate's weight of v_{n+1} in its position update: θ_q = max(θ, 1 − θ),
-    // and 1 where a rigid stop acts (Moreau's velocity-level impact law comes to rest
-    // only with positions advanced by the new velocity; with θ_q = ½ a ball resting on a
-    // floor under gravity bounces in a 3-step cycle for ever).
-    let theta_q = SVector::<f64, N>::from_fn(|c, _| {
-        if graphs
-            .iter()
-            .any(|g| g.element.coordinate == c && is_rigid(g))
-        {
-            1.0
-        } else {
-            position_weight(theta)
-        }
-    });
-    let mut point_v = vec![0.0; ne];
-    let mut exact = vec![false; ne];
-    // Each element's mode in the last step (its graph point), for the switch log.
-    let mut modes: Vec<Option<element::Mode>> = vec![None; ne];
-    let mut point_mode = vec![Mode::Open; ne];
-    let mut t = problem.t0;
-    for n in 0..steps {
-        let t_next = if n + 1 == steps {
-            problem.tf
-        } else {
-            problem.t0 + (n + 1) as f64 * h
+/// One time-stepping run in progress: the state after the last step, the elements'
+/// graphs and the trajectory so far. Steps lie on the grid `anchor + k h`; a step asked
+/// to end short of its grid point (at a time a caller stops at) ends there, and the grid
+/// starts again from it.
+pub(crate) struct TimeSteps<'a, const N: usize> {
+    pub(crate) traj: Solution,
+    graphs: Vec<Graph>,
+    coord: Vec<usize>,
+    /// Each coordinate's weight of `v_{n+1}` in its position update (see `new`).
+    theta_q: SVector<f64, N>,
+    theta: f64,
+    h: f64,
+    tf: f64,
+    pub(crate) t: f64,
+    q: SVector<f64, N>,
+    v: SVector<f64, N>,
+    f: Vec<f64>,
+    /// The grid: the time it starts at and the steps taken on it.
+    anchor: f64,
+    taken: usize,
+    point_v: Vec<f64>,
+    exact: Vec<bool>,
+    /// Each element's mode in the last step (its graph point), for the switch log.
+    modes: Vec<Option<element::Mode>>,
+    point_mode: Vec<Mode>,
+    /// `[q; v]` after the last step.
+    y: Vec<f64>,
+    /// The input is read at `min(t + θh, until)` (see the event driver's `until`).
+    pub(crate) until: f64,
+    /// The user events (none unless the integrator was given some).
+    pub(crate) tracker: Tracker<'a, 'a, [f64]>,
+    /// The time a terminal user event ended the run at.
+    pub(crate) ended: Option<f64>,
+}
+
+impl<const N: usize> TimeSteps<'_, N> {
+    /// Checks the problem and the elements and writes the first row.
+    pub(crate) fn new<S: NonSmooth<N>>(
+        system: &S,
+        problem: &NonSmoothProblem<N>,
+        h: f64,
+        theta: f64,
+    ) -> Result<Self, SolveError> {
+        let ne = S::ELEMENTS;
+        let names = crate::element::column_names::<S, N>(system);
+        let mut traj = Solution::new(names, 2 * N, problem.output.clone());
+        let invalid =
+            |traj: Solution, msg: String| SolveError::new(ErrorKind::InvalidInput(msg), traj);
+        let graphs = match validate(system, problem, h, theta) {
+            Ok(graphs) => graphs,
+            Err(msg) => return Err(invalid(traj, msg)),
         };
+        for g in &graphs {
+            let el = &g.element;
+            if let Err(msg) = super::mode::check_not_penetrating(el, problem.q0[el.coordinate]) {
+                return Err(SolveError::new(
+                    ErrorKind::InconsistentInitialData(msg),
+                    traj,
+                ));
+            }
+        }
+        let coord: Vec<usize> = graphs.iter().map(|g| g.element.coordinate).collect();
+        let (q, v) = (problem.q0, problem.v0);
+        let f = match initial_forces(system, problem, &graphs) {
+            Ok(f) => f,
+            Err(msg) => return Err(invalid(traj, msg)),
+        };
+        let mut dy0 = vec![0.0; 2 * N + ne];
+        dy0[..N].copy_from_slice(v.as_slice());
+        traj.push_start(problem.t0, &row(&q, &v, &f), &dy0);
+        // Each coordinate's weight of v_{n+1} in its position update: θ_q = max(θ, 1 − θ),
+        // and 1 where a rigid stop acts (Moreau's velocity-level impact law comes to rest
+        // only with positions advanced by the new velocity; with θ_q = ½ a ball resting on a
+        // floor under gravity bounces in a 3-step cycle for ever).
+        let theta_q = SVector::<f64, N>::from_fn(|c, _| {
+            if graphs
+                .iter()
+                .any(|g| g.element.coordinate == c && is_rigid(g))
+            {
+                1.0
+            } else {
+                position_weight(theta)
+            }
+        });
+        let y = q.iter().chain(v.iter()).copied().collect();
+        Ok(TimeSteps {
+            traj,
+            graphs,
+            coord,
+            theta_q,
+            theta,
+            h,
+            tf: problem.tf,
+            t: problem.t0,
+            q,
+            v,
+            f,
+            anchor: problem.t0,
+            taken: 0,
+            point_v: vec![0.0; ne],
+            exact: vec![false; ne],
+            modes: vec![None; ne],
+            point_mode: vec![Mode::Open; ne],
+            y,
+            until: f64::INFINITY,
+            tracker: Tracker::none(),
+            ended: None,
+        })
+    }
+
+    /// `[q; v]` after the last step.
+    pub(crate) fn state(&self) -> &[f64] {
+        &self.y
+    }
+
+    /// One step towards `target` (≤ `tf`): to the next grid point, or to `target` when
+    /// that is nearer (a remainder below 1e-9 h is taken with the last step).
+    pub(crate) fn step<S, I>(&mut self, system: &S, input: &I, target: f64) -> Result<(), ErrorKind>
+    where
+        S: NonSmooth<N>,
+        I: Input<N> + ?Sized,
+    {
+        let (h, theta, ne) = (self.h, self.theta, S::ELEMENTS);
+        let steps_to_target = (((target - self.anchor) / h) - 1e-9).ceil().max(0.0) as usize;
+        let t_next = if self.taken + 1 >= steps_to_target {
+            target
+        } else {
+            self.anchor + (self.taken + 1) as f64 * h
+        };
+        let (t, q, v) = (self.t, self.q, self.v);
+        let (coord, theta_q, graphs) = (&self.coord, &self.theta_q, &self.graphs);
+        let f = &mut self.f;
+        let traj = &mut self.traj;
         let hn = t_next - t;
-        let fail = |traj: Solution, kind: ErrorKind| Err(SolveError::new(kind, traj));
 
         // Smooth prediction at q_θ, linearly implicit: with A_q = ∂a/∂q, A_v = ∂a/∂v
         // (the generated Jacobian, τ held fixed) and G = (I − θh A_v − θh² A_q diag(θ_q))⁻¹,
         // Δv = G h a_free − h G M⁻¹ Σ f_e e_c.
         let q_theta = q + theta * hn * v;
-        let tau = input(t + theta * hn, &q_theta, &v);
+        let tau = input.forces((t + theta * hn).min(self.until), &q_theta, &v);
         let jac = system.forward_dynamics_jacobian(&q_theta, &v, &tau);
         let a_free = jac.acceleration;
         traj.stats.rhs_evaluations += 1;
         traj.stats.jacobian_evaluations += 1;
         if let Some(i) = a_free.iter().position(|x| !x.is_finite()) {
-            return fail(
-                traj,
-                ErrorKind::NonFinite {
-                    t: t_next,
-                    component: N + i,
-                },
-            );
+            return Err(ErrorKind::NonFinite {
+                t: t_next,
+                component: N + i,
+            });
         }
         let g = if theta > 0.0 {
             let mut d_dq = jac.d_dq;
@@ -214,7 +299,7 @@ where
             match lhs.try_inverse() {
                 Some(g) => g,
                 None => {
-                    return fail(traj, ErrorKind::NewtonDivergence { t: t_next });
+                    return Err(ErrorKind::NewtonDivergence { t: t_next });
                 }
             }
         } else {
@@ -226,20 +311,17 @@ where
         let minv = g * system.inverse_mass_matrix(&q_theta);
         let w = DMatrix::from_fn(ne, ne, |a, b| minv[(coord[a], coord[b])]);
         if let Some(i) = w.iter().position(|x| !x.is_finite()) {
-            return fail(
-                traj,
-                ErrorKind::NonFinite {
-                    t: t_next,
-                    component: 2 * N + i % ne.max(1),
-                },
-            );
+            return Err(ErrorKind::NonFinite {
+                t: t_next,
+                component: 2 * N + i % ne.max(1),
+            });
         }
         let f_prev = f.clone();
         let mut converged = ne == 0;
         let mut sweeps = 0;
         while !converged {
             if sweeps == MAX_SWEEPS {
-                return fail(traj, ErrorKind::NewtonDivergence { t: t_next });
+                return Err(ErrorKind::NewtonDivergence { t: t_next });
             }
             sweeps += 1;
             let f_start = f.clone();
@@ -260,16 +342,13 @@ where
                 let p = match graphs[e].on_line(system, line, &state) {
                     Ok(p) => p,
                     Err(LawError::NoConvergence) => {
-                        return fail(traj, ErrorKind::NewtonDivergence { t: t_next });
+                        return Err(ErrorKind::NewtonDivergence { t: t_next });
                     }
                     Err(_) => {
-                        return fail(
-                            traj,
-                            ErrorKind::NonFinite {
-                                t: t_next,
-                                component: 2 * N + e,
-                            },
-                        );
+                        return Err(ErrorKind::NonFinite {
+                            t: t_next,
+                            component: 2 * N + e,
+                        });
                     }
                 };
                 // The size of the terms the line is computed from, for the test below.
@@ -278,9 +357,9 @@ where
                     v_free[coord[e]].abs() + (hn * coupling).abs() + v[coord[e]].abs(),
                 );
                 f[e] = p.f;
-                point_v[e] = p.v;
-                point_mode[e] = p.mode;
-                exact[e] = matches!(p.mode, Mode::Stick | Mode::Plateau)
+                self.point_v[e] = p.v;
+                self.point_mode[e] = p.mode;
+                self.exact[e] = matches!(p.mode, Mode::Stick | Mode::Plateau)
                     || (p.mode == Mode::Contact && is_rigid(&graphs[e]));
             }
             // Converged when the force on every coordinate has stopped changing: the
@@ -320,22 +399,19 @@ where
         // (stuck, on a plateau, against a rigid stop) by the velocity it is held at.
         let mut q_next = q + hn * (v + theta_q.component_mul(&(v_new - v)));
         for e in 0..ne {
-            if exact[e] {
+            if self.exact[e] {
                 let c = coord[e];
-                v_next[c] = point_v[e];
-                q_next[c] = q[c] + hn * point_v[e];
+                v_next[c] = self.point_v[e];
+                q_next[c] = q[c] + hn * self.point_v[e];
             }
         }
 
-        let y = row(&q_next, &v_next, &f);
+        let y = row(&q_next, &v_next, f);
         if let Some(i) = y.iter().position(|x| !x.is_finite()) {
-            return fail(
-                traj,
-                ErrorKind::NonFinite {
-                    t: t_next,
-                    component: i,
-                },
-            );
+            return Err(ErrorKind::NonFinite {
+                t: t_next,
+                component: i,
+            });
         }
         let dy: Vec<f64> = (q_next - q)
             .iter()
@@ -343,7 +419,36 @@ where
             .chain((v_next - v).iter().map(|dv| dv / hn))
             .chain(f.iter().zip(&f_prev).map(|(a, b)| (a - b) / hn))
             .collect();
-        let keep = if n + 1 == steps {
+        if !self.tracker.is_empty() {
+            let (a, b) = ((t, &self.y[..]), (t_next, &y[..2 * N]));
+            let at = |s: f64| {
+                let mut z = vec![0.0; 2 * N];
+                hermite_qv(a, b, s, &mut z);
+                z
+            };
+            let crossings = self.tracker.step(t, t_next, &y[..2 * N], at);
+            for &(event, te) in &crossings.found {
+                traj.events.push(EventHit {
+                    event,
+                    t: te,
+                    state: at(te),
+                });
+            }
+            if let Some(te) = crossings.terminal {
+                // The run ends inside the step: its state there, the step's forces.
+                let mut row_e = at(te);
+                row_e.extend_from_slice(f);
+                traj.push_step(te, &row_e, &dy, None, Keep::Last);
+                self.q = SVector::from_column_slice(&row_e[..N]);
+                self.v = SVector::from_column_slice(&row_e[N..2 * N]);
+                self.t = te;
+                self.y.clear();
+                self.y.extend_from_slice(&row_e[..2 * N]);
+                self.ended = Some(te);
+                return Ok(());
+            }
+        }
+        let keep = if t_next == self.tf {
             Keep::Last
         } else {
             Keep::AsAsked
@@ -351,20 +456,29 @@ where
         traj.push_step(t_next, &y, &dy, None, keep);
         traj.stats.steps += 1;
         log_transitions(
-            &mut traj,
-            &graphs,
-            &mut modes,
-            (&point_mode, &f, &f_prev),
+            traj,
+            graphs,
+            &mut self.modes,
+            (&self.point_mode, f, &f_prev),
             t_next,
             hn,
             (q.as_slice(), v.as_slice(), &y[..2 * N]),
         );
-        (q, v, t) = (q_next, v_next, t_next);
-        if observer.observe(t, &y[..2 * N]).is_break() {
-            return fail(traj, ErrorKind::Cancelled { t });
+        if t_next == self.anchor + (self.taken + 1) as f64 * h {
+            self.taken += 1;
+        } else {
+            (self.anchor, self.taken) = (t_next, 0);
         }
+        (self.q, self.v, self.t) = (q_next, v_next, t_next);
+        self.y.clear();
+        self.y.extend_from_slice(&y[..2 * N]);
+        Ok(())
     }
-    Ok(traj)
+}
+
+/// `[q; v; f]`, a row of the trajectory.
+fn row<const N: usize>(q: &SVector<f64, N>, v: &SVector<f64, N>, f: &[f64]) -> Vec<f64> {
+    q.iter().chain(v.iter()).chain(f.iter()).copied().collect()
 }
 
 /// The switch log of time-stepping: each element's mode after the step, read from its

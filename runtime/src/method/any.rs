@@ -1,0 +1,92 @@
+//! A stepper of any [`Method`], chosen at run time: for drivers that keep one stepper
+//! in a struct across calls (the step-level [`Integrator`](crate::nonsmooth::Integrator)),
+//! where [`with_stepper!`](super::with_stepper) cannot monomorphise the caller. Each call
+//! is one `match`, outside the method's stage loops.
+
+use super::{Bdf, Dopri5, Method, Rk4, Sdirk4};
+use super::{BdfStepper, Dopri5Stepper, Rk4Stepper, Sdirk4Stepper, StepState, Stepper};
+use crate::method::stepper::{DenseStep, Eval};
+use crate::{ErrorKind, OdeSystem};
+
+/// The stepper of one of the [`Method`]s.
+#[derive(Debug)]
+pub enum AnyStepper {
+    Rk4(Rk4Stepper),
+    Dopri5(Dopri5Stepper),
+    Sdirk4(Sdirk4Stepper),
+    Bdf(BdfStepper),
+}
+
+impl Method {
+    /// A stepper of this method for `dim` components.
+    pub fn stepper(&self, dim: usize) -> AnyStepper {
+        match *self {
+            Method::Rk4 { h } => AnyStepper::Rk4(Rk4::new(h).stepper(dim)),
+            Method::Dopri5(o) => AnyStepper::Dopri5(Dopri5::new(o).stepper(dim)),
+            Method::Sdirk4(o) => AnyStepper::Sdirk4(Sdirk4::new(o).stepper(dim)),
+            Method::Bdf(o) => AnyStepper::Bdf(Bdf::new(o).stepper(dim)),
+        }
+    }
+}
+
+/// `$body` with `$s` bound to the inner stepper.
+macro_rules! each {
+    ($self:expr, |$s:ident| $body:expr) => {
+        match $self {
+            AnyStepper::Rk4($s) => $body,
+            AnyStepper::Dopri5($s) => $body,
+            AnyStepper::Sdirk4($s) => $body,
+            AnyStepper::Bdf($s) => $body,
+        }
+    };
+}
+
+impl Stepper for AnyStepper {
+    fn name(&self) -> &'static str {
+        each!(self, |s| s.name())
+    }
+
+    fn state(&self) -> &StepState {
+        each!(self, |s| s.state())
+    }
+
+    fn start<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+        span: f64,
+    ) -> Result<(), ErrorKind> {
+        each!(self, |s| s.start(ev, t, y, span))
+    }
+
+    fn step<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t_end: f64,
+    ) -> Result<(), ErrorKind> {
+        each!(self, |s| s.step(ev, t_end))
+    }
+
+    fn restart<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        t: f64,
+        y: &[f64],
+        span: f64,
+    ) -> Result<(), ErrorKind> {
+        each!(self, |s| s.restart(ev, t, y, span))
+    }
+
+    fn options(&self) -> crate::Options {
+        each!(self, |s| s.options())
+    }
+
+    fn prepare_dense(&mut self) {
+        each!(self, |s| s.prepare_dense())
+    }
+
+    fn dense(&self) -> &DenseStep {
+        each!(self, |s| s.dense())
+    }
+}

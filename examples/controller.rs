@@ -13,7 +13,7 @@ use std::path::Path;
 
 use filippov::prelude::*;
 use filippov::runtime::nonsmooth::Integrator;
-use filippov::runtime::{NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod};
+use filippov::runtime::{Method, NonSmoothMethod, NonSmoothProblem, Options};
 use plotters::prelude::*;
 
 #[derive(Mechanism)]
@@ -48,10 +48,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Hanging at rest (φ = −π/2), the cart at the middle of the rail.
     let q0 = SVector::<f64, 2>::new(0.0, -std::f64::consts::FRAC_PI_2);
     let problem = NonSmoothProblem::new(0.0, 4.0, q0, SVector::zeros());
-    let method = NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Dopri5,
-        options: Options::tolerances(1e-9, 1e-11),
-    };
+    let method = NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(1e-9, 1e-11)));
     let mut run = Integrator::held(&scene, &problem, &method)?;
 
     // The controller: PD on the cart's position towards a set-point that steps from

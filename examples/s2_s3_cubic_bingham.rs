@@ -13,7 +13,7 @@ mod support;
 
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
-    NonSmooth, NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, solve_nonsmooth,
+    Method, NonSmooth, NonSmoothMethod, NonSmoothProblem, Options, solve_nonsmooth,
 };
 use filippov_scenes::CubicBingham;
 
@@ -27,26 +27,16 @@ fn scene(
     force: impl Fn(f64) -> f64,
 ) {
     let input = |t: f64, _q: &V1, _v: &V1| SVector::from([force(t)]);
-    let ed = |method, rtol: f64| NonSmoothMethod::EventDriven {
-        method,
-        options: Options::tolerances(rtol, rtol * 1e-2),
+    let ed = |method: fn(Options) -> Method, rtol: f64| {
+        NonSmoothMethod::EventDriven(method(Options::tolerances(rtol, rtol * 1e-2)))
     };
     let run =
         |label: &str, m: &NonSmoothMethod| ns::report(label, solve_nonsmooth(s, &input, p, m));
     let ts = |h: f64| NonSmoothMethod::TimeStepping { h, theta: 1.0 };
     println!("{title}");
-    let tight = run(
-        "event-driven DOPRI5 (1e-12)",
-        &ed(SmoothMethod::Dopri5, 1e-12),
-    );
-    let dopri = run(
-        "event-driven DOPRI5 (1e-8)",
-        &ed(SmoothMethod::Dopri5, 1e-8),
-    );
-    let sdirk = run(
-        "event-driven SDIRK4 (1e-8)",
-        &ed(SmoothMethod::Sdirk4, 1e-8),
-    );
+    let tight = run("event-driven DOPRI5 (1e-12)", &ed(Method::Dopri5, 1e-12));
+    let dopri = run("event-driven DOPRI5 (1e-8)", &ed(Method::Dopri5, 1e-8));
+    let sdirk = run("event-driven SDIRK4 (1e-8)", &ed(Method::Sdirk4, 1e-8));
     let ts3 = run("time-stepping h = 1e-3, θ = 1", &ts(1e-3));
     let ts4 = run("time-stepping h = 1e-4, θ = 1", &ts(1e-4));
     // The tight event-driven run is the reference; if event-driven fails, say so and

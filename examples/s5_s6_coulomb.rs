@@ -15,7 +15,7 @@ use std::f64::consts::PI;
 
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
-    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, solve_nonsmooth,
+    Method, NonSmoothMethod, NonSmoothProblem, Options, Solution, solve_nonsmooth,
 };
 use filippov_scenes::CoulombOscillator;
 
@@ -30,10 +30,7 @@ fn runs(
     tight: bool,
 ) -> [Option<Solution>; 3] {
     let input = |t: f64, _q: &V1, _v: &V1| SVector::from([force(t)]);
-    let tight_m = NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Dopri5,
-        options: Options::tolerances(1e-12, 1e-14),
-    };
+    let tight_m = NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(1e-12, 1e-14)));
     let ts = NonSmoothMethod::TimeStepping { h: H, theta: 1.0 };
     [
         ns::report(

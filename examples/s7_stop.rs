@@ -14,9 +14,7 @@ mod support;
 use std::f64::consts::PI;
 
 use filippov::nalgebra::SVector;
-use filippov::runtime::{
-    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, solve_nonsmooth,
-};
+use filippov::runtime::{Method, NonSmoothMethod, NonSmoothProblem, Options, solve_nonsmooth};
 use filippov_scenes::{BilinearOscillator, SupportedStop};
 use support::{Scale, Series, line_plot, plot_path};
 
@@ -133,10 +131,7 @@ fn main() {
         ),
         (
             "event-driven DOPRI5 (1e-12)",
-            NonSmoothMethod::EventDriven {
-                method: SmoothMethod::Dopri5,
-                options: Options::tolerances(1e-12, 1e-14),
-            },
+            NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(1e-12, 1e-14))),
         ),
         (
             "time-stepping h = 1e-3, θ = 1",

@@ -15,7 +15,7 @@ mod support;
 use std::time::Instant;
 
 use filippov::prelude::*;
-use filippov::runtime::{NonSmoothMethod, Options, SmoothMethod};
+use filippov::runtime::{Method, NonSmoothMethod, Options};
 use filippov_scenes::PandaS9;
 use s9::{V7, s9_balance, s9_run, s9_torque};
 use support::{Series, plot_over_time, time_series};
@@ -42,10 +42,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     let mut last = None;
     for rtol in [1e-6, 1e-8, 1e-10] {
-        let method = NonSmoothMethod::EventDriven {
-            method: SmoothMethod::Dopri5,
-            options: Options::tolerances(rtol, rtol * 1e-2),
-        };
+        let method =
+            NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(rtol, rtol * 1e-2)));
         let start = Instant::now();
         let traj = s9_run(&arm, t_end, &method)?;
         let ms = start.elapsed().as_secs_f64() * 1e3;

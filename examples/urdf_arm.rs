@@ -35,10 +35,9 @@ fn main() {
             theta: 1.0,
         },
         Some(arg) => match arg.parse::<f64>() {
-            Ok(rtol) => NonSmoothMethod::EventDriven {
-                method: filippov::runtime::SmoothMethod::Dopri5,
-                options: filippov::runtime::Options::tolerances(rtol, 1e-3 * rtol),
-            },
+            Ok(rtol) => NonSmoothMethod::EventDriven(filippov::runtime::Method::Dopri5(
+                filippov::runtime::Options::tolerances(rtol, 1e-3 * rtol),
+            )),
             Err(_) => NonSmoothMethod::default(),
         },
         _ => NonSmoothMethod::default(),

@@ -11,7 +11,7 @@
 use filippov::prelude::*;
 use filippov::runtime::nonsmooth::Integrator;
 use filippov::runtime::{
-    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, solve_nonsmooth,
+    Method, NonSmoothMethod, NonSmoothProblem, Options, Solution, solve_nonsmooth,
 };
 
 #[derive(Mechanism)]
@@ -62,10 +62,7 @@ impl Rng {
 }
 
 fn method() -> NonSmoothMethod {
-    NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Dopri5,
-        options: Options::tolerances(RTOL, ATOL),
-    }
+    NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(RTOL, ATOL)))
 }
 
 /// The largest difference of `[q; v]` at `times`, each component in units of the
@@ -143,10 +140,10 @@ fn a_sampled_controller_equals_one_run_with_its_forces_as_a_function() {
         let d = distance(&driven, &batch, &times);
         // Independent of the restarts: the same function without stops, its jumps
         // found by the step-size control alone, at a thousandth of the tolerance.
-        let tight = NonSmoothMethod::EventDriven {
-            method: SmoothMethod::Dopri5,
-            options: Options::tolerances(1e-3 * RTOL, 1e-3 * ATOL),
-        };
+        let tight = NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(
+            1e-3 * RTOL,
+            1e-3 * ATOL,
+        )));
         let unstopped = NonSmoothProblem {
             tstops: Vec::new(),
             ..problem.clone()
@@ -196,10 +193,10 @@ fn a_held_force_breaks_away_and_sticks_at_its_samples() {
             t = next;
         }
         let driven = run.into_solution();
-        let tight = NonSmoothMethod::EventDriven {
-            method: SmoothMethod::Dopri5,
-            options: Options::tolerances(1e-3 * RTOL, 1e-3 * ATOL),
-        };
+        let tight = NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(
+            1e-3 * RTOL,
+            1e-3 * ATOL,
+        )));
         let reference = solve_nonsmooth(&SCENE, &zero_order_hold(&held), &problem, &tight).unwrap();
         let d = distance(&driven, &reference, &times);
         let kinds: Vec<_> = driven

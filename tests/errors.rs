@@ -6,7 +6,7 @@ use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
     ErrorKind, MechanicalSystem, Method, NonSmoothMethod, NonSmoothProblem, Options, Problem,
-    SmoothMethod, solve, solve_nonsmooth,
+    solve, solve_nonsmooth,
 };
 use filippov_scenes::{BouncingBall, CoulombOscillator, DoublePendulum};
 
@@ -228,10 +228,7 @@ struct DoubleFriction {
 #[test]
 fn non_unique_stuck_forces_are_an_ill_posed_mode() {
     let s = DoubleFriction { m: 1.0 };
-    let method = NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Dopri5,
-        options: Options::default(),
-    };
+    let method = NonSmoothMethod::EventDriven(Method::Dopri5(Options::default()));
     let none = |_t: f64, _q: &V1, _v: &V1| V1::zeros();
     // At rest from the start: no initial mode with unique forces.
     let problem = NonSmoothProblem::new(0.0, 2.0, V1::new(0.1), V1::new(0.0));
@@ -342,13 +339,10 @@ fn an_element_that_keeps_switching_is_named() {
     };
     let shake = |t: f64, _q: &V1, _v: &V1| V1::new(0.2 * (1e5 * t).sin());
     let p = NonSmoothProblem::new(0.0, 1.0, V1::new(0.0), V1::new(0.0));
-    let method = NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Dopri5,
-        options: Options {
-            max_steps: 2000,
-            ..Options::tolerances(1e-8, 1e-10)
-        },
-    };
+    let method = NonSmoothMethod::EventDriven(Method::Dopri5(Options {
+        max_steps: 2000,
+        ..Options::tolerances(1e-8, 1e-10)
+    }));
     let err = solve_nonsmooth(&s, &shake, &p, &method).expect_err("budget");
     match &err.kind {
         ErrorKind::KeepsSwitching { element, cycle, .. } => {

@@ -9,7 +9,7 @@ use filippov::prelude::*;
 use filippov::runtime::nonsmooth::Integrator;
 use filippov::runtime::{
     Event, EventDirection, FnSystem, Method, Mode, NonSmoothMethod, NonSmoothProblem, Options,
-    Problem, SmoothMethod, solve_with_events,
+    Problem, solve_with_events,
 };
 
 const RTOL: f64 = 1e-10;
@@ -39,10 +39,7 @@ struct Bouncer {
 }
 
 fn event_driven() -> NonSmoothMethod {
-    NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Dopri5,
-        options: Options::tolerances(RTOL, ATOL),
-    }
+    NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(RTOL, ATOL)))
 }
 
 fn assert_times(what: &str, got: &[f64], expected: &[f64]) {

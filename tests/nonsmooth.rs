@@ -4,7 +4,7 @@
 use filippov::nalgebra::SVector;
 use filippov::runtime::nonsmooth::event_driven;
 use filippov::runtime::{
-    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, solve_nonsmooth,
+    Method, NonSmoothMethod, NonSmoothProblem, Options, Solution, solve_nonsmooth,
 };
 use filippov_scenes::{
     BilinearOscillator, BinghamBlock, BinghamOscillator, CoulombOscillator, FrictionChain,
@@ -21,10 +21,7 @@ fn unforced<const N: usize>(
 }
 
 fn tight() -> NonSmoothMethod {
-    NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Dopri5,
-        options: Options::tolerances(1e-12, 1e-14),
-    }
+    NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(1e-12, 1e-14)))
 }
 
 /// Moreau time-stepping with step `h`, θ = 1.
@@ -170,8 +167,7 @@ fn bingham_block_under_constant_force() {
             &s,
             &input,
             &p,
-            SmoothMethod::Dopri5,
-            &Options::tolerances(1e-11, 1e-13),
+            &Method::Dopri5(Options::tolerances(1e-11, 1e-13)),
         )
         .expect("integrates");
         for i in 0..traj.len() {
@@ -346,16 +342,8 @@ fn s5_energy_balance_and_dissipation_sign() {
 #[test]
 fn s5_switch_times_are_the_closed_forms() {
     s5_switch_times(&[
-        (
-            SmoothMethod::Dopri5,
-            &[1e-4, 1e-6, 1e-8, 1e-10, 1e-12][..],
-            100.0,
-        ),
-        (
-            SmoothMethod::Sdirk4,
-            &[1e-4, 1e-6, 1e-8, 1e-10, 1e-12][..],
-            100.0,
-        ),
+        (Method::Dopri5, &[1e-4, 1e-6, 1e-8, 1e-10, 1e-12][..], 100.0),
+        (Method::Sdirk4, &[1e-4, 1e-6, 1e-8, 1e-10, 1e-12][..], 100.0),
     ]);
 }
 
@@ -366,12 +354,12 @@ fn s5_switch_times_are_the_closed_forms() {
 /// 1e-4…1e-8; guarded at 300·rtol so that a change which makes it markedly worse fails.
 #[test]
 fn regression_guard_s5_bdf_switch_times() {
-    s5_switch_times(&[(SmoothMethod::Bdf, &[1e-4, 1e-6, 1e-8][..], 300.0)]);
+    s5_switch_times(&[(Method::Bdf, &[1e-4, 1e-6, 1e-8][..], 300.0)]);
 }
 
 /// S5 under each `(method, tolerances, bound in units of rtol)`: the closed form's modes
 /// in order, each switch within the bound.
-fn s5_switch_times(runs: &[(SmoothMethod, &[f64], f64)]) {
+fn s5_switch_times(runs: &[(fn(Options) -> Method, &[f64], f64)]) {
     use filippov::runtime::nonsmooth::Mode;
     let (fc, tf) = (0.5, 30.0);
     let load = |t: f64| 1.2 * (0.5 * t).sin();
@@ -386,10 +374,7 @@ fn s5_switch_times(runs: &[(SmoothMethod, &[f64], f64)]) {
         NonSmoothProblem::new(0.0, tf, V1::new(0.25), V1::new(0.0)).with_forces(vec![Some(-0.25)]);
     for &(method, tolerances, bound) in runs {
         for &rtol in tolerances {
-            let run = NonSmoothMethod::EventDriven {
-                method,
-                options: Options::tolerances(rtol, 1e-2 * rtol),
-            };
+            let run = NonSmoothMethod::EventDriven(method(Options::tolerances(rtol, 1e-2 * rtol)));
             let sol = solve_nonsmooth(&s, &|t, _q: &V1, _v: &V1| V1::new(load(t)), &p, &run)
                 .unwrap_or_else(|e| panic!("{method:?} at rtol {rtol:e}: {e}"));
             let modes: Vec<Option<Mode>> = sol.switches.iter().map(|w| w.to).collect();
@@ -683,8 +668,8 @@ fn s4_non_monotone_default_event_driven_and_time_stepping_agree() {
 fn s4_switch_sequence_is_the_references_at_every_tolerance() {
     let tolerances = [1e-3, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12];
     s4_switch_sequence(&[
-        (SmoothMethod::Dopri5, &tolerances, 100.0),
-        (SmoothMethod::Sdirk4, &tolerances, 100.0),
+        (Method::Dopri5, &tolerances, 100.0),
+        (Method::Sdirk4, &tolerances, 100.0),
     ]);
 }
 
@@ -696,29 +681,23 @@ fn s4_switch_sequence_is_the_references_at_every_tolerance() {
 /// 1e-12), a limitation the README states.
 #[test]
 fn regression_guard_s4_bdf_switch_times() {
-    s4_switch_sequence(&[(SmoothMethod::Bdf, &[1e-3, 1e-4, 1e-6, 1e-8], 300.0)]);
+    s4_switch_sequence(&[(Method::Bdf, &[1e-3, 1e-4, 1e-6, 1e-8], 300.0)]);
 }
 
 /// S4 (both approaches) under each `(method, tolerances, bound in units of rtol)`
 /// against references by two other methods at rtol 1e-13.
-fn s4_switch_sequence(runs: &[(SmoothMethod, &[f64], f64)]) {
+fn s4_switch_sequence(runs: &[(fn(Options) -> Method, &[f64], f64)]) {
     use filippov::runtime::{NonSmooth, Options, Solution};
     use filippov_scenes::{NonMonotoneMaxDissipation, NonMonotoneNoJumps};
-    fn check<S: NonSmooth<1>>(name: &str, s: &S, runs: &[(SmoothMethod, &[f64], f64)]) {
+    fn check<S: NonSmooth<1>>(name: &str, s: &S, runs: &[(fn(Options) -> Method, &[f64], f64)]) {
         let input = |t: f64, _q: &V1, _v: &V1| V1::new(3.0 * (0.5 * t).sin());
         let p = NonSmoothProblem::new(0.0, 40.0, V1::new(0.0), V1::new(0.0));
-        let run = |m: SmoothMethod, rtol: f64| -> Solution {
-            let method = NonSmoothMethod::EventDriven {
-                method: m,
-                options: Options::tolerances(rtol, 1e-2 * rtol),
-            };
+        let run = |m: fn(Options) -> Method, rtol: f64| -> Solution {
+            let method = NonSmoothMethod::EventDriven(m(Options::tolerances(rtol, 1e-2 * rtol)));
             solve_nonsmooth(s, &input, &p, &method)
                 .unwrap_or_else(|e| panic!("{name} {m:?} at {rtol:e}: {e}"))
         };
-        let (ref_sdirk, ref_dopri) = (
-            run(SmoothMethod::Sdirk4, 1e-13),
-            run(SmoothMethod::Dopri5, 1e-13),
-        );
+        let (ref_sdirk, ref_dopri) = (run(Method::Sdirk4, 1e-13), run(Method::Dopri5, 1e-13));
         let key =
             |sol: &Solution| -> Vec<(Option<String>, Option<filippov::runtime::nonsmooth::Mode>)> {
                 sol.switches
@@ -728,7 +707,7 @@ fn s4_switch_sequence(runs: &[(SmoothMethod, &[f64], f64)]) {
             };
         assert_eq!(key(&ref_sdirk), key(&ref_dopri), "{name}: the references");
         for &(m, tolerances, bound) in runs {
-            let reference = if m == SmoothMethod::Dopri5 {
+            let reference = if m(Options::default()).name() == "DOPRI5" {
                 &ref_sdirk
             } else {
                 &ref_dopri
@@ -798,12 +777,9 @@ fn s4_first_fold_is_where_the_branch_integrated_through_it_folds() {
 
     let s = NonMonotoneNoJumps { m, k, f_crit: 1.0 };
     let p = NonSmoothProblem::new(0.0, 3.0, V1::new(0.0), V1::new(0.0));
-    for method in [SmoothMethod::Dopri5, SmoothMethod::Sdirk4] {
+    for method in [Method::Dopri5, Method::Sdirk4] {
         for rtol in [1e-8, 1e-10, 1e-12] {
-            let run = NonSmoothMethod::EventDriven {
-                method,
-                options: Options::tolerances(rtol, 1e-2 * rtol),
-            };
+            let run = NonSmoothMethod::EventDriven(method(Options::tolerances(rtol, 1e-2 * rtol)));
             let sol = solve_nonsmooth(&s, &|t, _q: &V1, _v: &V1| V1::new(load(t)), &p, &run)
                 .unwrap_or_else(|e| panic!("{method:?} at rtol {rtol:e}: {e}"));
             let name = format!("{method:?} at rtol {rtol:e}");
@@ -1293,10 +1269,7 @@ fn s1_exact() -> (Vec<(f64, f64)>, impl Fn(f64) -> [f64; 2]) {
 fn switch_logs_of_s1_and_s6_match_the_closed_forms() {
     use filippov::runtime::SwitchKind;
     use filippov::runtime::nonsmooth::Mode;
-    let method = NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Dopri5,
-        options: Options::tolerances(1e-10, 1e-12),
-    };
+    let method = NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(1e-10, 1e-12)));
     let (p, s6, s1) = free_decays();
     let s6_turns: Vec<f64> = (1..=5).map(|n| n as f64 * std::f64::consts::PI).collect();
     let s1_turns: Vec<f64> = s1_exact().0.iter().map(|(t, _)| *t).collect();
@@ -1347,15 +1320,8 @@ fn event_driven_grid_error_is_within_twice_the_step_error() {
     let (p, s6, s1) = free_decays();
     let (_, s1_closed) = s1_exact();
     for rtol in [1e-6, 1e-8, 1e-10] {
-        for method in [
-            SmoothMethod::Dopri5,
-            SmoothMethod::Sdirk4,
-            SmoothMethod::Bdf,
-        ] {
-            let m = NonSmoothMethod::EventDriven {
-                method,
-                options: Options::tolerances(rtol, rtol * 1e-2),
-            };
+        for method in [Method::Dopri5, Method::Sdirk4, Method::Bdf] {
+            let m = NonSmoothMethod::EventDriven(method(Options::tolerances(rtol, rtol * 1e-2)));
             let runs: [(&str, Solution, &dyn Fn(f64) -> [f64; 2]); 2] = [
                 (
                     "S6",
@@ -1407,17 +1373,14 @@ fn s4_positions_read_back_within_twice_the_step_error() {
         SVector::<f64, 1>::new(3.0 * (0.5 * t).sin())
     };
     let p = NonSmoothProblem::new(0.0, 20.0, SVector::zeros(), SVector::zeros());
-    let run = |method, rtol: f64| {
-        let m = NonSmoothMethod::EventDriven {
-            method,
-            options: Options::tolerances(rtol, rtol * 1e-2),
-        };
+    let run = |method: fn(Options) -> Method, rtol: f64| {
+        let m = NonSmoothMethod::EventDriven(method(Options::tolerances(rtol, rtol * 1e-2)));
         solve_nonsmooth(&sys, &forcing, &p, &m).unwrap()
     };
-    let reference = run(SmoothMethod::Sdirk4, 1e-11);
+    let reference = run(Method::Sdirk4, 1e-11);
     let x_ref = |t: f64| reference.at(t).unwrap()[0];
     for rtol in [1e-8, 1e-9] {
-        let sol = run(SmoothMethod::Dopri5, rtol);
+        let sol = run(Method::Dopri5, rtol);
         let at_steps = sol
             .rows()
             .map(|(t, y)| (y[0] - x_ref(t)).abs())
@@ -1589,13 +1552,10 @@ fn stiff_spring_inside_the_mechanism_with_implicit_event_driven_methods() {
     let s = FrictionChain::stiff(k2);
     let none = |_t: f64, _q: &V2, _v: &V2| V2::zeros();
     let p = NonSmoothProblem::new(0.0, 10.0, V2::new(1.0, 1e-3 / k2.sqrt()), V2::zeros());
-    let x1: Vec<f64> = [SmoothMethod::Sdirk4, SmoothMethod::Bdf]
+    let x1: Vec<f64> = [Method::Sdirk4, Method::Bdf]
         .into_iter()
         .map(|method| {
-            let m = NonSmoothMethod::EventDriven {
-                method,
-                options: Options::tolerances(1e-8, 1e-10),
-            };
+            let m = NonSmoothMethod::EventDriven(method(Options::tolerances(1e-8, 1e-10)));
             let sol =
                 solve_nonsmooth(&s, &none, &p, &m).unwrap_or_else(|e| panic!("{method:?}: {e}"));
             sol.last().unwrap().1[0]
@@ -1617,10 +1577,7 @@ fn stiff_two_block_chain_completes_event_driven_and_agrees_with_time_stepping() 
     for k2 in [1e9, 1e12] {
         let s = FrictionChain::stiff(k2);
         let p = NonSmoothProblem::new(0.0, 4.0, V2::new(1.0, 1e-3 / k2.sqrt()), V2::zeros());
-        let sdirk = NonSmoothMethod::EventDriven {
-            method: SmoothMethod::Sdirk4,
-            options: Options::tolerances(1e-8, 1e-10),
-        };
+        let sdirk = NonSmoothMethod::EventDriven(Method::Sdirk4(Options::tolerances(1e-8, 1e-10)));
         let end = |m: &NonSmoothMethod| -> Vec<f64> {
             let traj = solve_nonsmooth(&s, &unforced, &p, m)
                 .unwrap_or_else(|e| panic!("k2 = {k2:e}, {m:?}: {e}"));
@@ -1667,12 +1624,9 @@ fn s4_approach2_plateau_entry_and_exit_are_the_smooth_references() {
         f_crit: 1.0,
     };
     let p = NonSmoothProblem::new(0.0, 6.0, V1::new(0.0), V1::new(0.0));
-    for method in [SmoothMethod::Dopri5, SmoothMethod::Sdirk4] {
+    for method in [Method::Dopri5, Method::Sdirk4] {
         for rtol in [1e-6, 1e-8, 1e-10, 1e-12] {
-            let run = NonSmoothMethod::EventDriven {
-                method,
-                options: Options::tolerances(rtol, 1e-2 * rtol),
-            };
+            let run = NonSmoothMethod::EventDriven(method(Options::tolerances(rtol, 1e-2 * rtol)));
             let sol = solve_nonsmooth(
                 &s,
                 &|t, _q: &V1, _v: &V1| V1::new(3.0 * (0.5 * t).sin()),

@@ -9,17 +9,14 @@
 #[path = "../examples/support/s9.rs"]
 mod s9;
 
-use filippov::runtime::{NonSmoothMethod, Options, SmoothMethod};
+use filippov::runtime::{Method, NonSmoothMethod, Options};
 use filippov_scenes::PandaS9;
 use s9::{s9_balance, s9_run};
 
 #[test]
 fn s9_energy_balance_event_driven() {
     let arm = PandaS9::default();
-    let method = NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Dopri5,
-        options: Options::tolerances(1e-10, 1e-12),
-    };
+    let method = NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(1e-10, 1e-12)));
     let traj = s9_run(&arm, 2.0, &method).expect("S9 integrates");
     let b = s9_balance(&arm, &traj, 16);
     assert!(
@@ -70,10 +67,8 @@ fn s9_time_stepping_approaches_event_driven() {
     const T: f64 = 0.5;
     let arm = PandaS9::default();
     let rtol = 1e-10;
-    let tight = NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Dopri5,
-        options: Options::tolerances(rtol, 1e-2 * rtol),
-    };
+    let tight =
+        NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(rtol, 1e-2 * rtol)));
     let reference = s9_run(&arm, T, &tight).expect("event-driven");
     let q_ref = reference.last().expect("rows").1[..7].to_vec();
     let q_at = |h: f64| {

@@ -6,7 +6,7 @@
 
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
-    NonSmooth, NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, SolveError,
+    Method, NonSmooth, NonSmoothMethod, NonSmoothProblem, Options, Solution, SolveError,
     solve_nonsmooth,
 };
 use filippov_scenes::{
@@ -41,10 +41,10 @@ fn forced_s5(t: f64, _q: &V1, _v: &V1) -> V1 {
 const ROUNDOFF_FLOOR: f64 = 1e-10;
 
 /// The methods compared, with their labels.
-const METHODS: [(SmoothMethod, &str); 3] = [
-    (SmoothMethod::Dopri5, "DOPRI5"),
-    (SmoothMethod::Sdirk4, "SDIRK4"),
-    (SmoothMethod::Bdf, "BDF"),
+const METHODS: [(fn(Options) -> Method, &str); 3] = [
+    (Method::Dopri5, "DOPRI5"),
+    (Method::Sdirk4, "SDIRK4"),
+    (Method::Bdf, "BDF"),
 ];
 
 /// One measured run: (method, rtol, error at its rows, error on the grid, its time).
@@ -88,25 +88,20 @@ fn scene<S: NonSmooth<1>>(
     problem: &NonSmoothProblem<1>,
     input: Input,
 ) {
-    let run = |m: SmoothMethod, rtol: f64| -> Result<Solution, SolveError> {
-        let method = NonSmoothMethod::EventDriven {
-            method: m,
-            options: Options::tolerances(rtol, rtol * 1e-2),
-        };
+    let run = |m: fn(Options) -> Method, rtol: f64| -> Result<Solution, SolveError> {
+        let method = NonSmoothMethod::EventDriven(m(Options::tolerances(rtol, rtol * 1e-2)));
         solve_nonsmooth(sys, &input, problem, &method)
     };
     // References: DOPRI5 rows against SDIRK4 at rtol 1e-12, the others against DOPRI5.
-    let (Ok(ref_sdirk), Ok(ref_dopri)) = (
-        run(SmoothMethod::Sdirk4, 1e-12),
-        run(SmoothMethod::Dopri5, 1e-12),
-    ) else {
+    let (Ok(ref_sdirk), Ok(ref_dopri)) = (run(Method::Sdirk4, 1e-12), run(Method::Dopri5, 1e-12))
+    else {
         page.para(&format!("{name}: **the reference runs failed**."));
         return;
     };
     let mut runs = Vec::new();
     let mut body = Vec::new();
     for (m, label) in METHODS {
-        let reference = if m == SmoothMethod::Dopri5 {
+        let reference = if m(Options::default()).name() == "DOPRI5" {
             &ref_sdirk
         } else {
             &ref_dopri

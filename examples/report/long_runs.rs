@@ -7,8 +7,8 @@ use std::time::Instant;
 use filippov::nalgebra::SVector;
 use filippov::prelude::*;
 use filippov::runtime::{
-    MechanicalSystem, Method, NonSmoothMethod, NonSmoothProblem, Options, Output, Problem,
-    SmoothMethod, solve, solve_nonsmooth_with,
+    MechanicalSystem, Method, NonSmoothMethod, NonSmoothProblem, Options, Output, Problem, solve,
+    solve_nonsmooth_with,
 };
 use filippov_scenes::{CoulombOscillator, DoublePendulum};
 use indicatif::ProgressBar;
@@ -33,13 +33,10 @@ pub fn stick_slip(cycles: usize, progress: &ProgressBar) -> Vec<String> {
     };
     let period = 4.0 * std::f64::consts::PI;
     let input = |t: f64, _q: &V1, _v: &V1| V1::new(1.2 * (0.5 * t).sin());
-    let method = NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Dopri5,
-        options: Options {
-            max_steps: usize::MAX,
-            ..Options::tolerances(1e-10, 1e-12)
-        },
-    };
+    let method = NonSmoothMethod::EventDriven(Method::Dopri5(Options {
+        max_steps: usize::MAX,
+        ..Options::tolerances(1e-10, 1e-12)
+    }));
     let start = Instant::now();
     let (mut q, mut v, mut force) = (0.25, 0.0, Some(-0.25));
     let (mut events, mut steps) = (0usize, 0usize);

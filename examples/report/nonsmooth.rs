@@ -8,7 +8,7 @@ use std::f64::consts::PI;
 use filippov::nalgebra::SVector;
 use filippov::runtime::nonsmooth::Mode;
 use filippov::runtime::{
-    NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, SwitchKind, solve_nonsmooth,
+    Method, NonSmoothMethod, NonSmoothProblem, Options, Solution, SwitchKind, solve_nonsmooth,
 };
 use filippov_scenes::references;
 use filippov_scenes::{
@@ -110,11 +110,7 @@ const METHODS: [&str; 5] = [
     "time-stepping (θ = ½)",
 ];
 /// The smooth methods of the event-driven entries of [`METHODS`].
-const SMOOTH: [SmoothMethod; 3] = [
-    SmoothMethod::Dopri5,
-    SmoothMethod::Sdirk4,
-    SmoothMethod::Bdf,
-];
+const SMOOTH: [fn(Options) -> Method; 3] = [Method::Dopri5, Method::Sdirk4, Method::Bdf];
 /// Index of the first time-stepping entry (θ = 1) in [`METHODS`]; θ = ½ follows it.
 const TIME_STEPPING: usize = 3;
 
@@ -139,7 +135,7 @@ fn sweep_runs_to(config: &Config, tolerances: &[f64]) -> Vec<(usize, String, Non
             runs.push((
                 kind,
                 format!("rtol = {t:.0e}"),
-                NonSmoothMethod::EventDriven { method, options },
+                NonSmoothMethod::EventDriven(method(options)),
             ));
         }
     }
@@ -371,13 +367,15 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
     input: &dyn Fn(f64, &V1, &V1) -> V1,
     exact: Option<Exact<'_>>,
 ) {
-    let tight = |m| NonSmoothMethod::EventDriven {
-        method: m,
-        options: Options::tolerances(REFERENCE_RTOL, 1e-2 * REFERENCE_RTOL),
+    let tight = |m: fn(Options) -> Method| {
+        NonSmoothMethod::EventDriven(m(Options::tolerances(
+            REFERENCE_RTOL,
+            1e-2 * REFERENCE_RTOL,
+        )))
     };
     let (ref_sdirk, ref_dopri) = (
-        solve_nonsmooth(sys, &input, problem, &tight(SmoothMethod::Sdirk4)),
-        solve_nonsmooth(sys, &input, problem, &tight(SmoothMethod::Dopri5)),
+        solve_nonsmooth(sys, &input, problem, &tight(Method::Sdirk4)),
+        solve_nonsmooth(sys, &input, problem, &tight(Method::Dopri5)),
     );
     let (Ok(ref_sdirk), Ok(ref_dopri)) = (ref_sdirk, ref_dopri) else {
         page.para("**The reference runs failed**; no work-precision data for this scene.");
@@ -439,7 +437,8 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
                 let (grid, fin) = grid_errors(&traj, reference, tf);
                 let s = &traj.stats;
                 let switches = match m {
-                    NonSmoothMethod::EventDriven { options, .. } => {
+                    NonSmoothMethod::EventDriven(method) => {
+                        let options = method.options();
                         let c = compare_switches(&traj, reference, options.rtol, 2);
                         match c {
                             Some(w) => {
@@ -833,10 +832,7 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
 
     page.h2("Stiff and extreme cases");
     let mut rows = Vec::new();
-    let ed = NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Dopri5,
-        options: Options::tolerances(1e-8, 1e-10),
-    };
+    let ed = NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(1e-8, 1e-10)));
     let ts = NonSmoothMethod::TimeStepping {
         h: 1e-3,
         theta: 1.0,
@@ -892,10 +888,7 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
             let y = t.last().map_or(vec![f64::NAN; 4], |r| r.1.to_vec());
             format!("final x1 = {:.6}, x2 = {:.3e}", y[0], y[1])
         };
-        let sdirk = NonSmoothMethod::EventDriven {
-            method: SmoothMethod::Sdirk4,
-            options: Options::tolerances(1e-8, 1e-10),
-        };
+        let sdirk = NonSmoothMethod::EventDriven(Method::Sdirk4(Options::tolerances(1e-8, 1e-10)));
         for (name, m) in [
             ("event-driven DOPRI5", ed),
             ("event-driven SDIRK4", sdirk),
@@ -1083,10 +1076,7 @@ fn stiff_support(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
         runs.push((
             "event-driven DOPRI5".into(),
             format!("rtol = {t:.0e}"),
-            NonSmoothMethod::EventDriven {
-                method: SmoothMethod::Dopri5,
-                options: Options::tolerances(t, t * 1e-2),
-            },
+            NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(t, t * 1e-2))),
         ));
     }
     let mut best: Vec<(String, f64, f64)> = Vec::new();

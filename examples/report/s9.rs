@@ -3,7 +3,7 @@
 //! SDIRK4 at rtol 1e-12 (a different method), the energy-balance residual (`ΔE = work − friction − impacts`, each
 //! term computed independently, see `examples/support/s9.rs`), events and run time.
 
-use filippov::runtime::{NonSmoothMethod, Options, SmoothMethod};
+use filippov::runtime::{Method, NonSmoothMethod, Options};
 use filippov_scenes::PandaS9;
 
 use super::config::Config;
@@ -18,9 +18,8 @@ pub fn s9(config: &Config) -> Section {
     let mut summary = Vec::new();
     let arm = PandaS9::default();
     let t_end = (2.0 * config.horizon).max(0.2);
-    let ed = |rtol: f64| NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Dopri5,
-        options: Options::tolerances(rtol, rtol * 1e-2),
+    let ed = |rtol: f64| {
+        NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(rtol, rtol * 1e-2)))
     };
     // The reference is a different method from the rows it measures (event-driven
     // SDIRK4, implicit, against DOPRI5's explicit rows); DOPRI5 at the same tolerance
@@ -30,10 +29,9 @@ pub fn s9(config: &Config) -> Section {
             .ok()
             .and_then(|t| t.last().map(|(_, y)| y[..7].to_vec()))
     };
-    let q_ref = final_q(&NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Sdirk4,
-        options: Options::tolerances(1e-12, 1e-14),
-    });
+    let q_ref = final_q(&NonSmoothMethod::EventDriven(Method::Sdirk4(
+        Options::tolerances(1e-12, 1e-14),
+    )));
     let q_check = final_q(&ed(1e-12));
     let q_err = |y: &[f64]| {
         q_ref.as_ref().map_or(f64::NAN, |r| {

@@ -54,7 +54,7 @@ use filippov::nalgebra::{Matrix3, SVector, Vector3};
 use filippov::runtime::nonsmooth::{Element, ElementKind, Law, Selection, Side, StopKind};
 use filippov::runtime::numeric::{Damper, JointKind, Link, Model, Scene, Spring};
 use filippov::runtime::{
-    ErrorKind, NonSmoothMethod, NonSmoothProblem, Options, SmoothMethod, Solution, SwitchKind,
+    ErrorKind, Method, NonSmoothMethod, NonSmoothProblem, Options, Solution, SwitchKind,
     solve_nonsmooth,
 };
 
@@ -724,13 +724,10 @@ fn check<const N: usize, const E: usize>(d: Description) -> Verdict {
         SVector::from_column_slice(&d.q0),
         SVector::from_column_slice(&d.v0),
     );
-    let ed_method = NonSmoothMethod::EventDriven {
-        method: SmoothMethod::Dopri5,
-        options: Options {
-            max_steps: 20_000,
-            ..Options::tolerances(ED_RTOL, ED_ATOL)
-        },
-    };
+    let ed_method = NonSmoothMethod::EventDriven(Method::Dopri5(Options {
+        max_steps: 20_000,
+        ..Options::tolerances(ED_RTOL, ED_ATOL)
+    }));
     let ts = |h: f64| NonSmoothMethod::TimeStepping { h, theta: 1.0 };
     let ed = solve_nonsmooth(&scene, &input, &p, &ed_method);
     if d.start == Start::Penetrating {

@@ -25,7 +25,7 @@ use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
     MechanicalSystem, Method, NonSmoothMethod, NonSmoothProblem, Options, Output, Problem,
-    SmoothMethod, Solution, Stats, solve, solve_nonsmooth,
+    Solution, Stats, solve, solve_nonsmooth,
 };
 use filippov_scenes::{CoulombOscillator, DoublePendulum, Panda, PlanarArm3};
 
@@ -329,10 +329,10 @@ fn regularised(
             }));
         }
         for (slot, &rtol) in mine.iter_mut().zip(&EVENT_RTOLS) {
-            let m = NonSmoothMethod::EventDriven {
-                method: SmoothMethod::Dopri5,
-                options: Options::tolerances(rtol, rtol * 1e-2),
-            };
+            let m = NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(
+                rtol,
+                rtol * 1e-2,
+            )));
             let (input, coulomb) = (&input, &coulomb);
             jobs.push(Box::new(move || {
                 *slot = Some(
@@ -438,9 +438,8 @@ fn velocity_zeros(traj: &Solution) -> Vec<(f64, f64)> {
 fn nonsmooth(rows: &mut Vec<Row>, header: &mut Vec<String>) {
     let tf = 30.0;
     let grid = grid(0.0, tf);
-    let tight = |m| NonSmoothMethod::EventDriven {
-        method: m,
-        options: Options::tolerances(1e-12, 1e-14),
+    let tight = |m: fn(Options) -> Method| {
+        NonSmoothMethod::EventDriven(m(Options::tolerances(1e-12, 1e-14)))
     };
     let unforced = |_t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>| SVector::zeros();
 
@@ -465,7 +464,7 @@ fn nonsmooth(rows: &mut Vec<Row>, header: &mut Vec<String>) {
         .into_iter()
         .filter(|(t, _)| *t <= tf)
         .collect();
-    match solve_nonsmooth(&s6, &unforced, &p6, &tight(SmoothMethod::Dopri5)) {
+    match solve_nonsmooth(&s6, &unforced, &p6, &tight(Method::Dopri5)) {
         Ok(t) => header.push(format!(
             "S6 (m = k = 1, f_crit = 0.1, x0 = 1, v0 = 0, t in [0, 30]): exact piecewise closed form; filippov event-driven DOPRI5 at rtol 1e-12 agrees with it to {} in x and {} in v over the grid, turning points to {}",
             sci(errors(&on_grid(&t, &grid), &exact_grid, 1).1),
@@ -495,8 +494,8 @@ fn nonsmooth(rows: &mut Vec<Row>, header: &mut Vec<String>) {
     let p5 = NonSmoothProblem::new(0.0, tf, SVector::from([0.25]), SVector::from([0.0]))
         .with_forces(vec![Some(-0.25)]);
     let (r_sdirk, r_dopri) = (
-        solve_nonsmooth(&s5, &input5, &p5, &tight(SmoothMethod::Sdirk4)),
-        solve_nonsmooth(&s5, &input5, &p5, &tight(SmoothMethod::Dopri5)),
+        solve_nonsmooth(&s5, &input5, &p5, &tight(Method::Sdirk4)),
+        solve_nonsmooth(&s5, &input5, &p5, &tight(Method::Dopri5)),
     );
     let (Ok(r_sdirk), Ok(r_dopri)) = (r_sdirk, r_dopri) else {
         header.push("S5: the reference runs failed; no rows".into());

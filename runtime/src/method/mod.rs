@@ -57,6 +57,17 @@ impl Method {
             Method::Bdf(_) => "BDF",
         }
     }
+
+    /// The options it runs with (RK4: the defaults, its step as `h0`).
+    pub fn options(&self) -> Options {
+        match *self {
+            Method::Rk4 { h } => Options {
+                h0: Some(h),
+                ..Options::default()
+            },
+            Method::Dopri5(o) | Method::Sdirk4(o) | Method::Bdf(o) => o,
+        }
+    }
 }
 
 /// Runs `$body` with `$stepper` bound to a stepper of `$method` for `$dim` components

@@ -96,10 +96,11 @@ use std::collections::VecDeque;
 
 use nalgebra::{DMatrix, DVector, SVector};
 
+use super::NonSmoothProblem;
 use super::law::{Branches, Graph};
 use super::mode::{self, Choices};
 use super::timestepping::time_stepping_observed;
-use super::{NonSmoothProblem, SmoothMethod};
+use crate::Method;
 use crate::element::{Element, ElementKind, Law, Mode, NonSmooth, Selection, Side, StopKind};
 use crate::events::{EventHit, Tracker, hermite_qv};
 use crate::input::{Capped, Input};
@@ -142,22 +143,20 @@ pub fn event_driven<S, F, const N: usize>(
     system: &S,
     input: &F,
     problem: &NonSmoothProblem<N>,
-    method: SmoothMethod,
-    options: &Options,
+    method: &Method,
 ) -> Result<Solution, SolveError>
 where
     S: NonSmooth<N>,
     F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
 {
-    event_driven_observed(system, input, problem, method, options, &mut unobserved)
+    event_driven_observed(system, input, problem, method, &mut unobserved)
 }
 
 pub(super) fn event_driven_observed<S, F, O, const N: usize>(
     system: &S,
     input: &F,
     problem: &NonSmoothProblem<N>,
-    method: SmoothMethod,
-    options: &Options,
+    method: &Method,
     observer: &mut O,
 ) -> Result<Solution, SolveError>
 where
@@ -165,8 +164,8 @@ where
     F: Fn(f64, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
     O: Observer + ?Sized,
 {
-    let mut driver = Driver::new(system, input, problem, options)?;
-    let mut stepper = method.stepper(*options, 2 * N);
+    let mut stepper = method.stepper(2 * N);
+    let mut driver = Driver::new(system, input, problem, &stepper.options())?;
     let outcome = driver.begin(&mut stepper, problem).and_then(|()| {
         while driver.t < problem.tf {
             driver.advance(&mut stepper, problem.tf, observer)?;

@@ -24,7 +24,7 @@ use super::{NonSmoothMethod, NonSmoothProblem};
 use crate::element::NonSmooth;
 use crate::events::{Event, Tracker};
 use crate::input::{Held, Input};
-use crate::method::AnyStepper;
+use crate::method::{AnyStepper, Stepper};
 use crate::solve::{Observer, unobserved};
 use crate::{ErrorKind, Solution, SolveError};
 
@@ -151,9 +151,10 @@ where
             held: SVector::zeros(),
         };
         let run = match *method {
-            NonSmoothMethod::EventDriven { method, options } => {
+            NonSmoothMethod::EventDriven(method) => {
+                let mut stepper = method.stepper(2 * N);
+                let options = stepper.options();
                 let mut driver = Box::new(Driver::new(system, input, problem, &options)?);
-                let mut stepper = method.stepper(options, 2 * N);
                 if let Err(kind) = driver.begin(&mut stepper, problem) {
                     return Err(SolveError::new(kind, driver.out));
                 }

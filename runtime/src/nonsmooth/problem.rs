@@ -2,6 +2,7 @@
 
 use nalgebra::SVector;
 
+use crate::Method;
 use crate::Output;
 use crate::options::Options;
 
@@ -60,45 +61,16 @@ impl<const N: usize> NonSmoothProblem<N> {
     }
 }
 
-/// The smooth method the event-driven integrator uses between switches.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[non_exhaustive]
-pub enum SmoothMethod {
-    /// Explicit, for non-stiff arcs (the default).
-    Dopri5,
-    /// L-stable one-step implicit, for stiff arcs with many switches.
-    Sdirk4,
-    /// Variable-order multistep implicit, for stiff arcs that are long between switches
-    /// (it restarts at order 1 after each).
-    Bdf,
-}
-
-impl SmoothMethod {
-    /// This method with `options`, as a [`Method`](crate::Method).
-    pub fn with(self, options: crate::Options) -> crate::Method {
-        match self {
-            SmoothMethod::Dopri5 => crate::Method::Dopri5(options),
-            SmoothMethod::Sdirk4 => crate::Method::Sdirk4(options),
-            SmoothMethod::Bdf => crate::Method::Bdf(options),
-        }
-    }
-
-    /// Its stepper for `dim` components.
-    pub(crate) fn stepper(self, options: crate::Options, dim: usize) -> crate::method::AnyStepper {
-        self.with(options).stepper(dim)
-    }
-}
-
 /// How to integrate a non-smooth problem.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum NonSmoothMethod {
-    /// Event-driven: adaptive high order between switches, switches located on dense
-    /// output, exact mode transitions; accumulating events hand over to time-stepping.
-    EventDriven {
-        method: SmoothMethod,
-        options: Options,
-    },
+    /// Event-driven: a smooth [`Method`] between switches (DOPRI5 for non-stiff arcs,
+    /// SDIRK4 for stiff arcs with many switches, BDF for stiff arcs long between
+    /// switches — it restarts at order 1 after each; RK4 at a fixed step), switches
+    /// located on its dense output, exact mode transitions; accumulating events hand
+    /// over to time-stepping.
+    EventDriven(Method),
     /// Implicit (Moreau-type) θ-method time-stepping with fixed step `h`: each step
     /// intersects the discrete momentum line with the constitutive graphs. First order,
     /// robust, never chatters. `theta = 1.0`: implicit Euler, numerically dissipative
@@ -113,9 +85,6 @@ impl Default for NonSmoothMethod {
     /// Event-driven with DOPRI5 at `rtol = 1e-8`, `atol = 1e-10`: exact switch times and
     /// sticking, high order between events.
     fn default() -> Self {
-        NonSmoothMethod::EventDriven {
-            method: SmoothMethod::Dopri5,
-            options: Options::tolerances(1e-8, 1e-10),
-        }
+        NonSmoothMethod::EventDriven(Method::Dopri5(Options::tolerances(1e-8, 1e-10)))
     }
 }

@@ -135,8 +135,7 @@ fn s6_coulomb_free_decay_turning_points_and_exact_stop() {
         &sys,
         &no_input,
         &problem1(30.0, 1.0, 0.0),
-        SmoothMethod::Dopri5,
-        &tight(),
+        &Method::Dopri5(tight()),
     )
     .unwrap();
     let ev = events(&traj);
@@ -184,8 +183,7 @@ fn s1_bingham_linear_free_decay_matches_piecewise_closed_form() {
         &sys,
         &no_input,
         &problem1(30.0, 1.0, 0.0),
-        SmoothMethod::Dopri5,
-        &tight(),
+        &Method::Dopri5(tight()),
     )
     .unwrap();
     // Closed form: from rest at x_n, sliding in direction s = −sgn(x_n) about the
@@ -227,7 +225,7 @@ fn s5_coulomb_forced_stick_slip_first_break_away_and_sign_consistency() {
     let force =
         |t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>| SVector::from([1.2 * (0.5 * t).sin()]);
     let problem = problem1(30.0, 0.25, 0.0).with_forces(vec![Some(-fc / 2.0)]);
-    let traj = event_driven(&sys, &force, &problem, SmoothMethod::Dopri5, &tight()).unwrap();
+    let traj = event_driven(&sys, &force, &problem, &Method::Dopri5(tight())).unwrap();
     assert_eq!(traj.state(0)[2], -0.25);
     // Independent: first root of |F(t) − k x0| = f_crit by bisection.
     let g = |t: f64| (1.2 * (0.5 * t).sin() - 0.25).abs() - fc;
@@ -272,8 +270,7 @@ fn bingham_mass_under_constant_force() {
         &sys,
         &push,
         &problem1(20.0, 0.0, 0.0),
-        SmoothMethod::Dopri5,
-        &tight(),
+        &Method::Dopri5(tight()),
     )
     .unwrap();
     let mut worst: f64 = 0.0;
@@ -289,8 +286,7 @@ fn bingham_mass_under_constant_force() {
         &sys,
         &hold,
         &problem1(20.0, 0.0, 0.0),
-        SmoothMethod::Dopri5,
-        &tight(),
+        &Method::Dopri5(tight()),
     )
     .unwrap();
     for i in 0..traj.len() {
@@ -328,8 +324,7 @@ fn s7_spring_backed_stop_period() {
         &sys,
         &no_input,
         &problem1(20.0, 0.0, 1.0),
-        SmoothMethod::Dopri5,
-        &tight(),
+        &Method::Dopri5(tight()),
     )
     .unwrap();
     let ev = events(&traj);
@@ -365,15 +360,16 @@ fn error_in_a_single_mode_follows_the_smooth_method_order() {
         + (1.0 - fc)
             * (-zeta * t_end).exp()
             * ((wd * t_end).cos() + zeta / wd * (wd * t_end).sin());
-    for (method, min_order) in [(SmoothMethod::Dopri5, 4.0), (SmoothMethod::Sdirk4, 3.0)] {
+    let methods: [(fn(Options) -> Method, f64); 2] = [(Method::Dopri5, 4.0), (Method::Sdirk4, 3.0)];
+    for (method, min_order) in methods {
+        let name = method(Options::default()).name();
         let mut runs = Vec::new();
         for tol in [1e-5, 1e-7, 1e-9] {
             let traj = event_driven(
                 &sys,
                 &no_input,
                 &problem1(t_end, 1.0, 0.0),
-                method,
-                &Options::tolerances(tol, tol * 1e-2),
+                &method(Options::tolerances(tol, tol * 1e-2)),
             )
             .unwrap();
             let err = (traj.last().unwrap().1[0] - exact).abs();
@@ -382,9 +378,9 @@ fn error_in_a_single_mode_follows_the_smooth_method_order() {
         let (_, n0, e0) = runs[0];
         let (_, n2, e2) = runs[2];
         let order = (e0 / e2).ln() / (n2 / n0).ln();
-        eprintln!("{method:?}: (tol, steps, error) {runs:?}, observed order {order:.2}");
+        eprintln!("{name}: (tol, steps, error) {runs:?}, observed order {order:.2}");
         assert!(e2 < e0 * 1e-2, "error must follow the tolerance: {runs:?}");
-        assert!(order >= min_order, "{method:?} order {order}");
+        assert!(order >= min_order, "{name} order {order}");
     }
 }
 
@@ -418,7 +414,7 @@ fn two_masses_stick_at_once_by_mode_selection() {
         SVector::from([0.0, 0.0]),
         SVector::from([1.0, 1.0]),
     );
-    let traj = event_driven(&sys, &no_input, &problem, SmoothMethod::Dopri5, &tight()).unwrap();
+    let traj = event_driven(&sys, &no_input, &problem, &Method::Dopri5(tight())).unwrap();
     let ev = events(&traj);
     assert_eq!(ev.len(), 1, "{ev:?}");
     assert_eq!(traj.stats.mode_changes, 2);
@@ -466,8 +462,7 @@ fn bouncing_on_a_rigid_stop_settles_at_its_computed_accumulation_time() {
             &sys,
             &down,
             &problem1(tf, 1.0, 0.0),
-            SmoothMethod::Dopri5,
-            &tight(),
+            &Method::Dopri5(tight()),
         )
         .unwrap();
         eprintln!("e = {e}: {}", traj.stats);
@@ -518,8 +513,7 @@ fn rebounds_that_switch_friction_too_settle_without_a_hand_over() {
         &sys,
         &down,
         &problem1(8.0, 1.0, 0.0),
-        SmoothMethod::Dopri5,
-        &tight(),
+        &Method::Dopri5(tight()),
     )
     .unwrap();
     eprintln!("rebounds with friction: {}", traj.stats);
@@ -541,15 +535,9 @@ fn rebounds_that_switch_friction_too_settle_without_a_hand_over() {
 #[test]
 fn bad_input_gives_typed_errors() {
     let run = |sys: &Lumped<1, 1>, problem: &NonSmoothProblem<1>| {
-        event_driven(
-            sys,
-            &no_input,
-            problem,
-            SmoothMethod::Dopri5,
-            &Options::default(),
-        )
-        .unwrap_err()
-        .kind
+        event_driven(sys, &no_input, problem, &Method::Dopri5(Options::default()))
+            .unwrap_err()
+            .kind
     };
     let p = problem1(1.0, 1.0, 0.0);
     assert!(
@@ -617,8 +605,7 @@ fn monotone_user_law_is_inverted_exactly_and_rigid_contact_is_released() {
         &sys,
         &push,
         &problem1(500.0, 0.0, 0.0),
-        SmoothMethod::Dopri5,
-        &tight(),
+        &Method::Dopri5(tight()),
     )
     .unwrap();
     // Terminal velocity: f = 3 ⇒ v = 9 · 2 = 18 (approached with time constant
@@ -649,8 +636,7 @@ fn monotone_user_law_is_inverted_exactly_and_rigid_contact_is_released() {
         &sys,
         &pull,
         &problem1(3.0, 0.0, 0.0),
-        SmoothMethod::Sdirk4,
-        &tight(),
+        &Method::Sdirk4(tight()),
     )
     .unwrap();
     let ev = events(&traj);
@@ -688,8 +674,7 @@ fn s4_event_driven(selection: crate::nonsmooth::Selection) -> Solution {
         &s4_system(selection),
         &s4_input,
         &problem1(40.0, 0.0, 0.0),
-        SmoothMethod::Dopri5,
-        &Options::tolerances(1e-10, 1e-12),
+        &Method::Dopri5(Options::tolerances(1e-10, 1e-12)),
     )
     .unwrap()
 }
@@ -855,11 +840,10 @@ fn non_monotone_moving_start_picks_the_rule_s_branch() {
             &s4_system(sel),
             &no_input,
             &problem1(20.0, 0.0, 0.8),
-            SmoothMethod::Dopri5,
             // At rtol 1e-12: approach 1 used to underflow the step size as v → 0 here,
             // against the kink of a slip force clamped below the branch (now continued
             // by the law's tangent, `mode::below_branch`).
-            &Options::tolerances(1e-12, 1e-14),
+            &Method::Dopri5(Options::tolerances(1e-12, 1e-14)),
         )
         .unwrap();
         let f0 = traj.state(0)[2];
@@ -936,8 +920,7 @@ fn switch_log_has_one_entry_per_element_and_instant_with_its_states() {
             &sys,
             &down,
             &problem1(10.0, 0.0, -2.0),
-            SmoothMethod::Dopri5,
-            &tight(),
+            &Method::Dopri5(tight()),
         )
         .unwrap();
         let first = &traj.switches[0];
@@ -1012,14 +995,13 @@ fn output_times_are_exactly_the_times_asked_for() {
         &sys,
         &no_input,
         &problem1(10.0, 1.0, 0.0),
-        SmoothMethod::Dopri5,
-        &tight(),
+        &Method::Dopri5(tight()),
     )
     .unwrap();
     assert!(steps.stats.events >= 3, "the run has events");
     let ts: Vec<f64> = (0..=37).map(|i| 10.0 * i as f64 / 37.0).collect();
     let asked = problem1(10.0, 1.0, 0.0).with_output(Output::Times(ts.clone()));
-    let grid = event_driven(&sys, &no_input, &asked, SmoothMethod::Dopri5, &tight()).unwrap();
+    let grid = event_driven(&sys, &no_input, &asked, &Method::Dopri5(tight())).unwrap();
     assert_eq!(grid.times(), &ts[..]);
     assert_eq!(grid.switches.len(), steps.switches.len());
     for (i, &t) in ts.iter().enumerate() {

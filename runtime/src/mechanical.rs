@@ -198,7 +198,7 @@ mod tests {
     use crate::kernels::Energy;
     use crate::numeric::test_models::double_pendulum;
     use crate::system::ForwardJacobian;
-    use crate::{Dopri5, Options, Problem, Sdirk4};
+    use crate::{Options, Problem};
     use nalgebra::SMatrix;
 
     /// A [`Mechanism`] implemented with the numeric reference, standing in for
@@ -317,15 +317,18 @@ mod tests {
         );
         let problem = Problem::new(0.0, 5.0, [1.0, -0.5, 0.0, 0.3]);
         let opts = Options::tolerances(1e-10, 1e-12);
-        let traj = Dopri5::new(opts).solve(&system, &problem).unwrap();
+        let traj = crate::solve(&system, &problem, &crate::Method::Dopri5(opts)).unwrap();
         let e0 = energy(&pendulum, &problem.y0);
         for i in 0..traj.len() {
             assert!((energy(&pendulum, traj.state(i)) - e0).abs() < 1e-7);
         }
         let model = pendulum.model();
-        let baseline = Dopri5::new(opts)
-            .solve(&NumericSystem::unforced(&model), &problem)
-            .unwrap();
+        let baseline = crate::solve(
+            &NumericSystem::unforced(&model),
+            &problem,
+            &crate::Method::Dopri5(opts),
+        )
+        .unwrap();
         assert_eq!(baseline.names()[1], "q_lower");
         let (a, b) = (traj.last().unwrap().1, baseline.last().unwrap().1);
         assert!(a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-12));
@@ -357,13 +360,19 @@ mod tests {
                 );
             }
         }
-        let traj = Sdirk4::new(Options::tolerances(1e-8, 1e-10))
-            .solve(&system, &Problem::new(0.0, 2.0, y))
-            .unwrap();
+        let traj = crate::solve(
+            &system,
+            &Problem::new(0.0, 2.0, y),
+            &crate::Method::Sdirk4(Options::tolerances(1e-8, 1e-10)),
+        )
+        .unwrap();
         assert_eq!(traj.stats.finite_difference_jacobians, 0);
-        let reference = Dopri5::new(Options::tolerances(1e-11, 1e-13))
-            .solve(&system, &Problem::new(0.0, 2.0, y))
-            .unwrap();
+        let reference = crate::solve(
+            &system,
+            &Problem::new(0.0, 2.0, y),
+            &crate::Method::Dopri5(Options::tolerances(1e-11, 1e-13)),
+        )
+        .unwrap();
         let (a, b) = (traj.last().unwrap().1, reference.last().unwrap().1);
         // An order-4 method with error-per-step control is tolerance proportional: over
         // this short, non-chaotic 2 s run the global error is a small multiple of rtol

@@ -6,7 +6,7 @@ use nalgebra::{Matrix3, Vector3};
 
 use super::so3::{self, UnitQuat};
 use super::{FnLieSystem, LieProblem, LieState, LieSystem, Rkmk5};
-use crate::{Dopri5, ErrorKind, FnSystem, Options, Problem};
+use crate::{ErrorKind, FnSystem, Options, Problem};
 
 /// Principal moments of inertia of S10.
 const INERTIA: [f64; 3] = [1.0, 2.0, 3.0];
@@ -352,8 +352,11 @@ fn s10_through_gimbal_lock_lie_group_versus_euler_angles() {
         let (lie_de, _) = conservation_errors(&lie);
 
         let start = Instant::now();
-        let euler =
-            Dopri5::new(options).solve(&sys, &Problem::new(0.0, tf, euler_angles::initial(&w0)));
+        let euler = crate::solve(
+            &sys,
+            &Problem::new(0.0, tf, euler_angles::initial(&w0)),
+            &crate::Method::Dopri5(options),
+        );
         let t_euler = start.elapsed().as_secs_f64() * 1e3;
         // The Euler model may also fail outright (step-size underflow at the pole).
         let (euler_traj, failure) = match euler {

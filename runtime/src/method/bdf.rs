@@ -125,16 +125,6 @@ impl Bdf {
         Bdf { options }
     }
 
-    /// Integrates `problem` (the same as [`solve`](crate::solve) with
-    /// `Method::Bdf(options)`).
-    pub fn solve<S: crate::OdeSystem + ?Sized>(
-        &self,
-        system: &S,
-        problem: &crate::Problem,
-    ) -> Result<crate::Solution, crate::SolveError> {
-        crate::solve(system, problem, &crate::Method::Bdf(self.options))
-    }
-
     /// The stepping state for states of `dim` components.
     pub fn stepper(&self, dim: usize) -> BdfStepper {
         BdfStepper {

@@ -22,16 +22,6 @@ impl Dopri5 {
         Dopri5 { options }
     }
 
-    /// Integrates `problem` (the same as [`solve`](crate::solve) with
-    /// `Method::Dopri5(options)`).
-    pub fn solve<S: crate::OdeSystem + ?Sized>(
-        &self,
-        system: &S,
-        problem: &crate::Problem,
-    ) -> Result<crate::Solution, crate::SolveError> {
-        crate::solve(system, problem, &crate::Method::Dopri5(self.options))
-    }
-
     /// The stepping state for states of `dim` components.
     pub fn stepper(&self, dim: usize) -> Dopri5Stepper {
         Dopri5Stepper {

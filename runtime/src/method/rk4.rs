@@ -20,16 +20,6 @@ impl Rk4 {
         Rk4 { h }
     }
 
-    /// Integrates `problem` (the same as [`solve`](crate::solve) with
-    /// `Method::Rk4 { h: h }`).
-    pub fn solve<S: crate::OdeSystem + ?Sized>(
-        &self,
-        system: &S,
-        problem: &crate::Problem,
-    ) -> Result<crate::Solution, crate::SolveError> {
-        crate::solve(system, problem, &crate::Method::Rk4 { h: self.h })
-    }
-
     /// The stepping state for states of `dim` components.
     pub fn stepper(&self, dim: usize) -> Rk4Stepper {
         let options = Options {

@@ -50,16 +50,6 @@ impl Sdirk4 {
         Sdirk4 { options }
     }
 
-    /// Integrates `problem` (the same as [`solve`](crate::solve) with
-    /// `Method::Sdirk4(options)`).
-    pub fn solve<S: crate::OdeSystem + ?Sized>(
-        &self,
-        system: &S,
-        problem: &crate::Problem,
-    ) -> Result<crate::Solution, crate::SolveError> {
-        crate::solve(system, problem, &crate::Method::Sdirk4(self.options))
-    }
-
     /// The stepping state for states of `dim` components.
     pub fn stepper(&self, dim: usize) -> Sdirk4Stepper {
         Sdirk4Stepper {

@@ -39,7 +39,11 @@ fn harmonic_oscillator_all_methods() {
 #[test]
 fn rk4_converges_with_order_four() {
     let problem = Problem::new(0.0, 2.0, [1.0, 0.0]);
-    let err = |h: f64| oscillator_error(&Rk4::new(h).solve(&oscillator(), &problem).unwrap());
+    let err = |h: f64| {
+        oscillator_error(
+            &crate::solve(&oscillator(), &problem, &crate::Method::Rk4 { h: h }).unwrap(),
+        )
+    };
     let (e1, e2) = (err(0.1), err(0.05));
     let order = (e1 / e2).log2();
     assert!((order - 4.0).abs() < 0.15, "measured order {order}");
@@ -51,9 +55,12 @@ fn dopri5_error_decreases_with_tolerance() {
     let mut previous = f64::INFINITY;
     let mut steps = 0;
     for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
-        let traj = Dopri5::new(Options::tolerances(tol, tol))
-            .solve(&oscillator(), &problem)
-            .unwrap();
+        let traj = crate::solve(
+            &oscillator(),
+            &problem,
+            &crate::Method::Dopri5(Options::tolerances(tol, tol)),
+        )
+        .unwrap();
         let err = oscillator_error(&traj);
         assert!(
             err < previous / 5.0,
@@ -72,9 +79,12 @@ fn dopri5_error_decreases_with_tolerance() {
 #[test]
 fn dopri5_dense_output_is_accurate_between_steps() {
     let problem = Problem::new(0.0, 10.0, [1.0, 0.0]);
-    let traj = Dopri5::new(Options::tolerances(1e-9, 1e-12))
-        .solve(&oscillator(), &problem)
-        .unwrap();
+    let traj = crate::solve(
+        &oscillator(),
+        &problem,
+        &crate::Method::Dopri5(Options::tolerances(1e-9, 1e-12)),
+    )
+    .unwrap();
     let worst = (0..1000)
         .map(|i| {
             let t = i as f64 * 0.01;
@@ -101,12 +111,18 @@ fn sdirk4_solves_stiff_van_der_pol_in_far_fewer_steps_than_dopri5() {
         max_steps: 1_000_000,
         ..Options::tolerances(1e-6, 1e-6)
     };
-    let stiff = Sdirk4::new(options)
-        .solve(&van_der_pol(1000.0), &problem)
-        .unwrap();
-    let explicit = Dopri5::new(options)
-        .solve(&van_der_pol(1000.0), &problem)
-        .unwrap();
+    let stiff = crate::solve(
+        &van_der_pol(1000.0),
+        &problem,
+        &crate::Method::Sdirk4(options),
+    )
+    .unwrap();
+    let explicit = crate::solve(
+        &van_der_pol(1000.0),
+        &problem,
+        &crate::Method::Dopri5(options),
+    )
+    .unwrap();
     let (ys, ye) = (stiff.last().unwrap().1, explicit.last().unwrap().1);
     assert!((ys[0] - ye[0]).abs() < 1e-3, "{ys:?} vs {ye:?}");
     let s = stiff.stats;
@@ -144,9 +160,12 @@ impl OdeSystem for LinearStiff {
 
 #[test]
 fn sdirk4_uses_the_analytic_jacobian() {
-    let traj = Sdirk4::new(Options::tolerances(1e-6, 1e-8))
-        .solve(&LinearStiff, &Problem::new(0.0, 5.0, [0.0, 0.0]))
-        .unwrap();
+    let traj = crate::solve(
+        &LinearStiff,
+        &Problem::new(0.0, 5.0, [0.0, 0.0]),
+        &crate::Method::Sdirk4(Options::tolerances(1e-6, 1e-8)),
+    )
+    .unwrap();
     let (t, y) = traj.last().unwrap();
     // Slow manifold y0 ≈ cos(t) + 1e-4 sin(t).
     assert!((y[0] - (t.cos() + 1e-4 * t.sin())).abs() < 1e-6);
@@ -216,9 +235,12 @@ fn max_steps_is_reported() {
         max_steps: 5,
         ..Options::default()
     };
-    let err = Dopri5::new(options)
-        .solve(&oscillator(), &Problem::new(0.0, 100.0, [1.0, 0.0]))
-        .unwrap_err();
+    let err = crate::solve(
+        &oscillator(),
+        &Problem::new(0.0, 100.0, [1.0, 0.0]),
+        &crate::Method::Dopri5(options),
+    )
+    .unwrap_err();
     assert!(matches!(err.kind, ErrorKind::MaxSteps { .. }));
     assert!(!err.solution.is_empty());
 }
@@ -308,16 +330,22 @@ fn log_slope(points: &[(f64, f64)]) -> f64 {
 #[test]
 fn sdirk4_global_error_is_proportional_to_the_tolerance() {
     let problem = Problem::new(0.0, 2.0, [2.0, 0.0]);
-    let reference = Dopri5::new(Options::tolerances(1e-13, 1e-15))
-        .solve(&van_der_pol(1.0), &problem)
-        .unwrap();
+    let reference = crate::solve(
+        &van_der_pol(1.0),
+        &problem,
+        &crate::Method::Dopri5(Options::tolerances(1e-13, 1e-15)),
+    )
+    .unwrap();
     let r = reference.last().unwrap().1.to_vec();
     let mut by_tol = Vec::new();
     let mut by_steps = Vec::new();
     for tol in [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9] {
-        let traj = Sdirk4::new(Options::tolerances(tol, tol))
-            .solve(&van_der_pol(1.0), &problem)
-            .unwrap();
+        let traj = crate::solve(
+            &van_der_pol(1.0),
+            &problem,
+            &crate::Method::Sdirk4(Options::tolerances(tol, tol)),
+        )
+        .unwrap();
         let y = traj.last().unwrap().1;
         let err = ((y[0] - r[0]).powi(2) + (y[1] - r[1]).powi(2)).sqrt();
         eprintln!("tol {tol:e}: error {err:e}, {}", traj.stats);
@@ -534,14 +562,20 @@ fn quaternion_free_body() -> FnSystem<impl Fn(f64, &[f64], &mut [f64])> {
 #[test]
 fn sdirk4_follows_the_tolerance_to_1e_12_over_thousands_of_steps() {
     let problem = Problem::new(0.0, 40.0, [1.0, 0.0, 0.0, 0.0, 0.5, 0.8, -0.6]);
-    let reference = Dopri5::new(Options::tolerances(1e-14, 1e-16))
-        .solve(&quaternion_free_body(), &problem)
-        .unwrap();
+    let reference = crate::solve(
+        &quaternion_free_body(),
+        &problem,
+        &crate::Method::Dopri5(Options::tolerances(1e-14, 1e-16)),
+    )
+    .unwrap();
     let r = reference.last().unwrap().1.to_vec();
     for tol in [1e-10, 1e-12] {
-        let traj = Sdirk4::new(Options::tolerances(tol, tol * 1e-2))
-            .solve(&quaternion_free_body(), &problem)
-            .unwrap();
+        let traj = crate::solve(
+            &quaternion_free_body(),
+            &problem,
+            &crate::Method::Sdirk4(Options::tolerances(tol, tol * 1e-2)),
+        )
+        .unwrap();
         let y = traj.last().unwrap().1;
         let err = y
             .iter()

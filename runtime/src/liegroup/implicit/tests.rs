@@ -331,23 +331,23 @@ fn curved_slow_path_shows_the_tableau_order_reduction() {
     });
     let y0 = &problem.y0;
     let th = y0.rotations[0].log();
-    let euclid = crate::Sdirk4::new(options)
-        .solve(
-            &linear,
-            &crate::Problem::new(
-                0.0,
-                tf,
-                [
-                    th.x,
-                    th.y,
-                    th.z,
-                    y0.velocity[0],
-                    y0.velocity[1],
-                    y0.velocity[2],
-                ],
-            ),
-        )
-        .unwrap();
+    let euclid = crate::solve(
+        &linear,
+        &crate::Problem::new(
+            0.0,
+            tf,
+            [
+                th.x,
+                th.y,
+                th.z,
+                y0.velocity[0],
+                y0.velocity[1],
+                y0.velocity[2],
+            ],
+        ),
+        &crate::Method::Sdirk4(options),
+    )
+    .unwrap();
     let error = distance(&lie.last().unwrap().1, &reference.last().unwrap().1);
     let (n_lie, n_euclid) = (lie.stats().steps as f64, euclid.stats.steps as f64);
     eprintln!(

@@ -4,7 +4,7 @@
 use nalgebra::DMatrix;
 
 use super::*;
-use crate::{Dopri5, ErrorKind, FnSystem, Method, OdeSystem, Options, Problem, Sdirk4, solve};
+use crate::{ErrorKind, FnSystem, Method, OdeSystem, Options, Problem, solve};
 
 fn oscillator() -> FnSystem<impl Fn(f64, &[f64], &mut [f64])> {
     FnSystem::new(2, |_t, y: &[f64], dy: &mut [f64]| {
@@ -90,16 +90,22 @@ fn bdf_global_error_follows_the_tolerance() {
         for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
             let options = Options::tolerances(tol, tol);
             let (traj, err) = if name == "oscillator" {
-                let traj = Bdf::new(options)
-                    .solve(&oscillator(), &Problem::new(0.0, tf, [1.0, 0.0]))
-                    .unwrap();
+                let traj = crate::solve(
+                    &oscillator(),
+                    &Problem::new(0.0, tf, [1.0, 0.0]),
+                    &crate::Method::Bdf(options),
+                )
+                .unwrap();
                 let (t, y) = traj.last().unwrap();
                 let err = ((y[0] - t.cos()).powi(2) + (y[1] + t.sin()).powi(2)).sqrt();
                 (traj, err)
             } else {
-                let traj = Bdf::new(options)
-                    .solve(&forced_decay(), &Problem::new(0.0, tf, [1.0]))
-                    .unwrap();
+                let traj = crate::solve(
+                    &forced_decay(),
+                    &Problem::new(0.0, tf, [1.0]),
+                    &crate::Method::Bdf(options),
+                )
+                .unwrap();
                 let (t, y) = traj.last().unwrap();
                 let err = (y[0] - forced_decay_exact(t)).abs();
                 (traj, err)
@@ -131,9 +137,12 @@ fn bdf_global_error_follows_the_tolerance() {
 #[test]
 fn bdf_reaches_order_five_and_dense_output_is_accurate() {
     let problem = Problem::new(0.0, 10.0, [1.0]);
-    let traj = Bdf::new(Options::tolerances(1e-9, 1e-9))
-        .solve(&forced_decay(), &problem)
-        .unwrap();
+    let traj = crate::solve(
+        &forced_decay(),
+        &problem,
+        &crate::Method::Bdf(Options::tolerances(1e-9, 1e-9)),
+    )
+    .unwrap();
     let worst = (0..=1000)
         .map(|i| {
             let t = i as f64 * 0.01;
@@ -150,16 +159,25 @@ fn bdf_reaches_order_five_and_dense_output_is_accurate() {
 fn bdf_solves_robertson_in_far_fewer_steps_than_dopri5() {
     let rtol = 1e-6;
     let problem = robertson_problem();
-    let reference = Sdirk4::new(Options::tolerances(1e-10, 1e-16))
-        .solve(&Robertson { analytic: true }, &problem)
-        .unwrap();
+    let reference = crate::solve(
+        &Robertson { analytic: true },
+        &problem,
+        &crate::Method::Sdirk4(Options::tolerances(1e-10, 1e-16)),
+    )
+    .unwrap();
     let r = reference.last().unwrap().1.to_vec();
-    let bdf = Bdf::new(robertson_options(rtol))
-        .solve(&Robertson { analytic: false }, &problem)
-        .unwrap();
-    let sdirk = Sdirk4::new(robertson_options(rtol))
-        .solve(&Robertson { analytic: false }, &problem)
-        .unwrap();
+    let bdf = crate::solve(
+        &Robertson { analytic: false },
+        &problem,
+        &crate::Method::Bdf(robertson_options(rtol)),
+    )
+    .unwrap();
+    let sdirk = crate::solve(
+        &Robertson { analytic: false },
+        &problem,
+        &crate::Method::Sdirk4(robertson_options(rtol)),
+    )
+    .unwrap();
     let y = bdf.last().unwrap().1;
     eprintln!("reference {r:?} ({})", reference.stats);
     eprintln!("BDF {y:?} ({})", bdf.stats);
@@ -174,11 +192,14 @@ fn bdf_solves_robertson_in_far_fewer_steps_than_dopri5() {
     // DOPRI5 is limited by stability to h ≲ 3.3/|λ| ≈ 10⁻⁴ at late times: it cannot
     // get far with a hundred times the steps BDF takes.
     let budget = 100 * (bdf.stats.steps + bdf.stats.rejected_steps);
-    let explicit = Dopri5::new(Options {
-        max_steps: budget,
-        ..robertson_options(rtol)
-    })
-    .solve(&Robertson { analytic: false }, &problem)
+    let explicit = crate::solve(
+        &Robertson { analytic: false },
+        &problem,
+        &crate::Method::Dopri5(Options {
+            max_steps: budget,
+            ..robertson_options(rtol)
+        }),
+    )
     .unwrap_err();
     let ErrorKind::MaxSteps { t } = explicit.kind else {
         panic!("DOPRI5: {explicit}");
@@ -201,18 +222,27 @@ fn van_der_pol(mu: f64) -> FnSystem<impl Fn(f64, &[f64], &mut [f64])> {
 fn bdf_solves_stiff_van_der_pol() {
     let problem = Problem::new(0.0, 3000.0, [2.0, 0.0]);
     let rtol = 1e-6;
-    let reference = Sdirk4::new(Options {
-        max_steps: 1_000_000,
-        ..Options::tolerances(1e-10, 1e-10)
-    })
-    .solve(&van_der_pol(1000.0), &problem)
+    let reference = crate::solve(
+        &van_der_pol(1000.0),
+        &problem,
+        &crate::Method::Sdirk4(Options {
+            max_steps: 1_000_000,
+            ..Options::tolerances(1e-10, 1e-10)
+        }),
+    )
     .unwrap();
-    let bdf = Bdf::new(Options::tolerances(rtol, rtol))
-        .solve(&van_der_pol(1000.0), &problem)
-        .unwrap();
-    let sdirk = Sdirk4::new(Options::tolerances(rtol, rtol))
-        .solve(&van_der_pol(1000.0), &problem)
-        .unwrap();
+    let bdf = crate::solve(
+        &van_der_pol(1000.0),
+        &problem,
+        &crate::Method::Bdf(Options::tolerances(rtol, rtol)),
+    )
+    .unwrap();
+    let sdirk = crate::solve(
+        &van_der_pol(1000.0),
+        &problem,
+        &crate::Method::Sdirk4(Options::tolerances(rtol, rtol)),
+    )
+    .unwrap();
     let (y, r) = (bdf.last().unwrap().1, reference.last().unwrap().1);
     eprintln!(
         "BDF {y:?} ({}); SDIRK4 ({}); reference {r:?}",
@@ -228,12 +258,18 @@ fn bdf_solves_stiff_van_der_pol() {
 fn analytic_and_finite_difference_jacobians_agree() {
     let rtol = 1e-7;
     let problem = robertson_problem();
-    let a = Bdf::new(robertson_options(rtol))
-        .solve(&Robertson { analytic: true }, &problem)
-        .unwrap();
-    let fd = Bdf::new(robertson_options(rtol))
-        .solve(&Robertson { analytic: false }, &problem)
-        .unwrap();
+    let a = crate::solve(
+        &Robertson { analytic: true },
+        &problem,
+        &crate::Method::Bdf(robertson_options(rtol)),
+    )
+    .unwrap();
+    let fd = crate::solve(
+        &Robertson { analytic: false },
+        &problem,
+        &crate::Method::Bdf(robertson_options(rtol)),
+    )
+    .unwrap();
     assert_eq!(a.stats.finite_difference_jacobians, 0);
     assert!(a.stats.jacobian_evaluations > 0);
     assert_eq!(
@@ -246,9 +282,12 @@ fn analytic_and_finite_difference_jacobians_agree() {
     // Both against a different method at a far tighter tolerance, with the bound of
     // `bdf_solves_robertson_in_far_fewer_steps_than_dopri5` (each run's global error is
     // a few times rtol either way, so they may differ by more than either misses).
-    let reference = Sdirk4::new(Options::tolerances(1e-10, 1e-16))
-        .solve(&Robertson { analytic: true }, &problem)
-        .unwrap();
+    let reference = crate::solve(
+        &Robertson { analytic: true },
+        &problem,
+        &crate::Method::Sdirk4(Options::tolerances(1e-10, 1e-16)),
+    )
+    .unwrap();
     let r = reference.last().unwrap().1;
     for (name, y) in [("analytic", ya), ("finite differences", yf)] {
         for i in 0..3 {
@@ -278,9 +317,12 @@ fn analytic_and_finite_difference_jacobians_agree() {
 fn blow_up_gives_a_typed_error_with_the_steps_kept() {
     // y' = y², y(0) = 1 blows up at t = 1.
     let system = FnSystem::new(1, |_t, y: &[f64], dy: &mut [f64]| dy[0] = y[0] * y[0]);
-    let err = Bdf::new(Options::default())
-        .solve(&system, &Problem::new(0.0, 2.0, [1.0]))
-        .unwrap_err();
+    let err = crate::solve(
+        &system,
+        &Problem::new(0.0, 2.0, [1.0]),
+        &crate::Method::Bdf(Options::default()),
+    )
+    .unwrap_err();
     eprintln!("{err:?}");
     match err.kind {
         ErrorKind::StepSizeUnderflow { t, .. } | ErrorKind::NonFinite { t, .. } => {
@@ -315,11 +357,14 @@ fn nan_rhs_and_max_steps_are_reported() {
         "{err}"
     );
     assert!(err.solution.last().unwrap().0 <= 0.5);
-    let err = Bdf::new(Options {
-        max_steps: 5,
-        ..Options::default()
-    })
-    .solve(&oscillator(), &Problem::new(0.0, 100.0, [1.0, 0.0]))
+    let err = crate::solve(
+        &oscillator(),
+        &Problem::new(0.0, 100.0, [1.0, 0.0]),
+        &crate::Method::Bdf(Options {
+            max_steps: 5,
+            ..Options::default()
+        }),
+    )
     .unwrap_err();
     assert!(matches!(err.kind, ErrorKind::MaxSteps { .. }), "{err}");
     assert!(!err.solution.is_empty());
@@ -353,9 +398,12 @@ fn invalid_input_is_an_error_not_a_panic() {
         assert!(matches!(err.kind, ErrorKind::InvalidInput(_)), "{err}");
         assert!(err.solution.is_empty());
     }
-    let traj = Bdf::default()
-        .solve(&oscillator(), &Problem::new(1.0, 1.0, [1.0, 0.0]))
-        .unwrap();
+    let traj = solve(
+        &oscillator(),
+        &Problem::new(1.0, 1.0, [1.0, 0.0]),
+        &Method::Bdf(Options::default()),
+    )
+    .unwrap();
     assert_eq!(traj.len(), 1);
 }
 

@@ -85,8 +85,8 @@ use super::trajectory::{LieProblem, LieRun, LieTrajectory};
 use super::{LieState, LieSystem};
 use crate::geometry::so3::{self, UnitQuat};
 use crate::numerics::newton::{
-    DIRK_MAX_NEWTON_ITERATIONS as MAX_NEWTON_ITERATIONS,
-    DIRK_THETA_REUSE_JACOBIAN as THETA_REUSE_JACOBIAN, NewtonMatrix, dirk_stage_tolerance,
+    DIRK_THETA_REUSE_JACOBIAN as THETA_REUSE_JACOBIAN, DirkStage, NewtonMatrix, StageFailure,
+    dirk_stage_newton, dirk_stage_tolerance,
 };
 use crate::numerics::tableau::{SDIRK4, dopri5_dense};
 use crate::numerics::{error_norm, underflow};
@@ -467,9 +467,6 @@ impl LieSdirk {
                 let guess = if i == 0 { w.k_start[c] } else { w.k[i - 1][c] };
                 w.z[c] = w.base[c] + hg * guess;
             }
-            let mut eta = newton.eta.max(f64::EPSILON).powf(0.8);
-            let mut norm_prev = f64::NAN;
-            let mut converged = false;
             // Never ask for less than ten round-offs of the stage's chart coordinates. They
             // are increments, O(h) (not the state, whose round-off `Sdirk4` uses): a floor
             // taken from the state stopped Newton at an error that, amplified up to
@@ -477,50 +474,49 @@ impl LieSdirk {
             // sign every step, floored S10's global error near 1e-8 for rtol ≤ 1e-11
             // (measured; 1.3e-9 at rtol 1e-12 with this floor).
             let roundoff = 10.0 * f64::EPSILON * error_norm(&w.z, &w.mag0, &w.mag0, &self.options);
-            let newton_tol = newton_tol.max(roundoff);
-            for iteration in 0..MAX_NEWTON_ITERATIONS {
-                if w.z.iter().any(|x| !x.is_finite()) {
-                    return StageOutcome::Failed { non_finite: None };
-                }
-                if beyond_pi(&w.z, w.m) {
-                    return StageOutcome::TooFar;
-                }
-                retract(y, &w.z, &mut w.point);
-                if let Err(kind) = run.rhs(t + SDIRK4.c[i] * h, &w.point, &mut w.f_stage) {
+            let stage = DirkStage {
+                hg,
+                base: &w.base,
+                tol: newton_tol.max(roundoff),
+                stagnant,
+                scale: &w.mag0,
+                options: &self.options,
+            };
+            let (m, c) = (w.m, t + SDIRK4.c[i] * h);
+            let (point, f_stage) = (&mut w.point, &mut w.f_stage);
+            let solved = dirk_stage_newton(
+                &stage,
+                &mut w.z,
+                &mut w.fz,
+                w.delta.as_mut_slice(),
+                &mut newton.eta,
+                &mut theta_max,
+                |delta| lu.solve(delta),
+                |z, fz| {
+                    if z.iter().any(|x| !x.is_finite()) {
+                        return Err(StageFailure::Diverged);
+                    }
+                    if beyond_pi(z, m) {
+                        return Err(StageFailure::TooFar);
+                    }
+                    retract(y, z, point);
+                    run.rhs(c, point, f_stage)
+                        .map_err(StageFailure::Evaluation)?;
+                    run.traj.flat.stats.newton_iterations += 1;
+                    chart_field(z, point, f_stage, fz);
+                    Ok(())
+                },
+            );
+            match solved {
+                Ok(()) => {}
+                Err(StageFailure::TooFar) => return StageOutcome::TooFar,
+                Err(StageFailure::Evaluation(kind)) => {
                     return StageOutcome::Failed {
                         non_finite: Some(kind),
                     };
                 }
-                run.traj.flat.stats.newton_iterations += 1;
-                chart_field(&w.z, &w.point, &w.f_stage, &mut w.fz);
-                for c in 0..d {
-                    w.delta[c] = -(w.z[c] - w.base[c] - hg * w.fz[c]);
-                }
-                if !lu.solve(w.delta.as_mut_slice()) {
-                    return StageOutcome::Failed { non_finite: None };
-                }
-                let norm = error_norm(w.delta.as_slice(), &w.mag0, &w.mag0, &self.options);
-                if iteration > 0 && norm > stagnant {
-                    let theta = norm / norm_prev;
-                    theta_max = theta_max.max(theta);
-                    if theta.is_nan() || theta >= 0.99 {
-                        return StageOutcome::Failed { non_finite: None };
-                    }
-                    eta = theta / (1.0 - theta);
-                }
-                for c in 0..d {
-                    w.z[c] += w.delta[c];
-                }
-                norm_prev = norm;
-                if eta * norm <= newton_tol || norm <= stagnant {
-                    converged = true;
-                    break;
-                }
+                Err(StageFailure::Diverged) => return StageOutcome::Failed { non_finite: None },
             }
-            if !converged {
-                return StageOutcome::Failed { non_finite: None };
-            }
-            newton.eta = eta;
             // K_i from the converged stage value (not F(Θ_i)), as in `Sdirk4`.
             for c in 0..d {
                 w.k[i][c] = (w.z[c] - w.base[c]) / hg;

@@ -21,8 +21,8 @@ use nalgebra::DVector;
 use super::stepper::{Eval, StepState, Stepper, check_budget};
 use crate::numerics::control::PiController;
 use crate::numerics::newton::{
-    DIRK_MAX_NEWTON_ITERATIONS as MAX_NEWTON_ITERATIONS,
-    DIRK_THETA_REUSE_JACOBIAN as THETA_REUSE_JACOBIAN, NewtonMatrix, dirk_stage_tolerance,
+    DIRK_THETA_REUSE_JACOBIAN as THETA_REUSE_JACOBIAN, DirkStage, NewtonMatrix, StageFailure,
+    dirk_stage_newton, dirk_stage_tolerance,
 };
 use crate::numerics::tableau::SDIRK4;
 use crate::numerics::{error_norm, underflow};
@@ -246,48 +246,41 @@ impl Sdirk4Stepper {
             // Never ask for less than ten round-offs of the increment (as RADAU5's
             // `10 uround / rtol`, but also valid when `rtol = 0`)…
             let roundoff = 10.0 * f64::EPSILON * error_norm(&self.z, y, y, &self.s.options);
-            let newton_tol = dirk_stage_tolerance().max(roundoff);
-            let mut eta = self.eta.max(f64::EPSILON).powf(0.8);
-            let mut norm_prev = f64::NAN;
-            let mut converged = false;
-            for iteration in 0..MAX_NEWTON_ITERATIONS {
-                for k in 0..n {
-                    self.y1[k] = y[k] + self.z[k];
-                }
-                if let Err(kind) = ev.rhs(t + SDIRK4.c[i] * h, &self.y1, &mut self.fz) {
+            let stage = DirkStage {
+                hg,
+                base: &self.base,
+                tol: dirk_stage_tolerance().max(roundoff),
+                stagnant,
+                scale: y,
+                options: &self.s.options,
+            };
+            let (y1, c) = (&mut self.y1, t + SDIRK4.c[i] * h);
+            let solved = dirk_stage_newton(
+                &stage,
+                &mut self.z,
+                &mut self.fz,
+                self.delta.as_mut_slice(),
+                &mut self.eta,
+                &mut theta_max,
+                |delta| lu.solve(delta),
+                |z, fz| {
+                    for k in 0..n {
+                        y1[k] = y[k] + z[k];
+                    }
+                    ev.rhs(c, y1, fz).map_err(StageFailure::Evaluation)?;
+                    ev.stats.newton_iterations += 1;
+                    Ok(())
+                },
+            );
+            match solved {
+                Ok(()) => {}
+                Err(StageFailure::Evaluation(kind)) => {
                     return StageOutcome::Failed {
                         non_finite: Some(kind),
                     };
                 }
-                ev.stats.newton_iterations += 1;
-                for k in 0..n {
-                    self.delta[k] = -(self.z[k] - self.base[k] - hg * self.fz[k]);
-                }
-                if !lu.solve(self.delta.as_mut_slice()) {
-                    return StageOutcome::Failed { non_finite: None };
-                }
-                let norm = error_norm(self.delta.as_slice(), y, y, &self.s.options);
-                if iteration > 0 && norm > stagnant {
-                    let theta = norm / norm_prev;
-                    theta_max = theta_max.max(theta);
-                    if theta.is_nan() || theta >= 0.99 {
-                        return StageOutcome::Failed { non_finite: None };
-                    }
-                    eta = theta / (1.0 - theta);
-                }
-                for k in 0..n {
-                    self.z[k] += self.delta[k];
-                }
-                norm_prev = norm;
-                if eta * norm <= newton_tol || norm <= stagnant {
-                    converged = true;
-                    break;
-                }
+                Err(_) => return StageOutcome::Failed { non_finite: None },
             }
-            if !converged {
-                return StageOutcome::Failed { non_finite: None };
-            }
-            self.eta = eta;
             // F_i from the converged stage value (not f(Y_i)): avoids amplifying the
             // Newton error by the stiff part (Hairer & Wanner II, §IV.8).
             for k in 0..n {

@@ -12,7 +12,7 @@ use nalgebra::DMatrix;
 use super::eval::Eval;
 use super::lu::DenseLu;
 use super::tableau::SDIRK4;
-use crate::{ErrorKind, OdeSystem};
+use crate::{ErrorKind, OdeSystem, Options};
 
 /// The stage Newton iteration of the stiffly accurate DIRK methods (`Sdirk4` and, on the
 /// group, `LieSdirk`): iterations per stage before the step counts as failed.
@@ -46,6 +46,80 @@ pub(crate) fn dirk_stage_tolerance() -> f64 {
 pub(crate) fn dirk_amplification() -> f64 {
     let s = SDIRK4.stages();
     (0..s).map(|j| SDIRK4.a(s - 1, j).abs()).sum::<f64>() / SDIRK4.a(0, 0)
+}
+
+/// Why a DIRK stage's Newton iteration stopped short.
+pub(crate) enum StageFailure {
+    /// Diverged, converged too slowly, or met a singular matrix or a non-finite stage.
+    Diverged,
+    /// The right-hand side failed at a stage point (kept for reporting).
+    Evaluation(ErrorKind),
+    /// On the group: a stage's rotation vector left the ball `|θ| < π`.
+    TooFar,
+}
+
+/// What one stage's iteration is measured against: the step's `hγ`, the stage's
+/// explicit part `base`, the stopping tolerance `tol` (a fraction of the error test's,
+/// [`dirk_stage_tolerance`], floored at round-off), the `stagnant` correction size below
+/// which nothing improves, and the weights (`scale`, `options`) of the error norm.
+pub(crate) struct DirkStage<'a> {
+    pub hg: f64,
+    pub base: &'a [f64],
+    pub tol: f64,
+    pub stagnant: f64,
+    pub scale: &'a [f64],
+    pub options: &'a Options,
+}
+
+/// The simplified Newton iteration of one stage of a stiffly accurate DIRK, written once
+/// for `Sdirk4` (increments `z = Y − y` of a vector state) and `LieSdirk` (chart
+/// coordinates `z = Θ`): solves `z = base + hγ F(z)` with `(I − hγJ) δ = −(z − base −
+/// hγ F(z))` (`solve` applies the factorised matrix in place), `field(z, fz)` writing
+/// `F(z)`. Stops when the estimated remaining error `η ‖δ‖`, `η = θ/(1 − θ)` from the
+/// contraction rate `θ` of successive corrections (Hairer & Wanner II, §IV.8), is below
+/// `tol`, or a correction is `stagnant`; fails on `θ ≥ 0.99`, a NaN rate, a failed
+/// solve or [`DIRK_MAX_NEWTON_ITERATIONS`]. `eta` carries `η` from stage to stage (its
+/// start `max(η, ε)^0.8`), `theta_max` the slowest rate seen.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn dirk_stage_newton(
+    stage: &DirkStage<'_>,
+    z: &mut [f64],
+    fz: &mut [f64],
+    delta: &mut [f64],
+    eta: &mut f64,
+    theta_max: &mut f64,
+    solve: impl Fn(&mut [f64]) -> bool,
+    mut field: impl FnMut(&[f64], &mut [f64]) -> Result<(), StageFailure>,
+) -> Result<(), StageFailure> {
+    let mut rate = eta.max(f64::EPSILON).powf(0.8);
+    let mut norm_prev = f64::NAN;
+    for iteration in 0..DIRK_MAX_NEWTON_ITERATIONS {
+        field(z, fz)?;
+        for k in 0..z.len() {
+            delta[k] = -(z[k] - stage.base[k] - stage.hg * fz[k]);
+        }
+        if !solve(delta) {
+            return Err(StageFailure::Diverged);
+        }
+        let norm = super::error_norm(delta, stage.scale, stage.scale, stage.options);
+        if iteration > 0 && norm > stage.stagnant {
+            let theta = norm / norm_prev;
+            *theta_max = theta_max.max(theta);
+            if theta.is_nan() || theta >= 0.99 {
+                return Err(StageFailure::Diverged);
+            }
+            rate = theta / (1.0 - theta);
+        }
+        for (zk, dk) in z.iter_mut().zip(delta.iter()) {
+            *zk += dk;
+        }
+        norm_prev = norm;
+        if rate * norm <= stage.tol || norm <= stage.stagnant {
+            *eta = rate;
+            return Ok(());
+        }
+    }
+    Err(StageFailure::Diverged)
 }
 
 /// `J`, what it was built from, and the factorised `I − s J`.

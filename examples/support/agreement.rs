@@ -561,10 +561,65 @@ fn switch_log_broken(ed: &Solution, n: usize) -> Option<String> {
             _ => {}
         }
     }
+    if let Some(why) = chain_broken(log) {
+        return Some(why);
+    }
     let t = ed.times();
     (1..t.len())
         .find(|&i| t[i] == t[i - 1] && !log.iter().any(|s| s.t == t[i]))
         .map(|i| format!("the event at t = {} is not in the log", t[i]))
+}
+
+/// Each element's entries follow on from each other: an entry starts in the mode the
+/// element's previous entry ended in.
+fn chain_broken(log: &[filippov::runtime::Switch]) -> Option<String> {
+    let mut last: std::collections::HashMap<usize, filippov::runtime::Mode> =
+        std::collections::HashMap::new();
+    for (i, s) in log.iter().enumerate() {
+        let (Some(e), Some(from), Some(to)) = (s.index, s.from, s.to) else {
+            continue;
+        };
+        if let Some(&prev) = last.get(&e)
+            && prev != from
+        {
+            return Some(format!(
+                "entry {i} ({:?} at t = {}) starts in {from:?}, but the element was left in {prev:?}",
+                s.element, s.t
+            ));
+        }
+        last.insert(e, to);
+    }
+    None
+}
+
+/// The rules of time-stepping's log (runtime `SwitchKind::Settled`): every entry at the
+/// end of a step, with that step's start and end states; at most one entry per element
+/// per step; each element's entries follow on from each other.
+fn time_stepping_log_broken(ts: &Solution, n: usize) -> Option<String> {
+    let log = &ts.switches;
+    let times = ts.times();
+    for (i, a) in log.iter().enumerate() {
+        let Some(row) = times.iter().position(|&t| t == a.t) else {
+            return Some(format!("entry {i} at t = {} is not at a step's end", a.t));
+        };
+        if row == 0 {
+            return Some(format!("entry {i} is at the first row"));
+        }
+        if a.after[..] != ts.state(row)[..2 * n] || a.before[..] != ts.state(row - 1)[..2 * n] {
+            return Some(format!(
+                "entry {i} at t = {} does not carry its step's states",
+                a.t
+            ));
+        }
+        if a.index.is_some()
+            && log[i + 1..]
+                .iter()
+                .any(|b| b.t == a.t && b.index == a.index)
+        {
+            return Some(format!("two entries for {:?} at t = {}", a.element, a.t));
+        }
+    }
+    chain_broken(log)
 }
 
 fn to_event_driven(
@@ -791,6 +846,9 @@ fn check<const N: usize, const E: usize>(d: Description) -> Verdict {
             Ok(sol) => sol,
             Err(e) => return Verdict::Failed(format!("time-stepping at h = {h:e}: {e}")),
         };
+        if let Some(why) = time_stepping_log_broken(&sol, N) {
+            return Verdict::Failed(format!("time-stepping's switch log at h = {h:e}: {why}"));
+        }
         let run = Run {
             velocities: velocity_steps(&sol, N),
             modes: mode_steps(&sol, &elements, N),

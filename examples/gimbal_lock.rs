@@ -87,7 +87,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let (q, v) = SphericalBody::state_to_qv(&y);
                 let de = (sph.kinetic_energy(&q, &v) - e0).abs() / e0;
                 let curve = error_curve(&|t| lie_rotation(tr, t));
-                (format!("completed to t = {t}"), curve, de, tr.stats().steps)
+                (format!("completed to t = {t}"), curve, de, tr.stats.steps)
             }
             Err(e) => (format!("failed: {e}"), Vec::new(), f64::NAN, 0),
         };

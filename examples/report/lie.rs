@@ -105,7 +105,7 @@ pub fn lie(config: &Config) -> Section {
     let point = |label: String, time: Timing, run: Result<LieTrajectory, SolveError>| match run {
         Ok(traj) => {
             let (final_err, dense_err) = errors(&traj, &reference, t_end);
-            let s = traj.stats();
+            let s = traj.stats;
             Point {
                 label,
                 time,
@@ -157,7 +157,7 @@ pub fn lie(config: &Config) -> Section {
         fixed.push(match run {
             Ok(traj) => {
                 let (final_err, dense_err) = errors(&traj, &reference, t_end);
-                let s = traj.stats();
+                let s = traj.stats;
                 Point {
                     label: format!("h = {}", sci(h)),
                     time,

@@ -100,8 +100,8 @@ pub fn s10_run(rtol: f64, periods: f64, period: f64, chunks: usize) -> Result<S1
             t_end * (c + 1) as f64 / chunks as f64,
         );
         let traj = method.solve(&sys, &LieProblem::new(t0, t1, y))?;
-        run.steps += traj.stats().steps;
-        run.rejected += traj.stats().rejected_steps;
+        run.steps += traj.stats.steps;
+        run.rejected += traj.stats.rejected_steps;
         let mut de = 0.0f64;
         let mut dl = 0.0f64;
         for k in 0..traj.len() {

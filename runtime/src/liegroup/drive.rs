@@ -131,7 +131,10 @@ pub(super) fn drive<M: LieMethod, S: LieSystem + ?Sized>(
         Ok(())
     };
     match integrate() {
-        Ok(()) => Ok((run.traj, tracker.into_hits())),
+        Ok(()) => {
+            run.traj.stats = run.traj.flat.stats;
+            Ok((run.traj, tracker.into_hits()))
+        }
         Err(kind) => Err(SolveError::new(kind, run.traj.flat)),
     }
 }

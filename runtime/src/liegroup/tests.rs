@@ -83,7 +83,7 @@ fn constant_velocity_is_integrated_exactly() {
         );
         assert!((y.euclid[0] - (1.0 + 0.5 * t)).abs() < 1e-13);
     }
-    assert_eq!(traj.stats().steps, 15);
+    assert_eq!(traj.stats.steps, 15);
 }
 
 /// S10 at two tolerances: energy and spatial angular momentum are kept to about the
@@ -104,7 +104,7 @@ fn s10_conserves_energy_and_momentum_to_tolerance() {
             .count();
         eprintln!(
             "S10 RKMK rtol {rtol:e}: {flips} sign changes of ω_y, |ΔE| {de:.2e}, |ΔL| {dl:.2e}, {}, {:.1} ms",
-            traj.stats(),
+            traj.stats,
             elapsed.as_secs_f64() * 1e3
         );
         assert!(de < 100.0 * rtol && dl < 100.0 * rtol, "{de:e} {dl:e}");
@@ -189,6 +189,18 @@ fn dense_output_is_accurate_and_on_the_group() {
     let t3 = coarse.times()[3];
     assert_eq!(coarse.at(t3).unwrap(), coarse.state(3));
     assert_eq!(coarse.at(20.5), None);
+    // `at_into` writes the same states into one buffer, and leaves it outside the span.
+    let mut y = coarse.state(0);
+    for i in 0..50 {
+        let t = 0.4 * i as f64 + 0.013;
+        assert!(coarse.at_into(t, &mut y));
+        assert_eq!(y, coarse.at(t).unwrap());
+    }
+    let kept = y.clone();
+    assert!(!coarse.at_into(-1.0, &mut y));
+    assert_eq!(y, kept);
+    assert_eq!(coarse.stats, coarse.flat().stats);
+    assert!(coarse.stats.steps > 0);
 }
 
 #[test]
@@ -381,15 +393,14 @@ fn s10_through_gimbal_lock_lie_group_versus_euler_angles() {
             "S10 to t = {tf}, rtol {rtol:e}:\n  RKMK:  rotation error {lie_rot:.2e}, |ΔE| {lie_de:.2e}, \
              {}, {t_lie:.2} ms\n  Euler: rotation error {euler_rot:.2e}, |ΔE| {euler_de:.2e}, {}, \
              {t_euler:.2} ms, reached t = {t_end}, min |cos pitch| {min_cos_pitch:.1e}, failure {failure:?}",
-            lie.stats(),
-            euler_traj.stats,
+            lie.stats, euler_traj.stats,
         );
         assert!(min_cos_pitch < 1e-2, "the body must pass gimbal lock");
         assert!(lie_rot < 1e3 * rtol && lie_de < 1e2 * rtol);
         // Measured (debug build): steps 388 vs 52 and 1502 vs 201; rotation error
         // 19× and 63× RKMK's, energy error 20× and 42×. A failure also counts.
         if failure.is_none() {
-            assert!(euler_traj.stats.steps > 4 * lie.stats().steps);
+            assert!(euler_traj.stats.steps > 4 * lie.stats.steps);
             assert!(euler_rot > 10.0 * lie_rot && euler_de > 10.0 * lie_de);
         }
     }

@@ -88,6 +88,8 @@ pub struct LieTrajectory {
     n_rot: usize,
     n_euclid: usize,
     pub(super) flat: Solution,
+    /// Cost of the integration (as [`Solution::stats`]).
+    pub stats: Stats,
     /// Per interval: `Θ₁, K₁, K₇, r₅`, each of the local dimension (`K₁`, `K₇` the
     /// derivatives of `Θ` at the ends; `r₅` the quartic term, `0` for the cubic Hermite).
     chart: Vec<f64>,
@@ -108,6 +110,7 @@ impl LieTrajectory {
             n_rot,
             n_euclid,
             flat: Solution::new(names, 0, Output::Steps),
+            stats: Stats::default(),
             chart: Vec::new(),
             steps: Vec::new(),
         }
@@ -206,14 +209,24 @@ impl LieTrajectory {
     /// step containing `t` (on the group; fourth order for [`Rkmk5`](super::Rkmk5), third for
     /// [`LieSdirk`](super::LieSdirk)), or `None` outside `[t_first, t_last]`.
     pub fn at(&self, t: f64) -> Option<LieState> {
+        let mut y = self.last()?.1;
+        self.at_into(t, &mut y).then_some(y)
+    }
+
+    /// [`at`](Self::at) written into `out` (shaped like the trajectory's states);
+    /// `false`, and `out` untouched, outside `[t_first, t_last]`.
+    pub fn at_into(&self, t: f64, out: &mut LieState) -> bool {
         let times = self.times();
-        let (&first, &last) = (times.first()?, times.last()?);
+        let (Some(&first), Some(&last)) = (times.first(), times.last()) else {
+            return false;
+        };
         if !(first..=last).contains(&t) {
-            return None;
+            return false;
         }
         let i = times.partition_point(|&ti| ti <= t).saturating_sub(1);
         if i + 1 >= self.len() {
-            return Some(self.state(i));
+            out.clone_from(&self.state(i));
+            return true;
         }
         let h = self.steps[i];
         let s = (t - times[i]) / h;
@@ -226,21 +239,15 @@ impl LieTrajectory {
             .map(|c| dopri5_dense(s, h, 0.0, th1[c], k1[c], k7[c], r5[c]))
             .collect();
         let base = self.state(i);
-        let mut y = base.clone();
-        retract(&base, &theta, &mut y);
-        for q in &mut y.rotations {
+        retract(&base, &theta, out);
+        for q in &mut out.rotations {
             *q = q.normalised();
         }
-        Some(y)
+        true
     }
 
     /// The flat trajectory (layout in the type's documentation), e.g. for CSV output.
     pub fn flat(&self) -> &Solution {
         &self.flat
-    }
-
-    /// Cost of the integration.
-    pub fn stats(&self) -> &Stats {
-        &self.flat.stats
     }
 }

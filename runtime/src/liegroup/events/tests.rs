@@ -118,7 +118,7 @@ fn free_body_omega_y_crossings_match_a_bisection_reference() {
             eprintln!(
                 "{name} rtol {rtol:e}: {} crossings of ω_y, worst time error {worst:.2e}, {}",
                 all.len(),
-                traj.stats()
+                traj.stats
             );
             assert!(worst < tol, "{name} rtol {rtol:e}: {worst:e}");
             for h in &all {
@@ -130,7 +130,7 @@ fn free_body_omega_y_crossings_match_a_bisection_reference() {
             let got: Vec<f64> = falling.iter().map(|h| h.t).collect();
             assert_eq!(got, expected, "{name}");
             assert!(hits.windows(2).all(|w| w[0].t <= w[1].t));
-            assert_eq!(traj.stats().events, hits.len());
+            assert_eq!(traj.stats.events, hits.len());
             assert_eq!(traj.last().unwrap().0, tf);
         }
     }
@@ -203,7 +203,7 @@ fn falling_body_stops_at_the_ground() {
         eprintln!(
             "{name}: stopped at t = {t_end:.15} (exact {t_ground:.15}), {} points, {}",
             traj.len(),
-            traj.stats()
+            traj.stats
         );
         assert!(
             (t_end - t_ground).abs() < 1e-10,

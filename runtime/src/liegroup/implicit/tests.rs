@@ -73,7 +73,7 @@ fn free_body_fixed_step_order_is_four() {
         let traj = LieSdirk::fixed(h)
             .solve(&free_body(), &tumbling(tf))
             .unwrap();
-        assert_eq!(traj.stats().steps, (tf / h).round() as usize);
+        assert_eq!(traj.stats.steps, (tf / h).round() as usize);
         let (t_end, y) = traj.last().unwrap();
         assert_eq!(t_end, tf);
         final_errors.push(distance(&y, &y_ref));
@@ -206,7 +206,7 @@ fn difference_jacobian_matches_the_closed_form() {
     };
     let (mut fq, mut fv) = ([0.0; 9], [0.0; 9]);
     difference_jacobian(&mut run, t, &y, &mut fq, &mut fv).unwrap();
-    assert_eq!(run.traj.stats().rhs_evaluations, 12);
+    assert_eq!(run.traj.flat.stats.rhs_evaluations, 12);
     for k in 0..9 {
         assert!(
             (fq[k] - dq[k]).abs() < 1e-7 * K,
@@ -247,8 +247,7 @@ fn stiff_servo_takes_far_fewer_steps_than_rkmk5() {
     eprintln!(
         "stiff servo to t = {tf}, rtol 1e-6:\n  Rkmk5:    {}, error {explicit_error:.2e}\n  \
          reference Rkmk5 rtol 1e-11: {}",
-        explicit.stats(),
-        reference.stats()
+        explicit.stats, reference.stats
     );
     for (name, traj) in [("analytic J", &analytic), ("FD J", &differences)] {
         let (t_end, y) = traj.last().unwrap();
@@ -260,20 +259,20 @@ fn stiff_servo_takes_far_fewer_steps_than_rkmk5() {
                 distance(&traj.at(t).unwrap(), &reference.at(t).unwrap())
             })
             .fold(0.0, f64::max);
-        let ratio = explicit.stats().steps as f64 / traj.stats().steps as f64;
+        let ratio = explicit.stats.steps as f64 / traj.stats.steps as f64;
         eprintln!(
             "  LieSdirk ({name}): {}, error {error:.2e}, dense {dense:.2e}, {ratio:.1}× fewer \
              steps",
-            traj.stats()
+            traj.stats
         );
         assert!(ratio >= 10.0, "{name}: only {ratio:.1}× fewer steps");
         assert!(error < 1e-5, "{name}: final error {error:e}");
         assert!(dense < 1e-4, "{name}: dense output error {dense:e}");
-        assert!(traj.stats().jacobian_evaluations > 0);
+        assert!(traj.stats.jacobian_evaluations > 0);
         assert!((y.rotations[0].norm() - 1.0).abs() < 4.0 * f64::EPSILON);
     }
-    assert_eq!(analytic.stats().finite_difference_jacobians, 0);
-    let fd = differences.stats();
+    assert_eq!(analytic.stats.finite_difference_jacobians, 0);
+    let fd = differences.stats;
     assert_eq!(fd.finite_difference_jacobians, fd.jacobian_evaluations);
     // The test problem does what it claims: the body has turned through large angles
     // with the frame, which it follows closely.
@@ -349,13 +348,11 @@ fn curved_slow_path_shows_the_tableau_order_reduction() {
     )
     .unwrap();
     let error = distance(&lie.last().unwrap().1, &reference.last().unwrap().1);
-    let (n_lie, n_euclid) = (lie.stats().steps as f64, euclid.stats.steps as f64);
+    let (n_lie, n_euclid) = (lie.stats.steps as f64, euclid.stats.steps as f64);
     eprintln!(
         "curved slow path to t = {tf}, rtol 1e-6: LieSdirk {} (error {error:.1e}); Sdirk4 on \
          the linearisation {}; Rkmk5 {}",
-        lie.stats(),
-        euclid.stats,
-        explicit.stats()
+        lie.stats, euclid.stats, explicit.stats
     );
     assert!(
         (0.8..=1.25).contains(&(n_lie / n_euclid)),
@@ -388,7 +385,7 @@ fn constant_velocity_is_integrated_exactly() {
         );
         assert!((y.euclid[0] - (1.0 + 0.5 * t)).abs() < 1e-13);
     }
-    assert_eq!(traj.stats().steps, 15);
+    assert_eq!(traj.stats.steps, 15);
 }
 
 /// Energy and spatial angular momentum of the free body stay within about the
@@ -411,7 +408,7 @@ fn free_body_conserves_energy_and_momentum_to_tolerance() {
         }
         eprintln!(
             "free body LieSdirk rtol {rtol:e}: |ΔE| {de:.2e}, |ΔL| {dl:.2e}, {}",
-            traj.stats()
+            traj.stats
         );
         assert!(de < 100.0 * rtol && dl < 100.0 * rtol, "{de:e} {dl:e}");
         drifts.push(de.max(dl));
@@ -520,7 +517,7 @@ fn free_body_global_error_follows_the_tolerance_to_1e_12() {
         let err = distance(&y, &r);
         eprintln!(
             "LieSdirk rtol {rtol:e}: final error {err:.2e} ({})",
-            traj.stats()
+            traj.stats
         );
         assert!(err <= 100.0 * rtol, "rtol {rtol:e}: final error {err:e}");
     }

@@ -385,7 +385,7 @@ fn satellite_conserves_spatial_momentum_and_energy() {
     let arm_travel = (last.euclid[3] - y0.euclid[3]).abs();
     eprintln!(
         "satellite: |ΔE|/E {de:.1e}, |Δh|/|h| {dh:.1e}, arm1 moved {arm_travel:.2} rad, {}",
-        traj.stats()
+        traj.stats
     );
     assert!(de < 1e-8 && dh < 1e-8, "{de:e} {dh:e}");
     assert!(arm_travel > 0.5);
@@ -493,7 +493,7 @@ fn lie_sdirk_integrates_the_satellite_with_its_jacobian() {
     let dh = drift(&traj, momentum, |a, b| {
         ((a.0 - b.0).norm() + (a.1 - b.1).norm()) / scale
     });
-    let stats = traj.stats();
+    let stats = traj.stats;
     eprintln!("satellite LieSdirk: |ΔE|/E {de:.1e}, |Δh|/|h| {dh:.1e}, {stats}");
     assert!(de < 1e-6 && dh < 1e-6, "{de:e} {dh:e}");
     assert!(stats.jacobian_evaluations > 0 && stats.finite_difference_jacobians == 0);

@@ -11,7 +11,10 @@
 //!   [`numeric::Model`] — the cross-check and the baseline.
 //! * Integration, in layers whose arrows point down:
 //!   - drivers: [`solve`] (smooth), [`solve_nonsmooth`] (event-driven or
-//!     time-stepping, [`nonsmooth`]), the Lie-group methods' own `solve` ([`liegroup`]);
+//!     time-stepping, [`nonsmooth`]; its step-level form
+//!     [`nonsmooth::Integrator`], which a controller drives with `set_input` and
+//!     `advance_to`), the Lie-group methods' own `solve` ([`liegroup`]); user
+//!     [`Event`]s, located the same way by every driver ([`events`]);
 //!   - methods ([`method`]): [`Rk4`], [`Dopri5`], [`Sdirk4`], [`Bdf`], each a
 //!     configuration that makes a [`Stepper`] — the step-level trait every driver runs
 //!     on (start, one accepted step, restart at a discontinuity, dense output);
@@ -24,7 +27,8 @@
 //!   non-smooth runs the log of every [`Switch`]; a [`SolveError`] keeps the solution
 //!   up to the failure.
 //! * [`liegroup`]: Lie-group integration on SO(3)ᵐ × ℝⁿ ([`LieSystem`]; explicit
-//!   [`Rkmk5`], stiff [`LieSdirk`]; event location with [`LieEvent`]), and the trait of
+//!   [`Rkmk5`], stiff [`LieSdirk`]; events with [`LieEvent`], an [`Event`] of the
+//!   group's state), and the trait of
 //!   scenes with spherical and free joints ([`LieMechanism`]) with its adapter
 //!   [`LieMechanical`]. These keep their own step-level trait (`LieStepper`: start, one
 //!   accepted step, under one driver that also locates [`LieEvent`]s) and result

@@ -24,7 +24,7 @@ where
 }
 
 /// [`solve_nonsmooth`] with an [`Observer`] called after every accepted step (of the
-/// state `[q; v]`); breaking ends the run with [`ErrorKind::Cancelled`].
+/// state `[q; v]`); breaking ends the run with [`ErrorKind::Cancelled`](crate::ErrorKind::Cancelled).
 pub fn solve_nonsmooth_with<S, F, O, const N: usize>(
     system: &S,
     input: &F,

@@ -111,6 +111,11 @@ const METHODS: [&str; 5] = [
 ];
 /// The smooth methods of the event-driven entries of [`METHODS`].
 const SMOOTH: [fn(Options) -> Method; 3] = [Method::Dopri5, Method::Sdirk4, Method::Bdf];
+
+/// The name of a method family (`Method::Dopri5` → "DOPRI5").
+fn family(m: fn(Options) -> Method) -> &'static str {
+    m(Options::default()).name()
+}
 /// Index of the first time-stepping entry (θ = 1) in [`METHODS`]; θ = ½ follows it.
 const TIME_STEPPING: usize = 3;
 
@@ -533,10 +538,13 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
         .zip(&worst)
         .map(|(m, w)| match w {
             Some((w, rtol)) => format!(
-                "{m:?} {:.0} (switch {} at rtol {rtol:.0e}, state off by {:.1}·rtol just before it)",
-                w.ratio, w.index, w.state_before
+                "{} {:.0} (switch {} at rtol {rtol:.0e}, state off by {:.1}·rtol just before it)",
+                family(*m),
+                w.ratio,
+                w.index,
+                w.state_before
             ),
-            None => format!("{m:?} —"),
+            None => format!("{} —", family(*m)),
         })
         .collect::<Vec<_>>()
         .join(", ");
@@ -546,8 +554,8 @@ fn sweep_vs_reference<S: filippov::runtime::NonSmooth<1>>(
                 .iter()
                 .zip(&worst_exact)
                 .map(|(m, w)| match w {
-                    Some((r, rtol)) => format!("{m:?} {r:.0} (at rtol {rtol:.0e})"),
-                    None => format!("{m:?} —"),
+                    Some((r, rtol)) => format!("{} {r:.0} (at rtol {rtol:.0e})", family(*m)),
+                    None => format!("{} —", family(*m)),
                 })
                 .collect::<Vec<_>>()
                 .join(", ");

@@ -373,25 +373,23 @@ fn s5_switch_times(runs: &[(fn(Options) -> Method, &[f64], f64)]) {
     let p =
         NonSmoothProblem::new(0.0, tf, V1::new(0.25), V1::new(0.0)).with_forces(vec![Some(-0.25)]);
     for &(method, tolerances, bound) in runs {
+        let name = method(Options::default()).name();
         for &rtol in tolerances {
             let run = NonSmoothMethod::EventDriven(method(Options::tolerances(rtol, 1e-2 * rtol)));
             let sol = solve_nonsmooth(&s, &|t, _q: &V1, _v: &V1| V1::new(load(t)), &p, &run)
-                .unwrap_or_else(|e| panic!("{method:?} at rtol {rtol:e}: {e}"));
+                .unwrap_or_else(|e| panic!("{name} at rtol {rtol:e}: {e}"));
             let modes: Vec<Option<Mode>> = sol.switches.iter().map(|w| w.to).collect();
             let expected: Vec<Option<Mode>> = exact.iter().map(|e| Some(e.1)).collect();
-            assert_eq!(
-                modes, expected,
-                "{method:?} at rtol {rtol:e}: the switch log"
-            );
+            assert_eq!(modes, expected, "{name} at rtol {rtol:e}: the switch log");
             let worst = filippov_scenes::references::switch_time_error(&sol.switches, &exact, true)
                 .expect("the same switches");
             println!(
-                "S5 {method:?} at rtol {rtol:e}: switch times within {:.1}·rtol",
+                "S5 {name} at rtol {rtol:e}: switch times within {:.1}·rtol",
                 worst / rtol
             );
             assert!(
                 worst <= bound * rtol,
-                "{method:?} at rtol {rtol:e}: a switch {worst:e} from the closed form"
+                "{name} at rtol {rtol:e}: a switch {worst:e} from the closed form"
             );
         }
     }
@@ -694,8 +692,9 @@ fn s4_switch_sequence(runs: &[(fn(Options) -> Method, &[f64], f64)]) {
         let p = NonSmoothProblem::new(0.0, 40.0, V1::new(0.0), V1::new(0.0));
         let run = |m: fn(Options) -> Method, rtol: f64| -> Solution {
             let method = NonSmoothMethod::EventDriven(m(Options::tolerances(rtol, 1e-2 * rtol)));
+            let family = m(Options::default()).name();
             solve_nonsmooth(s, &input, &p, &method)
-                .unwrap_or_else(|e| panic!("{name} {m:?} at {rtol:e}: {e}"))
+                .unwrap_or_else(|e| panic!("{name} {family} at {rtol:e}: {e}"))
         };
         let (ref_sdirk, ref_dopri) = (run(Method::Sdirk4, 1e-13), run(Method::Dopri5, 1e-13));
         let key =
@@ -707,7 +706,8 @@ fn s4_switch_sequence(runs: &[(fn(Options) -> Method, &[f64], f64)]) {
             };
         assert_eq!(key(&ref_sdirk), key(&ref_dopri), "{name}: the references");
         for &(m, tolerances, bound) in runs {
-            let reference = if m(Options::default()).name() == "DOPRI5" {
+            let family = m(Options::default()).name();
+            let reference = if family == "DOPRI5" {
                 &ref_sdirk
             } else {
                 &ref_dopri
@@ -717,7 +717,7 @@ fn s4_switch_sequence(runs: &[(fn(Options) -> Method, &[f64], f64)]) {
                 assert_eq!(
                     key(&sol),
                     key(reference),
-                    "{name} {m:?} at rtol {rtol:e}: {} switches, the reference {}",
+                    "{name} {family} at rtol {rtol:e}: {} switches, the reference {}",
                     sol.switches.len(),
                     reference.switches.len()
                 );
@@ -729,7 +729,7 @@ fn s4_switch_sequence(runs: &[(fn(Options) -> Method, &[f64], f64)]) {
                     .fold(0.0, f64::max);
                 assert!(
                     dt <= bound * rtol,
-                    "{name} {m:?} at rtol {rtol:e}: switch times off by {dt:e}"
+                    "{name} {family} at rtol {rtol:e}: switch times off by {dt:e}"
                 );
             }
         }

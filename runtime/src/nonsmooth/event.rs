@@ -468,18 +468,7 @@ where
         problem: &NonSmoothProblem<N>,
     ) -> Result<(), ErrorKind> {
         self.initialise(problem, false)?;
-        let y = self.state();
-        {
-            let sys = mode_system!(self);
-            stepper.start(
-                &mut Eval::new(&sys, &mut self.out.stats),
-                self.t,
-                &y,
-                self.tf - self.t,
-            )?;
-        }
-        self.arming = self.arm(self.t, &y);
-        Ok(())
+        self.start_arc(stepper, true)
     }
 
     /// One accepted step towards `t_stop` (≤ `tf`), or one step cut at an event and the
@@ -704,15 +693,22 @@ where
     /// The stepper started again at the current point (after a switch, or an input
     /// that changed), and the switching functions armed anew.
     pub(super) fn restart<St: Stepper>(&mut self, stepper: &mut St) -> Result<(), ErrorKind> {
+        self.start_arc(stepper, false)
+    }
+
+    /// A smooth arc from the current point: the stepper started (`fresh`) or restarted
+    /// there, the switching functions armed.
+    fn start_arc<St: Stepper>(&mut self, stepper: &mut St, fresh: bool) -> Result<(), ErrorKind> {
         let y = self.state();
         {
             let sys = mode_system!(self);
-            stepper.restart(
-                &mut Eval::new(&sys, &mut self.out.stats),
-                self.t,
-                &y,
-                self.tf - self.t,
-            )?;
+            let ev = &mut Eval::new(&sys, &mut self.out.stats);
+            let span = self.tf - self.t;
+            if fresh {
+                stepper.start(ev, self.t, &y, span)?;
+            } else {
+                stepper.restart(ev, self.t, &y, span)?;
+            }
         }
         self.arming = self.arm(self.t, &y);
         Ok(())

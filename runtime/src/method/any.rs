@@ -78,10 +78,6 @@ impl Stepper for AnyStepper {
         each!(self, |s| s.restart(ev, t, y, span))
     }
 
-    fn options(&self) -> crate::Options {
-        each!(self, |s| s.options())
-    }
-
     fn prepare_dense(&mut self) {
         each!(self, |s| s.prepare_dense())
     }

@@ -99,6 +99,9 @@
 //!   non-linear spring by its energy in the coordinate `x`; force `−dU/dx` derived
 //!   symbolically), `#[damper(joint, c = …)]` on joint coordinates.
 //! - Non-smooth elements: `#[friction(joint, f_crit = …)]` (Coulomb),
+//!   `#[friction(joint, f_static = …, f_kinetic = …)]` (static and kinetic friction: held
+//!   at rest up to `f_static`, slipping at `f_kinetic ≤ f_static`; where rest and slip
+//!   are both consistent, rest persists),
 //!   `#[bingham(joint, f_crit = …, eta = …)]`, `#[bingham(joint, f_crit = …, law = φ(f))]`
 //!   (`select = no_jumps | max_dissipation` for a non-monotone law),
 //!   `#[stop(joint, max = L | min = L, restitution = e | k_support = k)]`; both `min` and

@@ -21,11 +21,16 @@ pub enum Selection {
 
 /// The constitutive law of a dash-pot (friction-type) element: a dead zone
 /// `|f| ≤ f_crit` where the coordinate sticks (`v = 0`), and outside it a slip law.
+/// Each law's behaviour lives in one file of the runtime's `nonsmooth/kind/` folder.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Law {
     /// Coulomb friction: `|f| ≤ f_crit`, and `v ≠ 0 ⇒ f = f_crit sgn v`.
     Coulomb,
+    /// Static and kinetic friction: at rest `|f| ≤ f_crit` (the static force
+    /// `f_static`), slipping `f = f_kinetic sgn v` with `0 ≤ f_kinetic ≤ f_crit`; where
+    /// both rest and slip are consistent, rest persists (theory.md §3).
+    StaticKinetic { f_kinetic: f64 },
     /// Linear Bingham: `v = (f − sgn(f) f_crit) / η` for `|f| > f_crit`; equivalently
     /// `f = sgn(v) (f_crit + η |v|)` while slipping.
     BinghamLinear { eta: f64 },

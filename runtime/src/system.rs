@@ -68,6 +68,13 @@ pub mod check {
             .then(|| format!("must be below the upper stop's {max}, got {min}"))
     }
 
+    /// A kinetic friction force at most the static one.
+    pub fn at_most(x: f64, limit: f64) -> Option<String> {
+        (x.partial_cmp(&limit)
+            .is_none_or(|o| o == std::cmp::Ordering::Greater))
+        .then(|| format!("must be at most the static friction force {limit}, got {x}"))
+    }
+
     pub fn unit_interval(x: f64) -> Option<String> {
         (!(0.0..=1.0).contains(&x)).then(|| format!("must lie in [0, 1], got {x}"))
     }

@@ -381,6 +381,10 @@ pub enum Selection {
 #[derive(Clone, Debug)]
 pub enum Law {
     Coulomb,
+    /// Static/kinetic friction: the element's `f_crit` is the static force.
+    StaticKinetic {
+        f_kinetic: PExpr,
+    },
     BinghamLinear {
         eta: PExpr,
     },

@@ -8,8 +8,8 @@
 //!   and the slip law `φ` outside it — a function of the force, monotone or not.
 //! * Coulomb friction: `|f| ≤ f_crit` at `v = 0`, `f = f_crit sgn v` otherwise — neither a
 //!   function of `v` nor of `f`, but a maximal monotone graph.
-//! * Stops, in the gap coordinate `g = σ (q − position)` (`σ = +1` for [`Side::Lower`],
-//!   `−1` for [`Side::Upper`]) with contact force `λ ≥ 0` pushing the coordinate back into
+//! * Stops, in the gap coordinate `g = σ (q − position)` (`σ = +1` for [`Side::Lower`](crate::element::Side::Lower),
+//!   `−1` for [`Side::Upper`](crate::element::Side::Upper)) with contact force `λ ≥ 0` pushing the coordinate back into
 //!   its admissible side, i.e. element force `f = −σ λ` under the sign convention of
 //!   [`crate::nonsmooth`].
 //!
@@ -39,7 +39,8 @@
 
 use std::fmt;
 
-use crate::element::{Element, ElementKind, Law, NonSmooth, Selection, Side, StopKind};
+use super::kind::{self, Kind};
+use crate::element::{Element, ElementKind, Law, NonSmooth, Selection};
 
 /// Non-monotone laws are scanned for folds on `f_crit < f ≤ FOLD_SCAN · (f_crit + 1)`.
 pub const FOLD_SCAN: f64 = 16.0;
@@ -70,7 +71,7 @@ pub fn position_weight(theta: f64) -> f64 {
 /// change of `V` exactly, whatever the step: a support hit within one step gives back
 /// what it stored. The right side falls as `λ` grows (`V` is convex), so the root is
 /// unique; each piece of `V` gives it in closed form.
-fn support_discrete_gradient(k: f64, g_a: f64, g_free: f64, c: f64) -> f64 {
+pub(crate) fn support_discrete_gradient(k: f64, g_a: f64, g_free: f64, c: f64) -> f64 {
     if g_a < 0.0 {
         // Pressed in at the start. Still pressed in at the end: λ = −½k (g_a + g_b).
         let lambda = -0.5 * k * (g_a + g_free) / (1.0 + 0.5 * k * c);
@@ -129,7 +130,7 @@ pub struct StepState {
 /// Which part of the graph a point lies on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
-pub enum Mode {
+pub enum Part {
     /// Dash-pot in its dead zone: `v = 0` exactly, `|f| ≤ f_crit`.
     Stick,
     /// Dash-pot slipping on its slip law.
@@ -147,7 +148,7 @@ pub enum Mode {
 pub struct Point {
     pub v: f64,
     pub f: f64,
-    pub mode: Mode,
+    pub part: Part,
 }
 
 /// A local extremum of a non-monotone slip law on `f > f_crit`.
@@ -360,63 +361,33 @@ impl Graph {
     }
 
     /// Dash-pots: the velocity of a force, `v = Φ(f)` (`0` in the dead zone). `None` for
-    /// Coulomb friction (not a function of the force) and for stops.
+    /// friction (not a function of the force) and for stops.
     pub fn velocity_of_force<S: NonSmooth<N>, const N: usize>(
         &self,
         system: &S,
         f: f64,
     ) -> Option<f64> {
-        match self.element.kind {
-            ElementKind::DashPot {
-                law: Law::Coulomb, ..
-            }
-            | ElementKind::Stop { .. } => None,
-            ElementKind::DashPot { law, f_crit } => Some(phi(system, self.index, law, f_crit, f)),
-        }
+        kind::of(&self.element).velocity_of_force(system, self.index, f)
     }
 
     /// Dash-pots: the force of a slip velocity `v ≠ 0` (`None` for `v = 0`, where any
-    /// `|f| ≤ f_crit` fits, and for stops). Monotone laws: the unique force, by
-    /// safeguarded Newton on `Φ(f) = v`. Non-monotone laws: approach 2 the force of the
-    /// maximal-dissipation graph; approach 1 the first force met from `previous` in the
-    /// direction of `v − Φ(previous)`.
+    /// force of the dead zone fits, and for stops). Friction: `±` its slip level.
+    /// Monotone laws: the unique force, by safeguarded Newton on `Φ(f) = v`. Non-monotone
+    /// laws: approach 2 the force of the maximal-dissipation graph; approach 1 the first
+    /// force met from `previous` in the direction of `v − Φ(previous)`.
     pub fn force_of_velocity<S: NonSmooth<N>, const N: usize>(
         &self,
         system: &S,
         v: f64,
         previous: f64,
     ) -> Result<Option<f64>, LawError> {
-        let ElementKind::DashPot { law, f_crit } = self.element.kind else {
-            return Ok(None);
-        };
         if !v.is_finite() || !previous.is_finite() {
             return Err(LawError::NonFinite);
         }
         if v == 0.0 {
             return Ok(None);
         }
-        let s = v.signum();
-        Ok(Some(match law {
-            Law::Coulomb => s * f_crit,
-            Law::BinghamLinear { eta } => s * (f_crit + eta * v.abs()),
-            Law::BinghamMonotone => {
-                let hi = upper_bound(|x| side_phi(system, self.index, s, x) - v.abs(), f_crit)?;
-                s * newton_bisect(system, self.index, s, 0.0, v.abs(), f_crit, hi)?
-            }
-            Law::BinghamNonMonotone {
-                selection: Selection::MaximalDissipation,
-            } => {
-                let psi = |x: f64| self.psi(system, s, f_crit, x) - v.abs();
-                let hi = upper_bound(psi, f_crit)?;
-                s * bisect(psi, f_crit, hi)?
-            }
-            Law::BinghamNonMonotone {
-                selection: Selection::NoVelocityJumps,
-            } => {
-                let g = |f: f64| phi(system, self.index, law, f_crit, f) - v;
-                self.first_root(g, f_crit, previous)?
-            }
-        }))
+        kind::of(&self.element).force_of_velocity(self, system, v, previous)
     }
 
     /// The intersection of `line` with the graph (see the module documentation), given
@@ -429,151 +400,21 @@ impl Graph {
         line: Line,
         state: &StepState,
     ) -> Result<Point, LawError> {
-        let Line { v_free, w } = line;
-        if !(v_free.is_finite() && w.is_finite() && w > 0.0) {
+        if !(line.v_free.is_finite() && line.w.is_finite() && line.w > 0.0) {
             return Err(LawError::NonFinite);
         }
-        match self.element.kind {
-            ElementKind::DashPot { law, f_crit } => {
-                self.dashpot_on_line(system, law, f_crit, line, state.force)
-            }
-            ElementKind::Stop {
-                side,
-                position,
-                kind,
-            } => {
-                let sigma = if side == Side::Lower { 1.0 } else { -1.0 };
-                let gap = sigma * (state.q - position);
-                let u_free = sigma * v_free;
-                let open = Point {
-                    v: v_free,
-                    f: 0.0,
-                    mode: Mode::Open,
-                };
-                match kind {
-                    StopKind::Rigid { restitution } => {
-                        // Moreau's velocity-level rule with Newton restitution, active set
-                        // from the gap predicted half a step ahead (Acary & Brogliato 2008,
-                        // §10.1): 0 ≤ u + e·min(u_n, 0) ⊥ λ ≥ 0.
-                        let u_n = sigma * state.v;
-                        let active = gap + 0.5 * state.h * u_n <= 0.0;
-                        let target = -restitution * u_n.min(0.0);
-                        if !active || u_free >= target {
-                            return Ok(open);
-                        }
-                        let lambda = (target - u_free) / w;
-                        Ok(Point {
-                            v: sigma * target,
-                            f: -sigma * lambda,
-                            mode: Mode::Contact,
-                        })
-                    }
-                    StopKind::SpringBacked { stiffness } => {
-                        // u = u_free + w λ; the gap at the step's end is
-                        // g_end = g_n + h((1 − θ_q) u_n + θ_q u) = g_free + c λ.
-                        let th = state.theta_q;
-                        let u_n = sigma * state.v;
-                        let g_free = gap + state.h * ((1.0 - th) * u_n + th * u_free);
-                        let c = state.h * th * w;
-                        let lambda = if th >= 1.0 {
-                            // θ_q = 1: λ = k (−g_end)₊, implicit Euler: any k is stable,
-                            // and a contact loses energy, more the larger h√(k/m).
-                            stiffness * (-g_free).max(0.0) / (1.0 + stiffness * c)
-                        } else {
-                            // θ_q < 1: the discrete gradient of the support's energy
-                            // between the step's ends, exact in energy at θ_q = ½.
-                            support_discrete_gradient(stiffness, gap, g_free, c)
-                        };
-                        if lambda <= 0.0 {
-                            return Ok(open);
-                        }
-                        Ok(Point {
-                            v: sigma * (u_free + w * lambda),
-                            f: -sigma * lambda,
-                            mode: Mode::Contact,
-                        })
-                    }
-                }
-            }
-        }
-    }
-
-    fn dashpot_on_line<S: NonSmooth<N>, const N: usize>(
-        &self,
-        system: &S,
-        law: Law,
-        f_crit: f64,
-        line: Line,
-        previous: f64,
-    ) -> Result<Point, LawError> {
-        let Line { v_free, w } = line;
-        let e = self.index;
-        let slip = |f: f64| Point {
-            v: v_free - w * f,
-            f,
-            mode: Mode::Slip,
-        };
-        if let Law::BinghamNonMonotone {
-            selection: Selection::NoVelocityJumps,
-        } = law
-        {
-            if !previous.is_finite() {
-                return Err(LawError::NonFinite);
-            }
-            let f = self.first_root(
-                |f| phi(system, e, law, f_crit, f) + w * f - v_free,
-                f_crit,
-                previous,
-            )?;
-            return Ok(if f.abs() <= f_crit {
-                Point {
-                    v: 0.0,
-                    f,
-                    mode: Mode::Stick,
-                }
-            } else {
-                slip(f)
-            });
-        }
-        // Monotone graphs (and approach 2's monotone envelope): stick iff the line meets
-        // the dead zone's vertical segment.
-        if v_free.abs() <= w * f_crit {
-            return Ok(Point {
-                v: 0.0,
-                f: v_free / w,
-                mode: Mode::Stick,
-            });
-        }
-        let s = v_free.signum();
-        let a = v_free.abs();
-        Ok(match law {
-            Law::Coulomb => slip(s * f_crit),
-            // a − w x = (x − f_crit)/η.
-            Law::BinghamLinear { eta } => slip(s * (a + f_crit / eta) / (w + 1.0 / eta)),
-            // φ(x) + w x = a on [f_crit, a/w]: φ ≥ 0 there, so a/w brackets the root.
-            Law::BinghamMonotone => slip(s * newton_bisect(system, e, s, w, a, f_crit, a / w)?),
-            Law::BinghamNonMonotone { .. } => {
-                let x = bisect(
-                    |x| self.psi(system, s, f_crit, x) + w * x - a,
-                    f_crit,
-                    a / w,
-                )?;
-                // On a plateau (ψ < φ) the velocity is exactly the local minimum.
-                match self.plateau_below(system, s, f_crit, x) {
-                    Some(v_min) => Point {
-                        v: s * v_min,
-                        f: s * (a - v_min) / w,
-                        mode: Mode::Plateau,
-                    },
-                    None => slip(s * x),
-                }
-            }
-        })
+        kind::of(&self.element).on_line(self, system, line, state)
     }
 
     /// `ψ(x) = inf_{y ≥ x} φ₊(y)` on the side `s` (`x ≥ f_crit`): the smaller of `φ₊(x)`
     /// and the local minima beyond `x` (φ increases beyond its last fold).
-    fn psi<S: NonSmooth<N>, const N: usize>(&self, system: &S, s: f64, f_crit: f64, x: f64) -> f64 {
+    pub(crate) fn psi<S: NonSmooth<N>, const N: usize>(
+        &self,
+        system: &S,
+        s: f64,
+        f_crit: f64,
+        x: f64,
+    ) -> f64 {
         let here = if x <= f_crit {
             0.0
         } else {
@@ -586,7 +427,7 @@ impl Graph {
     }
 
     /// The plateau velocity if `x` lies on a filled jump of approach 2's graph.
-    fn plateau_below<S: NonSmooth<N>, const N: usize>(
+    pub(crate) fn plateau_below<S: NonSmooth<N>, const N: usize>(
         &self,
         system: &S,
         s: f64,
@@ -606,7 +447,12 @@ impl Graph {
     /// between breakpoints it uses 64 cells on decreasing pieces of `φ` (where `g` need
     /// not be monotone) and one cell on increasing ones; beyond the last breakpoint the
     /// bracket is found by doubling. The root is refined by bisection.
-    fn first_root(&self, g: impl Fn(f64) -> f64, f_crit: f64, start: f64) -> Result<f64, LawError> {
+    pub(crate) fn first_root(
+        &self,
+        g: impl Fn(f64) -> f64,
+        f_crit: f64,
+        start: f64,
+    ) -> Result<f64, LawError> {
         let g0 = g(start);
         if !g0.is_finite() {
             return Err(LawError::NonFinite);
@@ -666,51 +512,13 @@ impl Graph {
 
 /// Parameter checks with messages naming the element and what would be right.
 fn check(el: &Element) -> Result<(), LawError> {
-    let bad = |what: String| {
-        Err(LawError::InvalidElement(format!(
-            "element `{}`: {what}",
-            el.name
-        )))
-    };
-    match el.kind {
-        ElementKind::DashPot { law, f_crit } => {
-            if !(f_crit.is_finite() && f_crit >= 0.0) {
-                return bad(format!(
-                    "critical force f_crit = {f_crit} must be finite and ≥ 0"
-                ));
-            }
-            if let Law::BinghamLinear { eta } = law
-                && !(eta.is_finite() && eta > 0.0)
-            {
-                return bad(format!(
-                    "viscosity η = {eta} must be finite and > 0 (η → 0 is Coulomb)"
-                ));
-            }
-        }
-        ElementKind::Stop { position, kind, .. } => {
-            if !position.is_finite() {
-                return bad(format!("stop position {position} must be finite"));
-            }
-            match kind {
-                StopKind::Rigid { restitution } if !(0.0..=1.0).contains(&restitution) => {
-                    return bad(format!("restitution e = {restitution} must lie in [0, 1]"));
-                }
-                StopKind::SpringBacked { stiffness }
-                    if !(stiffness.is_finite() && stiffness > 0.0) =>
-                {
-                    return bad(format!(
-                        "support stiffness {stiffness} must be finite and > 0 (use a rigid stop for ∞)"
-                    ));
-                }
-                _ => {}
-            }
-        }
-    }
-    Ok(())
+    kind::of(el)
+        .check()
+        .map_err(|what| LawError::InvalidElement(format!("element `{}`: {what}", el.name)))
 }
 
-/// `Φ(f)`: 0 in the dead zone, the slip law outside (Bingham laws; Coulomb gives 0).
-fn phi<S: NonSmooth<N>, const N: usize>(
+/// `Φ(f)`: 0 in the dead zone, the slip law outside (Bingham laws; friction gives 0).
+pub(crate) fn phi<S: NonSmooth<N>, const N: usize>(
     system: &S,
     e: usize,
     law: Law,
@@ -721,20 +529,25 @@ fn phi<S: NonSmooth<N>, const N: usize>(
         return 0.0;
     }
     match law {
-        Law::Coulomb => 0.0,
         Law::BinghamLinear { eta } => (f - f.signum() * f_crit) / eta,
         Law::BinghamMonotone | Law::BinghamNonMonotone { .. } => system.law(e, f).0,
+        _ => 0.0,
     }
 }
 
 /// The user slip law on side `s` as a function of `x = |f| > f_crit`: `s φ(s x)`.
-fn side_phi<S: NonSmooth<N>, const N: usize>(system: &S, e: usize, s: f64, x: f64) -> f64 {
+pub(crate) fn side_phi<S: NonSmooth<N>, const N: usize>(
+    system: &S,
+    e: usize,
+    s: f64,
+    x: f64,
+) -> f64 {
     s * system.law(e, s * x).0
 }
 
 /// Root of `s φ(s x) + w x = a` on `[lo, hi]` (increasing, sign change): Newton with the
 /// law's derivative, kept inside a shrinking bracket, bisection when Newton leaves it.
-fn newton_bisect<S: NonSmooth<N>, const N: usize>(
+pub(crate) fn newton_bisect<S: NonSmooth<N>, const N: usize>(
     system: &S,
     e: usize,
     s: f64,
@@ -776,7 +589,7 @@ fn newton_bisect<S: NonSmooth<N>, const N: usize>(
 
 /// Bisection of a continuous `g` with a sign change on `[a, b]` (either order), to
 /// round-off.
-fn bisect(g: impl Fn(f64) -> f64, a: f64, b: f64) -> Result<f64, LawError> {
+pub(crate) fn bisect(g: impl Fn(f64) -> f64, a: f64, b: f64) -> Result<f64, LawError> {
     let (mut lo, mut hi) = (a, b);
     let glo = g(lo);
     if glo == 0.0 {
@@ -804,7 +617,7 @@ fn bisect(g: impl Fn(f64) -> f64, a: f64, b: f64) -> Result<f64, LawError> {
 }
 
 /// Smallest `f_crit · 2^k`-type point where an eventually increasing `g` is ≥ 0.
-fn upper_bound(g: impl Fn(f64) -> f64, f_crit: f64) -> Result<f64, LawError> {
+pub(crate) fn upper_bound(g: impl Fn(f64) -> f64, f_crit: f64) -> Result<f64, LawError> {
     let mut x = 2.0 * f_crit + 1.0;
     for _ in 0..MAX_ITER {
         let gx = g(x);
@@ -1065,7 +878,7 @@ mod tests {
                 &state(0.0),
             )
             .unwrap();
-        assert_eq!((p.v, p.mode), (0.0, Mode::Stick));
+        assert_eq!((p.v, p.part), (0.0, Part::Stick));
         assert!((p.f - 0.4).abs() < 1e-15);
         let p = g
             .on_line(
@@ -1077,7 +890,7 @@ mod tests {
                 &state(0.0),
             )
             .unwrap();
-        assert_eq!((p.f, p.mode), (-0.5, Mode::Slip));
+        assert_eq!((p.f, p.part), (-0.5, Part::Slip));
         assert!((p.v - (-0.095)).abs() < 1e-15);
         // Linear Bingham: v = (f − f_c)/η and v = v_free − w f.
         let (sys, g) = graph(Law::BinghamLinear { eta: 0.2 }, 0.1, cubic);
@@ -1107,7 +920,7 @@ mod tests {
                     &state(0.0),
                 )
                 .unwrap();
-            assert_eq!(p.mode, Mode::Slip);
+            assert_eq!(p.part, Part::Slip);
             assert!((cubic(p.f).0 - p.v).abs() < 1e-13 * (1.0 + p.v.abs()));
             assert!((vf - 0.01 * p.f - p.v).abs() < 1e-13 * (1.0 + p.v.abs()));
             let f = g.force_of_velocity(&sys, p.v, 0.0).unwrap().unwrap();
@@ -1155,7 +968,7 @@ mod tests {
                 &state(0.0),
             )
             .unwrap();
-        assert_eq!((p.mode, p.v), (Mode::Plateau, v_min));
+        assert_eq!((p.part, p.v), (Part::Plateau, v_min));
         assert!((p.f - 2.0).abs() < 1e-9);
         // Approach 1: from the inner branch the force stays inner while it exists...
         let (sys, g1) = graph(
@@ -1211,7 +1024,7 @@ mod tests {
                 &state(0.0),
             )
             .unwrap();
-        assert_eq!((s.mode, s.v), (Mode::Stick, 0.0));
+        assert_eq!((s.part, s.v), (Part::Stick, 0.0));
     }
 
     #[test]
@@ -1248,7 +1061,7 @@ mod tests {
                 &st,
             )
             .unwrap();
-        assert_eq!((p.v, p.mode), (1.0, Mode::Contact));
+        assert_eq!((p.v, p.part), (1.0, Part::Contact));
         assert!(p.f < 0.0);
         // Far from the stop: open.
         let st = StepState { q: 1.0, ..st };
@@ -1262,8 +1075,8 @@ mod tests {
                 &st
             )
             .unwrap()
-            .mode,
-            Mode::Open
+            .part,
+            Part::Open
         );
         // Spring-backed, upper: λ = k (q + h v − L)₊ with v = v_free − w λ.
         let spring = oscillator(

@@ -15,6 +15,7 @@
 
 mod event;
 mod integrator;
+mod kind;
 mod mode;
 mod problem;
 mod solve;

@@ -19,8 +19,9 @@
 
 use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 
+use super::kind::{self, Kind};
 use super::law::{Branch, Branches};
-use crate::element::{Element, ElementKind, Law, Mode, NonSmooth, Side, StopKind};
+use crate::element::{Element, ElementKind, Mode, NonSmooth, StopKind};
 
 /// The branch a dash-pot slips on at speed `w = |v_c| > 0`: approach 2 the unique one
 /// whose range holds `w` (its top end excluded); approach 1 the lowest one whose range
@@ -113,17 +114,9 @@ pub(crate) fn plateau_at(branches: &Branches, w: f64) -> Option<usize> {
     branches.plateaus.iter().position(|p| p.velocity == w)
 }
 
-/// Every mode a dash-pot or a rigid stop can take at `v_c = 0` (spring-backed stops
-/// switch by the sign of the penetration rate and are not enumerated).
+/// Every mode an element can take at a mode selection.
 pub(crate) fn candidates(element: &Element) -> &'static [Mode] {
-    match element.kind {
-        ElementKind::DashPot { .. } => &[Mode::Stick, Mode::SlipPos(0), Mode::SlipNeg(0)],
-        ElementKind::Stop {
-            kind: StopKind::Rigid { .. },
-            ..
-        } => &[Mode::Contact, Mode::Free],
-        ElementKind::Stop { .. } => &[Mode::Free, Mode::Compressed],
-    }
+    kind::of(element).candidates()
 }
 
 /// Checks one element's parameters for the event-driven integrator.
@@ -134,57 +127,12 @@ pub(crate) fn validate_element(e: &Element, dof: usize) -> Result<(), String> {
             e.name, e.coordinate
         ));
     }
-    match e.kind {
-        ElementKind::DashPot { law, f_crit } => {
-            if !(f_crit.is_finite() && f_crit >= 0.0) {
-                return Err(format!(
-                    "element `{}`: f_crit = {f_crit} must be finite and ≥ 0",
-                    e.name
-                ));
-            }
-            match law {
-                Law::BinghamLinear { eta } if !(eta.is_finite() && eta > 0.0) => Err(format!(
-                    "element `{}`: viscosity η = {eta} must be finite and > 0 (η = 0 is Coulomb)",
-                    e.name
-                )),
-                _ => Ok(()),
-            }
-        }
-        ElementKind::Stop { position, kind, .. } => {
-            if !position.is_finite() {
-                return Err(format!(
-                    "stop `{}`: position {position} is not finite",
-                    e.name
-                ));
-            }
-            match kind {
-                StopKind::Rigid { restitution } if !(0.0..=1.0).contains(&restitution) => {
-                    Err(format!(
-                        "stop `{}`: restitution e = {restitution} must lie in [0, 1]",
-                        e.name
-                    ))
-                }
-                StopKind::SpringBacked { stiffness }
-                    if !(stiffness.is_finite() && stiffness > 0.0) =>
-                {
-                    Err(format!(
-                        "stop `{}`: support stiffness {stiffness} must be finite and > 0",
-                        e.name
-                    ))
-                }
-                _ => Ok(()),
-            }
-        }
-    }
+    kind::of(e)
+        .check()
+        .map_err(|what| format!("element `{}`: {what}", e.name))
 }
 
-/// `s = +1` for an upper stop (`q ≤ position`), `−1` for a lower one.
-pub(crate) fn side_sign(side: Side) -> f64 {
-    match side {
-        Side::Upper => 1.0,
-        Side::Lower => -1.0,
-    }
-}
+pub(crate) use super::kind::stop::side_sign;
 
 /// A rigid stop may not start penetrated beyond round-off (`10⁻¹² (1 + |position|)`):
 /// neither integrator can give it a meaning (time-stepping would hold the violation for
@@ -207,129 +155,7 @@ pub fn check_not_penetrating(el: &Element, q_c: f64) -> Result<(), String> {
 
 /// Gap `s (position − q)` of a stop (`≥ 0` when admissible); `+∞` for dash-pots.
 pub(crate) fn gap(element: &Element, qc: f64) -> f64 {
-    match element.kind {
-        ElementKind::Stop { side, position, .. } => side_sign(side) * (position - qc),
-        ElementKind::DashPot { .. } => f64::INFINITY,
-    }
-}
-
-/// Slip force of dash-pot `index` slipping in direction `d = ±1` on branch `k` at
-/// velocity `vc`.
-///
-/// Coulomb: `d f_crit`. Linear Bingham: `d f_crit + η vc` (the mode's direction, not
-/// `sgn vc`, so the force stays smooth while a root finder looks just past `vc = 0`).
-/// Monotone user law: the `f` with `φ(f) = vc` on the branch `d f > f_crit`, by
-/// safeguarded Newton ([`invert_monotone`]); where `d vc ≤ 0`, the law's tangent at
-/// `f_crit` ([`below_branch`]). Non-monotone law: the same inside branch `k`'s force
-/// interval `[f_lo, f_hi]` (bracketed by its folds), continued by the tangent below the
-/// branch's velocity range; above it, continued along the law's increasing piece up to
-/// the piece's fold ([`Branch::f_top`]: smooth past approach 2's cut at a plateau speed)
-/// and clamped there (so the force stays continuous while a root finder or a stage looks
-/// just past the end).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn slip_force<S: NonSmooth<N>, const N: usize>(
-    system: &S,
-    index: usize,
-    law: Law,
-    f_crit: f64,
-    branches: &Branches,
-    k: usize,
-    vc: f64,
-    d: f64,
-) -> f64 {
-    let w = d * vc;
-    match law {
-        Law::Coulomb => d * f_crit,
-        Law::BinghamLinear { eta } => d * f_crit + eta * vc,
-        Law::BinghamNonMonotone { .. } if !branches.slip.is_empty() => {
-            let b = branches.slip[k];
-            if w <= b.v_lo {
-                d * below_branch(system, index, b.f_lo, w - b.v_lo)
-            } else if w >= b.v_top {
-                d * b.f_top
-            } else if w >= b.v_hi {
-                // Past a cut end (approach 2's plateau speed): on along the piece.
-                d * invert_monotone(|f| system.law(index, f), b.f_hi, b.f_top, w)
-            } else {
-                d * invert_monotone(|f| system.law(index, f), b.f_lo, b.f_hi, w)
-            }
-        }
-        Law::BinghamMonotone | Law::BinghamNonMonotone { .. } => {
-            if w <= 0.0 {
-                d * below_branch(system, index, f_crit, w)
-            } else {
-                d * invert_monotone(|f| system.law(index, f), f_crit, f64::INFINITY, w)
-            }
-        }
-    }
-}
-
-/// The slip force a distance `dw ≤ 0` below the lower end `(v_lo, f_lo)` of a branch:
-/// the tangent `f_lo + dw / φ'(f_lo)` where the law has a finite positive slope there,
-/// else `f_lo`. Only trial states past the switching point `v = v_lo` see it (the
-/// integrator's stages, the root finder); continuing the law with its tangent keeps the
-/// right-hand side C¹ across that point, so a tight tolerance does not drive the step
-/// size to zero against a kink before the event is seen.
-fn below_branch<S: NonSmooth<N>, const N: usize>(
-    system: &S,
-    index: usize,
-    f_lo: f64,
-    dw: f64,
-) -> f64 {
-    let slope = system.law(index, f_lo).1;
-    if slope > 0.0 && slope.is_finite() {
-        f_lo + dw / slope
-    } else {
-        f_lo
-    }
-}
-
-/// Solves `φ(f) = w` for `f ∈ [lo, hi]` (`hi = ∞`: bracketed by doubling) where `φ`
-/// increases (`f > 0`: for an odd law the positive side serves both directions),
-/// `phi(f) = (φ(f), φ'(f))`: Newton kept inside the bracket, bisecting whenever the
-/// Newton point leaves it (a "safeguarded" Newton, Press et al., *Numerical Recipes*,
-/// 3rd ed., §9.4, `rtsafe`). At a fold end `φ' = 0` and the bisection takes over.
-fn invert_monotone<P: Fn(f64) -> (f64, f64)>(phi: P, lo: f64, hi: f64, w: f64) -> f64 {
-    let value = |f: f64| phi(f);
-    let base = lo;
-    let mut lo = lo;
-    let mut hi = hi;
-    if !hi.is_finite() {
-        let mut step = base.max(1.0);
-        hi = base + step;
-        for _ in 0..200 {
-            if value(hi).0 >= w {
-                break;
-            }
-            lo = hi;
-            step *= 2.0;
-            hi = base + step;
-        }
-    }
-    let mut x = 0.5 * (lo + hi);
-    for _ in 0..200 {
-        let (p, dp) = value(x);
-        let r = p - w;
-        if r == 0.0 {
-            return x;
-        }
-        if r < 0.0 {
-            lo = x;
-        } else {
-            hi = x;
-        }
-        let newton = x - r / dp;
-        let next = if dp > 0.0 && newton > lo && newton < hi {
-            newton
-        } else {
-            0.5 * (lo + hi)
-        };
-        if (next - x).abs() <= 2.0 * f64::EPSILON * x.abs() || hi - lo <= 2.0 * f64::EPSILON * hi {
-            return next;
-        }
-        x = next;
-    }
-    x
+    kind::of(element).gap(qc)
 }
 
 /// Accelerations and element forces in one mode assignment.
@@ -356,29 +182,15 @@ pub(crate) fn evaluate<S: NonSmooth<N>, const N: usize>(
     let mut active = Vec::new();
     for (i, el) in elements.iter().enumerate() {
         let c = el.coordinate;
-        match (el.kind, modes[i]) {
-            (ElementKind::DashPot { law, f_crit }, Mode::SlipPos(k) | Mode::SlipNeg(k)) => {
-                let d = if matches!(modes[i], Mode::SlipPos(_)) {
-                    1.0
-                } else {
-                    -1.0
-                };
-                f[i] = slip_force(system, i, law, f_crit, &branches[i], k, v[c], d);
-            }
-            (
-                ElementKind::Stop {
-                    side,
-                    kind: StopKind::SpringBacked { stiffness },
-                    ..
-                },
-                Mode::Compressed,
-            ) => {
-                f[i] = side_sign(side) * stiffness * (-gap(el, q[c]));
-            }
-            (_, Mode::Stick | Mode::Contact | Mode::PlateauPos(_) | Mode::PlateauNeg(_)) => {
-                active.push(i)
-            }
-            _ => {}
+        if modes[i].is_constraint() {
+            active.push(i);
+        } else {
+            let cx = kind::Context {
+                system,
+                index: i,
+                branches: &branches[i],
+            };
+            f[i] = kind::of(el).force(&cx, modes[i], q[c], v[c]);
         }
         tau_net[c] -= f[i];
     }
@@ -487,12 +299,11 @@ pub(crate) fn stuck_partner(elements: &[Element], modes: &[Mode], stop: usize) -
 }
 
 /// Switching function of `element` in `mode`: positive while the mode holds, crossing
-/// zero where it ends (stick: `f_crit − |f|`; slip: `±v_c`, and on a branch of a
-/// non-monotone law the distance of `±v_c` to the nearer end of the branch's velocity
-/// range (a fold, or approach 2's plateau speed); plateau: the distance of `±f` to the
-/// nearer end of its force interval; free: gap; contact: `λ`; compressed: penetration).
-/// A branch entered at its end arms its function only a little inside the range
-/// ([`arming_distance`]).
+/// zero where it ends (each kind's [`Kind::switching`]: stick `f_crit − |f|`; slip
+/// `±v_c`, or on a branch of a non-monotone law the distance to the nearer end of its
+/// velocity range; plateau: the distance of `±f` to the nearer end of its force
+/// interval; free: gap; contact: `λ`; compressed: penetration). A branch entered at its
+/// end arms its function only a little inside the range ([`arming_distance`]).
 pub(crate) fn switching(
     element: &Element,
     branches: &Branches,
@@ -501,35 +312,7 @@ pub(crate) fn switching(
     vc: f64,
     f: f64,
 ) -> f64 {
-    match (element.kind, mode) {
-        (ElementKind::DashPot { f_crit, .. }, Mode::Stick) => f_crit - f.abs(),
-        (_, Mode::SlipPos(k) | Mode::SlipNeg(k)) => {
-            let d = if matches!(mode, Mode::SlipPos(_)) {
-                1.0
-            } else {
-                -1.0
-            };
-            let w = d * vc;
-            match branches.slip.get(k) {
-                Some(b) => (w - b.v_lo).min(b.v_hi - w),
-                None => w,
-            }
-        }
-        (_, Mode::PlateauPos(i) | Mode::PlateauNeg(i)) => {
-            let d = if matches!(mode, Mode::PlateauPos(_)) {
-                1.0
-            } else {
-                -1.0
-            };
-            let p = branches.plateaus[i];
-            (d * f - p.f_lo).min(p.f_hi - d * f)
-        }
-        (_, Mode::Free) => gap(element, qc),
-        (ElementKind::Stop { side, .. }, Mode::Contact) => side_sign(side) * f,
-        (_, Mode::Compressed) => -gap(element, qc),
-        // Modes that do not belong to the element never switch.
-        _ => f64::INFINITY,
-    }
+    kind::of(element).switching(branches, mode, qc, vc, f)
 }
 
 /// How consistently `mode` holds for `element` at an event, in force units: `≥ 0`
@@ -550,75 +333,7 @@ pub(crate) fn margin(
     f: f64,
     wcc: f64,
 ) -> f64 {
-    let directed = |d: f64| {
-        if d * vc > 0.0 {
-            f64::INFINITY
-        } else if d * vc < 0.0 {
-            f64::NEG_INFINITY
-        } else {
-            d * ac / wcc
-        }
-    };
-    match (element.kind, mode) {
-        (ElementKind::DashPot { f_crit, .. }, Mode::Stick) => f_crit - f.abs(),
-        (ElementKind::DashPot { .. }, Mode::SlipPos(k) | Mode::SlipNeg(k)) => {
-            let d = if matches!(mode, Mode::SlipPos(_)) {
-                1.0
-            } else {
-                -1.0
-            };
-            match branches.slip.get(k) {
-                None => directed(d),
-                Some(b) => {
-                    let w = d * vc;
-                    if w > b.v_lo && w < b.v_hi {
-                        f64::INFINITY
-                    } else if w == b.v_lo {
-                        d * ac / wcc
-                    } else if w == b.v_hi {
-                        -d * ac / wcc
-                    } else {
-                        f64::NEG_INFINITY
-                    }
-                }
-            }
-        }
-        (ElementKind::DashPot { .. }, Mode::PlateauPos(i) | Mode::PlateauNeg(i)) => {
-            let d = if matches!(mode, Mode::PlateauPos(_)) {
-                1.0
-            } else {
-                -1.0
-            };
-            match branches.plateaus.get(i) {
-                Some(p) if d * vc == p.velocity => (d * f - p.f_lo).min(p.f_hi - d * f),
-                _ => f64::NEG_INFINITY,
-            }
-        }
-        (ElementKind::Stop { side, .. }, Mode::Contact) => side_sign(side) * f,
-        (
-            ElementKind::Stop {
-                side,
-                kind: StopKind::Rigid { .. },
-                ..
-            },
-            Mode::Free,
-        ) => {
-            if gap(element, qc) > 0.0 {
-                f64::INFINITY
-            } else {
-                // Gap rate −s v_c, gap acceleration −s a_c.
-                directed(-side_sign(side))
-            }
-        }
-        (
-            ElementKind::Stop {
-                kind: StopKind::SpringBacked { .. },
-                ..
-            },
-            Mode::Free | Mode::Compressed,
-        ) => f64::INFINITY,
-        _ => f64::NEG_INFINITY,
-    }
+    kind::of(element).margin(branches, mode, qc, vc, ac, f, wcc)
 }
 
 /// The elements that take part in a mode selection, each with its candidate modes.
@@ -725,15 +440,16 @@ const MAX_COMBINATIONS: usize = 20_000;
 /// `(q, v)`: enumerates every combination of their candidate modes, evaluates the
 /// dynamics and the margins, and returns the unique consistent combination.
 ///
-/// Combinations within the tolerance of the boundary are consistent; if more than
-/// one is consistent with a margin above the tolerance, the choice is not unique and
-/// an error (the text of [`ErrorKind::IllPosedMode`](crate::ErrorKind)) is returned;
-/// otherwise the largest margin wins; when none is consistent, the least violated one
-/// is taken if it misses by less than the state's error can move its margin
-/// (`Selection::margin_uncertainty` with the integrator's `accuracy = (atol, rtol)`;
-/// at a
-/// switching instant located to round-off, the old mode and the new one may both sit on
-/// the boundary; the new one has the larger margin on the far side of the located root).
+/// Combinations within the tolerance of the boundary are consistent. If more than one
+/// is consistent with a margin above the tolerance, those with the most elements at
+/// rest whose law prefers rest ([`Kind::rest_persists`]: static friction) are kept; if
+/// still more than one, the choice is not unique and an error (the text of
+/// [`ErrorKind::IllPosedMode`](crate::ErrorKind)) is returned; otherwise the largest
+/// margin wins. When none is consistent, the least violated one is taken if it misses
+/// by less than the state's error can move its margin (`Selection::margin_uncertainty`
+/// with the integrator's `accuracy = (atol, rtol)`; at a switching instant located to
+/// round-off, the old mode and the new one may both sit on the boundary; the new one has
+/// the larger margin on the far side of the located root).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
     system: &S,
@@ -771,10 +487,7 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
     // to hold a switching coordinate at rest.
     let mut free_modes = modes.to_vec();
     for (e, _) in choices {
-        free_modes[*e] = match elements[*e].kind {
-            ElementKind::DashPot { .. } => Mode::SlipPos(0),
-            ElementKind::Stop { .. } => Mode::Free,
-        };
+        free_modes[*e] = kind::of(&elements[*e]).unconstrained();
     }
     let mut scale: f64 = 1.0;
     if let Some(ev) = evaluate(system, elements, branches, &free_modes, q, v, tau) {
@@ -784,9 +497,7 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
         }
     }
     for el in elements {
-        if let ElementKind::DashPot { f_crit, .. } = el.kind {
-            scale = scale.max(f_crit);
-        }
+        scale = scale.max(kind::of(el).force_scale());
     }
     let tol = MARGIN_TOL * scale;
     let mut consistent: Vec<(f64, Vec<Mode>)> = Vec::new();
@@ -814,7 +525,22 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let robust: Vec<_> = consistent.iter().filter(|(m, _)| *m > tol).collect();
+    let mut robust: Vec<_> = consistent.iter().filter(|(m, _)| *m > tol).collect();
+    if robust.len() > 1 {
+        // Rest persists: of the robust combinations, those with the most elements at rest
+        // whose law prefers rest (static friction holding where it could also slip).
+        let resting = |ms: &[Mode]| {
+            choices
+                .iter()
+                .filter(|(e, _)| ms[*e] == Mode::Stick && kind::of(&elements[*e]).rest_persists())
+                .count()
+        };
+        let most = robust.iter().map(|(_, ms)| resting(ms)).max().unwrap_or(0);
+        robust.retain(|(_, ms)| resting(ms) == most);
+    }
+    if let [(_, ms)] = robust.as_slice() {
+        return Ok(ms.clone());
+    }
     if robust.len() > 1 {
         let list: Vec<String> = robust
             .iter()

@@ -64,7 +64,8 @@
 use nalgebra::{DMatrix, SMatrix, SVector};
 
 use super::NonSmoothProblem;
-use super::law::{Graph, LawError, Line, Mode, StepState, position_weight};
+use super::kind::{self, Kind};
+use super::law::{Graph, LawError, Line, Part, StepState, position_weight};
 use crate::element::{self, ElementKind, NonSmooth, StopKind};
 use crate::events::{EventHit, Tracker, hermite_qv};
 use crate::input::Input;
@@ -162,7 +163,7 @@ pub(crate) struct TimeSteps<'a, const N: usize> {
     exact: Vec<bool>,
     /// Each element's mode in the last step (its graph point), for the switch log.
     modes: Vec<Option<element::Mode>>,
-    point_mode: Vec<Mode>,
+    point_mode: Vec<Part>,
     /// `[q; v]` after the last step.
     y: Vec<f64>,
     /// The input is read at `min(t + θh, until)` (see the event driver's `until`).
@@ -240,7 +241,7 @@ impl<const N: usize> TimeSteps<'_, N> {
             point_v: vec![0.0; ne],
             exact: vec![false; ne],
             modes: vec![None; ne],
-            point_mode: vec![Mode::Open; ne],
+            point_mode: vec![Part::Open; ne],
             y,
             until: f64::INFINITY,
             tracker: Tracker::none(),
@@ -358,9 +359,9 @@ impl<const N: usize> TimeSteps<'_, N> {
                 );
                 f[e] = p.f;
                 self.point_v[e] = p.v;
-                self.point_mode[e] = p.mode;
-                self.exact[e] = matches!(p.mode, Mode::Stick | Mode::Plateau)
-                    || (p.mode == Mode::Contact && is_rigid(&graphs[e]));
+                self.point_mode[e] = p.part;
+                self.exact[e] = matches!(p.part, Part::Stick | Part::Plateau)
+                    || (p.part == Part::Contact && is_rigid(&graphs[e]));
             }
             // Converged when the force on every coordinate has stopped changing: the
             // dynamics sees only that sum. Elements sharing a coordinate (a stop and a
@@ -493,7 +494,7 @@ fn log_transitions(
     traj: &mut Solution,
     graphs: &[Graph],
     modes: &mut [Option<element::Mode>],
-    (points, f, f_prev): (&[Mode], &[f64], &[f64]),
+    (points, f, f_prev): (&[Part], &[f64], &[f64]),
     t: f64,
     h: f64,
     (q_before, v_before, after): (&[f64], &[f64], &[f64]),
@@ -503,22 +504,22 @@ fn log_transitions(
         let c = g.element.coordinate;
         let v = after[n + c];
         let now = match (points[e], g.element.kind) {
-            (Mode::Stick, _) => element::Mode::Stick,
-            (Mode::Slip, _) => element::Mode::slipping(v, 0),
-            (Mode::Plateau, _) => element::Mode::on_plateau(v, 0),
-            (Mode::Open, _) => element::Mode::Free,
+            (Part::Stick, _) => element::Mode::Stick,
+            (Part::Slip, _) => element::Mode::slipping(v, 0),
+            (Part::Plateau, _) => element::Mode::on_plateau(v, 0),
+            (Part::Open, _) => element::Mode::Free,
             (
-                Mode::Contact,
+                Part::Contact,
                 ElementKind::Stop {
                     kind: StopKind::SpringBacked { .. },
                     ..
                 },
             ) => element::Mode::Compressed,
-            (Mode::Contact, _) => element::Mode::Contact,
+            (Part::Contact, _) => element::Mode::Contact,
         };
         // A rigid stop closed in this step (an impact), or its rebound within it.
         let impact = is_rigid(g)
-            && points[e] == Mode::Contact
+            && points[e] == Part::Contact
             && modes[e].is_none_or(|m| m != element::Mode::Contact)
             && v_before[c] != v;
         let logged_mode = if impact && v != 0.0 {
@@ -556,22 +557,13 @@ fn log_transitions(
     }
 }
 
-/// A force scale for the relative tolerance: `f_crit` of dash-pots, else 1e-300.
+/// A force scale for the relative tolerance: a dash-pot's critical force, else 1e-300.
 fn f_scale(graph: &Graph) -> f64 {
-    match graph.element.kind {
-        ElementKind::DashPot { f_crit, .. } => f_crit.max(1e-300),
-        ElementKind::Stop { .. } => 1e-300,
-    }
+    kind::of(&graph.element).force_scale().max(1e-300)
 }
 
 fn is_rigid(graph: &Graph) -> bool {
-    matches!(
-        graph.element.kind,
-        ElementKind::Stop {
-            kind: super::StopKind::Rigid { .. },
-            ..
-        }
-    )
+    kind::is_rigid_stop(&graph.element)
 }
 
 /// Checks `h`, `θ`, the problem and every element; builds the graphs.

@@ -37,6 +37,10 @@ pub fn nonsmooth_impl(
                 let fc = expr(f_crit, p);
                 let law = match law {
                     Law::Coulomb => quote!(#rt::Law::Coulomb),
+                    Law::StaticKinetic { f_kinetic } => {
+                        let fk = expr(f_kinetic, p);
+                        quote!(#rt::Law::StaticKinetic { f_kinetic: #fk })
+                    }
                     Law::BinghamLinear { eta } => {
                         let eta = expr(eta, p);
                         quote!(#rt::Law::BinghamLinear { eta: #eta })
@@ -279,6 +283,12 @@ fn constitutive_residual(model: &Model, n: usize) -> TokenStream {
                     Law::Coulomb => quote! {
                         #rt::Relation::Slip => (f - #fc * v[#c].signum(), [0.0, 0.0, 0.0, 1.0]),
                     },
+                    Law::StaticKinetic { f_kinetic } => {
+                        let fk = expr(f_kinetic, p);
+                        quote! {
+                            #rt::Relation::Slip => (f - #fk * v[#c].signum(), [0.0, 0.0, 0.0, 1.0]),
+                        }
+                    }
                     Law::BinghamLinear { eta } => {
                         let eta = expr(eta, p);
                         quote! {

@@ -12,6 +12,8 @@ pub fn validate_fn(model: &Model) -> TokenStream {
     let p = &model.params;
     let ck = quote!(::filippov::runtime::system::check);
     let mut checks = Vec::new();
+    // Checks between two expressions, pushed after the single-value ones.
+    let mut kinetic_checks = Vec::new();
     // One run-time check of an expression; none when it is a constant that passes
     // (constants are checked at expansion, a check that cannot fail is dead code).
     let mut scalar = |what: String, e: &PExpr, check: Check| {
@@ -96,13 +98,32 @@ pub fn validate_fn(model: &Model) -> TokenStream {
     for e in &model.elements {
         match &e.kind {
             ElementKind::DashPot { law, f_crit } => {
+                let limit = match law {
+                    Law::StaticKinetic { .. } => "f_static",
+                    _ => "f_crit",
+                };
                 scalar(
-                    format!("f_crit of `{}`", e.name),
+                    format!("{limit} of `{}`", e.name),
                     f_crit,
                     Check::NonNegative,
                 );
                 if let Law::BinghamLinear { eta } = law {
                     scalar(format!("eta of `{}`", e.name), eta, Check::Positive);
+                }
+                if let Law::StaticKinetic { f_kinetic } = law {
+                    scalar(
+                        format!("f_kinetic of `{}`", e.name),
+                        f_kinetic,
+                        Check::NonNegative,
+                    );
+                    if f_kinetic.as_const().is_none() || f_crit.as_const().is_none() {
+                        let (k, s) = (expr(f_kinetic, p), expr(f_crit, p));
+                        let what =
+                            format!("f_kinetic of `{}` (`{}`)", e.name, f_kinetic.display(p));
+                        kinetic_checks.push(quote! {
+                            if let Some(why) = #ck::at_most(#k, #s) { problems.push((#what.to_string(), why)); }
+                        });
+                    }
                 }
             }
             ElementKind::Stop { position, kind, .. } => {
@@ -122,6 +143,7 @@ pub fn validate_fn(model: &Model) -> TokenStream {
             }
         }
     }
+    checks.extend(kinetic_checks);
     // Two stops on one coordinate leave room between them.
     for lo in &model.elements {
         let ElementKind::Stop {

@@ -860,7 +860,8 @@ fn non_monotone_moving_start_picks_the_rule_s_branch() {
 #[test]
 fn slip_force_continues_smoothly_past_a_cut_end_and_folds_are_told_apart() {
     use crate::nonsmooth::Selection;
-    use crate::nonsmooth::mode::{fold_end, slip_force};
+    use crate::nonsmooth::kind::{Context, bingham::Bingham};
+    use crate::nonsmooth::mode::fold_end;
     for selection in [Selection::NoVelocityJumps, Selection::MaximalDissipation] {
         let sys = s4_system(selection);
         let law = Law::BinghamNonMonotone { selection };
@@ -879,7 +880,13 @@ fn slip_force_continues_smoothly_past_a_cut_end_and_folds_are_told_apart() {
         // The first branch's top: the fold (approach 1) or the cut at v_min (approach 2).
         assert_eq!(fold_end(&branches, 0, b0.v_hi - 1e-3), !cut);
         assert_eq!(b0.v_hi < b0.v_top, cut);
-        let f = |w: f64| slip_force(&sys, 0, law, 1.0, &branches, 0, w, 1.0);
+        let bingham = Bingham { law, f_crit: 1.0 };
+        let cx = Context {
+            system: &sys,
+            index: 0,
+            branches: &branches,
+        };
+        let f = |w: f64| bingham.slip_force(&cx, 0, w, 1.0);
         if cut {
             // Finite differences of the force on either side of v_hi: one smooth function.
             let h = 1e-4;

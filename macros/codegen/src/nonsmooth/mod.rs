@@ -3,6 +3,7 @@
 //!
 //! ```text
 //! #[friction(joint, f_crit = …)]                                 Coulomb
+//! #[friction(joint, f_static = …, f_kinetic = …)]                static/kinetic
 //! #[bingham(joint, f_crit = …, eta = …)]                         linear Bingham
 //! #[bingham(joint, f_crit = …, law = <φ in f>)]                  monotone user law v = φ(f)
 //! #[bingham(joint, f_crit = …, law = …, select = no_jumps | max_dissipation)]  non-monotone
@@ -14,6 +15,8 @@
 //! A joint may have one stop per side, from one attribute with `min` and `max` or from
 //! two (each with its own restitution or support). A joint with one stop names it
 //! `stop_<joint>`; with two, `stop_<joint>_min` and `stop_<joint>_max`.
+
+mod static_kinetic;
 
 use syn::Expr;
 
@@ -146,7 +149,7 @@ fn check_stop_order(
     }
 }
 
-fn required(
+pub(crate) fn required(
     raw: &mut RawAttr,
     key: &str,
     joint: &syn::Ident,
@@ -163,7 +166,7 @@ fn required(
 }
 
 /// A literal critical force must be non-negative: it is the half-width of the dead zone.
-fn check_f_crit(e: &Expr, p: &PExpr, diag: &mut Diagnostics) {
+pub(crate) fn check_f_crit(e: &Expr, p: &PExpr, diag: &mut Diagnostics) {
     if let Some(v) = p.as_const()
         && !(v >= 0.0 && v.is_finite())
     {
@@ -180,8 +183,15 @@ fn read_friction(
     names: &[String],
     diag: &mut Diagnostics,
 ) -> Option<ElementKind> {
+    if raw
+        .args
+        .iter()
+        .any(|(k, _)| k == "f_static" || k == "f_kinetic")
+    {
+        return static_kinetic::read(raw, joint, names, diag);
+    }
     let f_crit = required(raw, "f_crit", joint, names, diag);
-    raw.reject_rest(&["f_crit"], diag);
+    raw.reject_rest(&["f_crit", "f_static", "f_kinetic"], diag);
     let (e, f_crit) = f_crit?;
     check_f_crit(&e, &f_crit, diag);
     Some(ElementKind::DashPot {

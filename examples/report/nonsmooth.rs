@@ -1,5 +1,6 @@
-//! Work-precision of the non-smooth scenes (theory S1, S5, S6, S7) with the event-driven
-//! and the time-stepping integrators, against closed forms (S1, S6, S7 elastic) or a
+//! Work-precision of the non-smooth scenes (theory S1, S5, S6, S7, the belt's
+//! static/kinetic stick–slip) with the event-driven and the time-stepping integrators,
+//! against closed forms (S1, S6, S7 elastic, the belt) or a
 //! semi-analytic piecewise solution (S5, linear in every mode); then the stiff and
 //! extreme suite.
 
@@ -12,7 +13,8 @@ use filippov::runtime::{
 };
 use filippov_scenes::references;
 use filippov_scenes::{
-    BilinearOscillator, BinghamOscillator, BouncingBall, CoulombOscillator, SupportedStop,
+    BeltFriction, BilinearOscillator, BinghamOscillator, BouncingBall, CoulombOscillator,
+    SupportedStop,
 };
 
 use super::config::Config;
@@ -678,6 +680,40 @@ pub fn nonsmooth(config: &Config, progress: &indicatif::ProgressBar) -> Section 
     );
     page.image("S1", "ns_s1.svg");
     summarize("S1", &rows, &mut summary);
+
+    page.h3("Static/kinetic friction: block on a belt (closed-form stick–slip cycle)");
+    page.para("m = k = 1, f_static = 1, f_kinetic = 0.5, belt speed 0.2, starting at rest on the belt at x = 0 (theory.md §5): stick 5, slip π + 2 atan 0.4 = 3.9026, re-stick at x = 2 x_k − x_s = 0. The switch points are the re-sticks (the relative velocity returning to 0), in the belt's frame y = x − v_b t.");
+    let belt = BeltFriction {
+        m: 1.0,
+        k: 1.0,
+        f_static: 1.0,
+        f_kinetic: 0.5,
+    };
+    let v_b = 0.2;
+    let (stick, slip) = (5.0, PI + 2.0 * 0.4f64.atan());
+    let reference: Vec<(f64, f64)> = (0..)
+        .map(|n| 5.0 + n as f64 * (stick + slip) + slip)
+        .take_while(|t| *t <= tf)
+        .map(|t| (t, -v_b * t))
+        .collect();
+    let belt_input = move |t: f64, _q: &V1, _v: &V1| V1::new(-v_b * t);
+    let rows = sweep(
+        config,
+        &belt,
+        &NonSmoothProblem::new(0.0, tf, V1::new(0.0), V1::new(0.0)),
+        &belt_input,
+        &reference,
+        f64::NAN,
+    );
+    table(&mut page, &rows);
+    plot(
+        config,
+        "ns_belt.svg",
+        "Static/kinetic friction on a belt: switch error against run time",
+        &rows,
+    );
+    page.image("belt", "ns_belt.svg");
+    summarize("Belt (static/kinetic)", &rows, &mut summary);
 
     page.h3("S7 elastic: bilinear oscillator (closed-form period 5.8620872)");
     let bil = BilinearOscillator {

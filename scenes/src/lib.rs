@@ -15,9 +15,9 @@ pub use arm3::PlanarArm3;
 pub use double_pendulum::DoublePendulum;
 pub use lie::{BallChain, EulerBody, FreeBody, Satellite, SphericalBody};
 pub use lumped::{
-    BilinearOscillator, BinghamBlock, BinghamOscillator, BouncingBall, CoulombOscillator,
-    CubicBingham, DuffingBingham, FrictionChain, NonMonotoneMaxDissipation, NonMonotoneNoJumps,
-    SupportedStop,
+    BeltFriction, BilinearOscillator, BinghamBlock, BinghamOscillator, BouncingBall,
+    CoulombOscillator, CubicBingham, DuffingBingham, FrictionChain, NonMonotoneMaxDissipation,
+    NonMonotoneNoJumps, SupportedStop,
 };
 pub use panda::Panda;
 pub use s9::PandaS9;

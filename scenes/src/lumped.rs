@@ -60,6 +60,22 @@ pub struct NonMonotoneMaxDissipation {
     pub f_crit: f64,
 }
 
+/// A block on a spring lying on a moving belt, with static and kinetic friction between
+/// them (theory.md §5), in the belt's frame: the coordinate is `y = x − v_b t`; the input
+/// `−k v_b t` adds the rest of the spring's force.
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = all)]
+#[body(block, mass = m)]
+#[joint(y: prismatic(x), parent = world, child = block)]
+#[spring(y, k = k)]
+#[friction(y, f_static = f_static, f_kinetic = f_kinetic)]
+pub struct BeltFriction {
+    pub m: f64,
+    pub k: f64,
+    pub f_static: f64,
+    pub f_kinetic: f64,
+}
+
 /// S5, S6: Coulomb friction.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
 #[mechanism(emit = all)]

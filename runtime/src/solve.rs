@@ -5,7 +5,7 @@
 use std::ops::ControlFlow;
 
 use crate::events::{Event, EventHit, Tracker};
-use crate::method::{Eval, Stepper, with_stepper};
+use crate::method::{Begin, Eval, Stepper, with_stepper};
 use crate::{ErrorKind, Keep, Method, OdeSystem, Problem, Solution, SolveError};
 
 /// Sees every accepted step of an integration: `(t, y)` after the step. Returning
@@ -168,12 +168,13 @@ where
     O: Observer + ?Sized,
 {
     let (t0, tf) = (problem.t0, problem.tf);
-    stepper.start(
-        &mut Eval::new(system, &mut sol.stats),
-        t0,
-        &problem.y0,
-        tf - t0,
-    )?;
+    let at = Begin {
+        t: t0,
+        y: &problem.y0,
+        span: tf - t0,
+        fresh: true,
+    };
+    stepper.begin(&mut Eval::new(system, &mut sol.stats), at)?;
     sol.push_start(t0, stepper.y(), stepper.f());
     while stepper.t() < tf {
         let t_prev = stepper.t();

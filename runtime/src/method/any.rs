@@ -5,8 +5,8 @@
 
 use super::{Bdf, Dopri5, Method, Rk4, Sdirk4};
 use super::{BdfStepper, Dopri5Stepper, Rk4Stepper, Sdirk4Stepper, StepState, Stepper};
-use crate::method::stepper::{DenseStep, Eval};
-use crate::{ErrorKind, OdeSystem};
+use crate::OdeSystem;
+use crate::method::stepper::{Begin, DenseStep, Eval, StepResult};
 
 /// The stepper of one of the [`Method`]s.
 #[derive(Debug)]
@@ -42,40 +42,16 @@ macro_rules! each {
 }
 
 impl Stepper for AnyStepper {
-    fn name(&self) -> &'static str {
-        each!(self, |s| s.name())
-    }
-
     fn state(&self) -> &StepState {
         each!(self, |s| s.state())
     }
 
-    fn start<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t: f64,
-        y: &[f64],
-        span: f64,
-    ) -> Result<(), ErrorKind> {
-        each!(self, |s| s.start(ev, t, y, span))
+    fn begin<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, at: Begin) -> StepResult {
+        each!(self, |s| s.begin(ev, at))
     }
 
-    fn step<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t_end: f64,
-    ) -> Result<(), ErrorKind> {
+    fn step<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, t_end: f64) -> StepResult {
         each!(self, |s| s.step(ev, t_end))
-    }
-
-    fn restart<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t: f64,
-        y: &[f64],
-        span: f64,
-    ) -> Result<(), ErrorKind> {
-        each!(self, |s| s.restart(ev, t, y, span))
     }
 
     fn prepare_dense(&mut self) {

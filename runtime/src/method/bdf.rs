@@ -53,7 +53,7 @@
 
 use nalgebra::DVector;
 
-use super::stepper::{DenseStep, Eval, StepState, Stepper, check_budget};
+use super::stepper::{Begin, DenseStep, Eval, StepResult, StepState, Stepper, check_budget};
 use crate::numerics::newton::NewtonMatrix;
 use crate::numerics::{check_finite, error_norm, error_weights, underflow, weighted_norm};
 use crate::{ErrorKind, OdeSystem, Options};
@@ -223,10 +223,6 @@ impl BdfStepper {
 }
 
 impl Stepper for BdfStepper {
-    fn name(&self) -> &'static str {
-        "BDF"
-    }
-
     fn state(&self) -> &StepState {
         &self.s
     }
@@ -242,37 +238,18 @@ impl Stepper for BdfStepper {
         &self.s.dense
     }
 
-    fn start<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t: f64,
-        y: &[f64],
-        span: f64,
-    ) -> Result<(), ErrorKind> {
-        self.s.begin(ev, t, y, span, 1)?;
-        self.newton = NewtonMatrix::new(y.len());
+    fn begin<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, at: Begin) -> StepResult {
+        self.s.enter(ev, at, 1, self.h_next)?;
+        if at.fresh {
+            self.newton = NewtonMatrix::new(at.y.len());
+        } else {
+            self.newton.mark_stale();
+        }
         self.reset_history();
         Ok(())
     }
 
-    fn restart<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t: f64,
-        y: &[f64],
-        span: f64,
-    ) -> Result<(), ErrorKind> {
-        self.s.resume(ev, t, y, span, 1, self.h_next)?;
-        self.newton.mark_stale();
-        self.reset_history();
-        Ok(())
-    }
-
-    fn step<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t_end: f64,
-    ) -> Result<(), ErrorKind> {
+    fn step<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, t_end: f64) -> StepResult {
         let n = self.s.y.len();
         // The differences change below: the last step's extension, if nobody asked
         // for it, is not built.

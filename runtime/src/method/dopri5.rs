@@ -2,7 +2,7 @@
 //! ([`tableau::DOPRI5`](crate::tableau::DOPRI5)), following Hairer's `dopri5.f`
 //! (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.5–II.6).
 
-use super::stepper::{Eval, StepState, Stepper, check_budget};
+use super::stepper::{Begin, Eval, StepResult, StepState, Stepper, check_budget};
 use crate::numerics::control::PiController;
 use crate::numerics::tableau::{DOPRI5, DOPRI5_DENSE};
 use crate::numerics::{check_finite, error_norm, underflow};
@@ -74,45 +74,18 @@ impl Dopri5Stepper {
 }
 
 impl Stepper for Dopri5Stepper {
-    fn name(&self) -> &'static str {
-        "DOPRI5"
-    }
-
     fn state(&self) -> &StepState {
         &self.s
     }
 
-    fn start<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t: f64,
-        y: &[f64],
-        span: f64,
-    ) -> Result<(), ErrorKind> {
-        self.s.begin(ev, t, y, span, 5)?;
+    fn begin<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, at: Begin) -> StepResult {
+        self.s.enter(ev, at, 5, self.s.h)?;
         self.k[0].copy_from_slice(&self.s.f);
         self.controller = PiController::new(4);
         Ok(())
     }
 
-    fn restart<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t: f64,
-        y: &[f64],
-        span: f64,
-    ) -> Result<(), ErrorKind> {
-        self.s.resume(ev, t, y, span, 5, self.s.h)?;
-        self.k[0].copy_from_slice(&self.s.f);
-        self.controller = PiController::new(4);
-        Ok(())
-    }
-
-    fn step<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t_end: f64,
-    ) -> Result<(), ErrorKind> {
+    fn step<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, t_end: f64) -> StepResult {
         let e = DOPRI5.error_weights();
         loop {
             check_budget(ev.stats, &self.s.options, self.s.t)?;

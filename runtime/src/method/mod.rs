@@ -29,7 +29,7 @@ pub use bdf::{Bdf, BdfStepper};
 pub use dopri5::{Dopri5, Dopri5Stepper};
 pub use rk4::{Rk4, Rk4Stepper};
 pub use sdirk::{Sdirk4, Sdirk4Stepper};
-pub use stepper::{DenseStep, Eval, StepState, Stepper};
+pub use stepper::{Begin, DenseStep, Eval, StepResult, StepState, Stepper};
 
 use crate::Options;
 

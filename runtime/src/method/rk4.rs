@@ -1,6 +1,6 @@
 //! The classic fourth-order Runge–Kutta method with a fixed step ([`tableau::RK4`](crate::tableau::RK4)).
 
-use super::stepper::{Eval, StepState, Stepper};
+use super::stepper::{Begin, Eval, StepResult, StepState, Stepper};
 use crate::numerics::check_finite;
 use crate::numerics::tableau::RK4;
 use crate::{ErrorKind, OdeSystem, Options};
@@ -54,51 +54,29 @@ pub struct Rk4Stepper {
 }
 
 impl Stepper for Rk4Stepper {
-    fn name(&self) -> &'static str {
-        "RK4"
-    }
-
     fn state(&self) -> &StepState {
         &self.s
     }
 
-    fn start<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t: f64,
-        y: &[f64],
-        _span: f64,
-    ) -> Result<(), ErrorKind> {
-        if !(self.s.h.is_finite() && self.s.h > 0.0) {
+    /// A fixed step needs no first-step choice; afresh or not, the stepper begins at
+    /// `(t, y)` with `f(t, y)`.
+    fn begin<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, at: Begin) -> StepResult {
+        if at.fresh && !(self.s.h.is_finite() && self.s.h > 0.0) {
             return Err(ErrorKind::InvalidInput(format!(
                 "step size h = {} must be positive and finite",
                 self.s.h
             )));
         }
-        self.restart(ev, t, y, 0.0)
-    }
-
-    fn restart<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t: f64,
-        y: &[f64],
-        _span: f64,
-    ) -> Result<(), ErrorKind> {
         self.s.forget();
-        self.s.t = t;
-        self.s.y.copy_from_slice(y);
+        self.s.t = at.t;
+        self.s.y.copy_from_slice(at.y);
         self.plan = (f64::NAN, 0);
-        ev.rhs(t, y, &mut self.s.f)?;
+        ev.rhs(at.t, at.y, &mut self.s.f)?;
         self.k[0].copy_from_slice(&self.s.f);
         Ok(())
     }
 
-    fn step<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t_end: f64,
-    ) -> Result<(), ErrorKind> {
+    fn step<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, t_end: f64) -> StepResult {
         let n = self.s.y.len();
         let t = self.s.t;
         if self.plan.0 != t_end {

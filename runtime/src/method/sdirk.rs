@@ -18,7 +18,7 @@
 
 use nalgebra::DVector;
 
-use super::stepper::{Eval, StepState, Stepper, check_budget};
+use super::stepper::{Begin, Eval, StepResult, StepState, Stepper, check_budget};
 use crate::numerics::control::PiController;
 use crate::numerics::newton::{
     DIRK_THETA_REUSE_JACOBIAN as THETA_REUSE_JACOBIAN, DirkStage, NewtonMatrix, StageFailure,
@@ -84,50 +84,28 @@ pub struct Sdirk4Stepper {
 }
 
 impl Stepper for Sdirk4Stepper {
-    fn name(&self) -> &'static str {
-        "SDIRK4"
-    }
-
     fn state(&self) -> &StepState {
         &self.s
     }
 
-    fn start<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t: f64,
-        y: &[f64],
-        span: f64,
-    ) -> Result<(), ErrorKind> {
-        self.s.begin(ev, t, y, span, 4)?;
+    fn begin<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, at: Begin) -> StepResult {
+        self.s.enter(ev, at, 4, self.s.h)?;
         self.controller = PiController::new(3);
-        self.newton = NewtonMatrix::new(y.len());
-        self.eta = 1.0;
+        if at.fresh {
+            self.newton = NewtonMatrix::new(at.y.len());
+            self.eta = 1.0;
+        } else {
+            // Unlike BDF's, SDIRK4's error estimate is filtered through (I − hγJ)⁻¹: a J
+            // of the equations before the discontinuity would distort the error control
+            // itself, not only slow Newton (measured: the stiff two-block chain,
+            // k2/k1 = 1e12, ended in an ill-posed mode with the old J kept; it completes
+            // with a fresh one).
+            self.newton.jac_needed = true;
+        }
         Ok(())
     }
 
-    fn restart<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t: f64,
-        y: &[f64],
-        span: f64,
-    ) -> Result<(), ErrorKind> {
-        self.s.resume(ev, t, y, span, 4, self.s.h)?;
-        self.controller = PiController::new(3);
-        // Unlike BDF's, SDIRK4's error estimate is filtered through (I − hγJ)⁻¹: a J of
-        // the equations before the discontinuity would distort the error control itself,
-        // not only slow Newton (measured: the stiff two-block chain, k2/k1 = 1e12, ended
-        // in an ill-posed mode with the old J kept; it completes with a fresh one).
-        self.newton.jac_needed = true;
-        Ok(())
-    }
-
-    fn step<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t_end: f64,
-    ) -> Result<(), ErrorKind> {
+    fn step<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, t_end: f64) -> StepResult {
         let n = self.s.y.len();
         let s = SDIRK4.stages();
         let gamma = SDIRK4.a(0, 0);

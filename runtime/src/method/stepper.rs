@@ -7,7 +7,7 @@
 //!
 //! The life of a stepper:
 //!
-//! 1. [`start`](Stepper::start) at `(t₀, y₀)`: checks the configuration, evaluates
+//! 1. [`begin`](Stepper::begin) afresh at `(t₀, y₀)`: checks the configuration, evaluates
 //!    `f(t₀, y₀)` and chooses the first step (Hairer, Nørsett & Wanner I, §II.4).
 //! 2. [`step`](Stepper::step) towards `t_end`: attempts steps — each accepted or
 //!    rejected by the method's error estimate and step-size controller, or failed by
@@ -15,7 +15,7 @@
 //!    reach it is stretched to end exactly there). Afterwards [`t`](Stepper::t),
 //!    [`y`](Stepper::y), [`f`](Stepper::f) are the new point and
 //!    [`dense`](Stepper::dense) the method's continuous extension over the step.
-//! 3. [`restart`](Stepper::restart) at a discontinuity `(t, y⁺)`: everything that
+//! 3. [`begin`](Stepper::begin) again at a discontinuity `(t, y⁺)`: everything that
 //!    assumed a smooth past (the FSAL derivative, BDF's history, the controller's memory)
 //!    is dropped; BDF keeps its Jacobian (a stale Jacobian still serves a simplified
 //!    Newton iteration and is refreshed at its first failure; SDIRK4 re-evaluates it,
@@ -128,9 +128,25 @@ impl StepState {
         self.prev = None;
     }
 
-    /// [`Stepper::start`] for a method of `order`: checks the options, evaluates `f` and
+    /// [`Stepper::begin`] for a method of `order`: afresh, [`start`](Self::start);
+    /// after a discontinuity, [`resume`](Self::resume) with the step `h_kept`.
+    pub(crate) fn enter<S: OdeSystem + ?Sized>(
+        &mut self,
+        ev: &mut Eval<'_, S>,
+        at: Begin,
+        order: u32,
+        h_kept: f64,
+    ) -> StepResult {
+        if at.fresh {
+            self.start(ev, at.t, at.y, at.span, order)
+        } else {
+            self.resume(ev, at.t, at.y, at.span, order, h_kept)
+        }
+    }
+
+    /// A fresh start for a method of `order`: checks the options, evaluates `f` and
     /// chooses the first step (when `span > 0`).
-    pub(crate) fn begin<S: OdeSystem + ?Sized>(
+    fn start<S: OdeSystem + ?Sized>(
         &mut self,
         ev: &mut Eval<'_, S>,
         t: f64,
@@ -158,9 +174,9 @@ impl StepState {
         Ok(())
     }
 
-    /// [`Stepper::restart`] for a method of `order`: evaluates `f` at the new point and
-    /// takes the step `h_kept` unless the starting-step estimate there is smaller.
-    pub(crate) fn resume<S: OdeSystem + ?Sized>(
+    /// A restart for a method of `order`: evaluates `f` at the new point and takes the
+    /// step `h_kept` unless the starting-step estimate there is smaller.
+    fn resume<S: OdeSystem + ?Sized>(
         &mut self,
         ev: &mut Eval<'_, S>,
         t: f64,
@@ -178,41 +194,34 @@ impl StepState {
     }
 }
 
+/// Where a stepper begins an arc: at `(t, y)` with `span` left to integrate (it bounds the
+/// first step; `0` takes no step), afresh or after a discontinuity.
+#[derive(Clone, Copy, Debug)]
+pub struct Begin<'a> {
+    pub t: f64,
+    pub y: &'a [f64],
+    pub span: f64,
+    /// `true`: the start of a run ([`Stepper::begin`]'s first life stage); `false`: a
+    /// restart after a discontinuity (its third).
+    pub fresh: bool,
+}
+
+/// What a stepper's calls end with.
+pub type StepResult = Result<(), ErrorKind>;
+
 /// One method's stepping state (see the module documentation).
 pub trait Stepper {
-    /// Name of the method, for messages and reports.
-    fn name(&self) -> &'static str;
-
     /// The state every stepper keeps.
     fn state(&self) -> &StepState;
 
-    /// Begins at `(t, y)`; `span` is the length of the interval to integrate (it bounds
-    /// the first step; `0` takes no step). Invalid options are
-    /// [`ErrorKind::InvalidInput`] before anything is evaluated.
-    fn start<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t: f64,
-        y: &[f64],
-        span: f64,
-    ) -> Result<(), ErrorKind>;
+    /// Begins at `at` (see the module documentation): afresh, checking the options
+    /// (invalid ones are [`ErrorKind::InvalidInput`] before anything is evaluated) and
+    /// choosing the first step; or after a discontinuity, dropping what assumed a smooth
+    /// past.
+    fn begin<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, at: Begin) -> StepResult;
 
     /// Advances by one accepted step, ending at or before `t_end`.
-    fn step<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t_end: f64,
-    ) -> Result<(), ErrorKind>;
-
-    /// Continues from `(t, y)` after a discontinuity, with `span` left to integrate
-    /// (see the module documentation).
-    fn restart<S: OdeSystem + ?Sized>(
-        &mut self,
-        ev: &mut Eval<'_, S>,
-        t: f64,
-        y: &[f64],
-        span: f64,
-    ) -> Result<(), ErrorKind>;
+    fn step<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, t_end: f64) -> StepResult;
 
     /// The options the method runs with (for a fixed-step method, the defaults with its
     /// step as `h0`).

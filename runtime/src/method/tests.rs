@@ -385,16 +385,21 @@ fn dense_output_has_the_order_of_its_method() {
         let sys = oscillator();
         let mut stats = crate::Stats::default();
         let mut ev = Eval::new(&sys, &mut stats);
-        let t0 = 0.3;
-        stepper
-            .start(&mut ev, t0, &[t0.cos(), -t0.sin()], h)
-            .unwrap();
+        let t0: f64 = 0.3;
+        let y0 = [t0.cos(), -t0.sin()];
+        let at = Begin {
+            t: t0,
+            y: &y0,
+            span: h,
+            fresh: true,
+        };
+        stepper.begin(&mut ev, at).unwrap();
         stepper.step(&mut ev, t0 + h).unwrap();
         assert_eq!(
             stepper.t(),
             t0 + h,
             "{}: one step to the end",
-            stepper.name()
+            std::any::type_name::<St>()
         );
         let mut y = [0.0; 2];
         let tm = t0 + 0.5 * h;
@@ -458,19 +463,29 @@ fn dense_output_after_a_first_step_has_the_local_order_of_its_method() {
         let sys = oscillator();
         let mut stats = crate::Stats::default();
         let mut ev = Eval::new(&sys, &mut stats);
-        let t0 = 0.3;
-        stepper
-            .start(&mut ev, t0, &[t0.cos(), -t0.sin()], 2.0 * h)
-            .unwrap();
+        let t0: f64 = 0.3;
+        let y0 = [t0.cos(), -t0.sin()];
+        let at = Begin {
+            t: t0,
+            y: &y0,
+            span: 2.0 * h,
+            fresh: true,
+        };
+        stepper.begin(&mut ev, at).unwrap();
         stepper.step(&mut ev, t0 + 2.0 * h).unwrap();
         stepper.step(&mut ev, t0 + 2.0 * h).unwrap();
         assert!(
             (stepper.t() - (t0 + 2.0 * h)).abs() < 1e-14,
             "{}: two steps to the end",
-            stepper.name()
+            std::any::type_name::<St>()
         );
         stepper.prepare_dense();
-        assert_eq!(stepper.dense().degree(), 5, "{}", stepper.name());
+        assert_eq!(
+            stepper.dense().degree(),
+            5,
+            "{}",
+            std::any::type_name::<St>()
+        );
         let mut y = [0.0; 2];
         let tm = t0 + 1.5 * h;
         stepper.dense().eval(tm, &mut y);

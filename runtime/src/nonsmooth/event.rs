@@ -104,7 +104,7 @@ use crate::Method;
 use crate::element::{Element, ElementKind, Law, Mode, NonSmooth, Selection, Side, StopKind};
 use crate::events::{EventHit, Tracker, hermite_qv};
 use crate::input::{Capped, Input};
-use crate::method::{DenseStep, Eval, Stepper};
+use crate::method::{Begin, DenseStep, Eval, Stepper};
 use crate::numerics::rootfind::find_root;
 use crate::solve::{Observer, unobserved};
 use crate::{ErrorKind, Keep, OdeSystem, Options, Solution, SolveError, Stats, Switch, SwitchKind};
@@ -703,12 +703,13 @@ where
         {
             let sys = mode_system!(self);
             let ev = &mut Eval::new(&sys, &mut self.out.stats);
-            let span = self.tf - self.t;
-            if fresh {
-                stepper.start(ev, self.t, &y, span)?;
-            } else {
-                stepper.restart(ev, self.t, &y, span)?;
-            }
+            let at = Begin {
+                t: self.t,
+                y: &y,
+                span: self.tf - self.t,
+                fresh,
+            };
+            stepper.begin(ev, at)?;
         }
         self.arming = self.arm(self.t, &y);
         Ok(())

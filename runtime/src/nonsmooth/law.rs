@@ -37,187 +37,24 @@
 //! `φ`) are located once, by a sign scan of `φ'` on `f_crit < f ≤ FOLD_SCAN · (f_crit + 1)`
 //! refined by bisection ([`Graph::folds`]).
 
-use std::fmt;
-
-use super::kind::{self, Kind};
+use super::kind::bingham::side_phi;
+use super::kind::graph::bisect;
+pub use super::kind::graph::{
+    Branch, Branches, Fold, LawError, Line, Part, PlateauLevel, Point, StepState,
+};
+use super::kind::{Context, Forces, Kind, NO_BRANCHES, with_kind};
 use crate::element::{Element, ElementKind, Law, NonSmooth, Selection};
 
 /// Non-monotone laws are scanned for folds on `f_crit < f ≤ FOLD_SCAN · (f_crit + 1)`.
 pub const FOLD_SCAN: f64 = 16.0;
 /// Grid cells of the fold scan.
 const FOLD_CELLS: usize = 4096;
-/// Iteration cap of every scalar root finder (bisection halves the bracket each time).
-const MAX_ITER: usize = 200;
-
-/// The discrete momentum balance of one element: `v = v_free − w f`, `w > 0`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Line {
-    pub v_free: f64,
-    pub w: f64,
-}
 
 /// The weight `θ_q` of the new velocity in a time-step's position update
 /// `q_{n+1} = q_n + h ((1 − θ_q) v_n + θ_q v_{n+1})`: `max(θ, 1 − θ)`, so that θ = 1 is
 /// implicit Euler, θ = ½ the implicit midpoint rule and θ = 0 symplectic Euler.
 pub fn position_weight(theta: f64) -> f64 {
     theta.max(1.0 - theta)
-}
-
-/// The force `λ ≥ 0` of a support of stiffness `k` (energy `V(g) = ½ k ((−g)₊)²` in the
-/// gap `g`) over a step from gap `g_a` to `g_b = g_free + c λ` (`c > 0`): the root of
-/// `λ = −(V(g_b) − V(g_a)) / (g_b − g_a)`, the discrete gradient (O. Gonzalez, "Time
-/// integration and discrete Hamiltonian systems", J. Nonlinear Sci. 6 (1996) 449–467).
-/// With positions advanced by the mean velocity, the work of `λ` over the step equals the
-/// change of `V` exactly, whatever the step: a support hit within one step gives back
-/// what it stored. The right side falls as `λ` grows (`V` is convex), so the root is
-/// unique; each piece of `V` gives it in closed form.
-pub(crate) fn support_discrete_gradient(k: f64, g_a: f64, g_free: f64, c: f64) -> f64 {
-    if g_a < 0.0 {
-        // Pressed in at the start. Still pressed in at the end: λ = −½k (g_a + g_b).
-        let lambda = -0.5 * k * (g_a + g_free) / (1.0 + 0.5 * k * c);
-        if lambda >= 0.0 && g_free + c * lambda < 0.0 {
-            return lambda;
-        }
-        // Released within the step: λ (g_b − g_a) = ½ k g_a², g_b ≥ 0, so
-        // c λ² + (g_free − g_a) λ − ½ k g_a² = 0, the positive root.
-        let b = g_free - g_a;
-        let d = (b * b + 2.0 * c * k * g_a * g_a).sqrt();
-        if b > 0.0 {
-            k * g_a * g_a / (b + d)
-        } else {
-            (d - b) / (2.0 * c)
-        }
-    } else if g_free >= 0.0 {
-        0.0
-    } else {
-        // Free at the start, pressed in at the end: λ (g_a − g_b) = ½ k g_b², g_b < 0:
-        // with λ = (g_b − g_free)/c, (1 + ½kc) g_b² − (g_a + g_free) g_b + g_a g_free = 0,
-        // whose negative root (the product of the roots is ≤ 0) is g_b; λ from g_b by the
-        // balance itself (g_b − g_free cancels when kc ≪ 1).
-        let a = 1.0 + 0.5 * k * c;
-        let s = g_a + g_free;
-        let d = (s * s - 4.0 * a * g_a * g_free).sqrt();
-        let g_b = if s >= 0.0 {
-            2.0 * g_a * g_free / (s + d)
-        } else {
-            (s - d) / (2.0 * a)
-        };
-        (0.5 * k * g_b * g_b / (g_a - g_b)).max(0.0)
-    }
-}
-
-/// What one step knows about the element's coordinate at its start `t_n`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct StepState {
-    /// Coordinate value `q_c(t_n)` (stops: the gap).
-    pub q: f64,
-    /// Coordinate velocity `v_c(t_n)` (rigid stops: the pre-impact velocity).
-    pub v: f64,
-    /// Step size.
-    pub h: f64,
-    /// The weight of `v_{n+1}` in the coordinate's position update
-    /// `q_{n+1} = q_n + h ((1 − θ_q) v_n + θ_q v_{n+1})` (see
-    /// [`crate::nonsmooth::time_stepping`] and [`position_weight`]). A spring-backed stop
-    /// takes its force at the step's end when θ_q = 1 (implicit Euler); when θ_q < 1 its
-    /// force is the discrete gradient of its energy between `q_n` and `q_{n+1}`, exact in
-    /// energy at θ_q = ½ (pressed in over the whole step, it is the force at the
-    /// midpoint).
-    pub theta_q: f64,
-    /// The element's force at `t_n` (approach 1: the current branch).
-    pub force: f64,
-}
-
-/// Which part of the graph a point lies on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[non_exhaustive]
-pub enum Part {
-    /// Dash-pot in its dead zone: `v = 0` exactly, `|f| ≤ f_crit`.
-    Stick,
-    /// Dash-pot slipping on its slip law.
-    Slip,
-    /// Non-monotone law, approach 2: constant speed `|v| = v_min` on a filled jump.
-    Plateau,
-    /// Stop without contact force.
-    Open,
-    /// Stop carrying a contact force.
-    Contact,
-}
-
-/// A point `(v, f)` on an element's graph.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Point {
-    pub v: f64,
-    pub f: f64,
-    pub part: Part,
-}
-
-/// A local extremum of a non-monotone slip law on `f > f_crit`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Fold {
-    pub force: f64,
-    pub velocity: f64,
-    /// `true` at a local minimum of `φ`, `false` at a local maximum.
-    pub minimum: bool,
-}
-
-/// An increasing piece of a non-monotone slip law on the positive side (`f > f_crit`;
-/// the law is odd), as the event-driven integrator slips on it: while slipping with
-/// `|v| ∈ [v_lo, v_hi]` the force `|f| ∈ [f_lo, f_hi]` is the inverse of `φ` there.
-/// `f_hi = v_hi = ∞` for the last piece.
-///
-/// Approach 2 may cut a piece below its fold, at a plateau's speed; `f_top`, `v_top`
-/// keep where the piece itself ends (its fold, or `∞`), equal to `f_hi`, `v_hi` where
-/// nothing is cut. Past a cut end the slip force continues on the piece, so the
-/// right-hand side stays smooth across the switching point and a step that straddles it
-/// keeps its order.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Branch {
-    pub f_lo: f64,
-    pub f_hi: f64,
-    pub v_lo: f64,
-    pub v_hi: f64,
-    pub f_top: f64,
-    pub v_top: f64,
-}
-
-/// Approach 2's constant-speed mode between two branches: `|v| = velocity` exactly, the
-/// force anywhere in `[f_lo, f_hi]` (the two branch forces at that speed).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PlateauLevel {
-    pub velocity: f64,
-    pub f_lo: f64,
-    pub f_hi: f64,
-}
-
-/// The branches a selection rule slips on, by increasing force, and (approach 2) the
-/// plateaus between consecutive ones: `plateaus[i]` joins `slip[i]` (its top) and
-/// `slip[i + 1]` (its bottom). Empty for every law but the non-monotone one.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Branches {
-    pub slip: Vec<Branch>,
-    pub plateaus: Vec<PlateauLevel>,
-}
-
-/// Why a graph could not be built or evaluated.
-#[derive(Clone, Debug, PartialEq)]
-#[non_exhaustive]
-pub enum LawError {
-    /// The element's parameters are invalid (message names the element).
-    InvalidElement(String),
-    /// The law or the line produced a NaN or an infinity.
-    NonFinite,
-    /// A root finder hit its iteration cap (the law is not of the documented kind).
-    NoConvergence,
-}
-
-impl fmt::Display for LawError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            LawError::InvalidElement(msg) => write!(f, "{msg}"),
-            LawError::NonFinite => write!(f, "non-finite value in a constitutive law"),
-            LawError::NoConvergence => write!(f, "constitutive-law root finder did not converge"),
-        }
-    }
 }
 
 /// One element's constitutive graph: the element, validated, and for non-monotone laws
@@ -261,6 +98,16 @@ impl Graph {
     /// (empty for every other element). The negative side mirrors them (odd law).
     pub fn folds(&self) -> &[Fold] {
         &self.folds
+    }
+
+    /// What the element's kind needs to meet a line: the system, the index, the folds.
+    fn context<'a, S>(&'a self, system: &'a S) -> Context<'a, S> {
+        Context {
+            system,
+            index: self.index,
+            branches: &NO_BRANCHES,
+            folds: &self.folds,
+        }
     }
 
     /// The slip branches of a non-monotone law under its selection rule (empty
@@ -367,7 +214,8 @@ impl Graph {
         system: &S,
         f: f64,
     ) -> Option<f64> {
-        kind::of(&self.element).velocity_of_force(system, self.index, f)
+        with_kind!(self.element, |k| k
+            .velocity_of_force(&self.context(system), f))
     }
 
     /// Dash-pots: the force of a slip velocity `v ≠ 0` (`None` for `v = 0`, where any
@@ -387,7 +235,11 @@ impl Graph {
         if v == 0.0 {
             return Ok(None);
         }
-        kind::of(&self.element).force_of_velocity(self, system, v, previous)
+        with_kind!(self.element, |k| k.force_of_velocity(
+            &self.context(system),
+            v,
+            previous
+        ))
     }
 
     /// The intersection of `line` with the graph (see the module documentation), given
@@ -403,233 +255,18 @@ impl Graph {
         if !(line.v_free.is_finite() && line.w.is_finite() && line.w > 0.0) {
             return Err(LawError::NonFinite);
         }
-        kind::of(&self.element).on_line(self, system, line, state)
-    }
-
-    /// `ψ(x) = inf_{y ≥ x} φ₊(y)` on the side `s` (`x ≥ f_crit`): the smaller of `φ₊(x)`
-    /// and the local minima beyond `x` (φ increases beyond its last fold).
-    pub(crate) fn psi<S: NonSmooth<N>, const N: usize>(
-        &self,
-        system: &S,
-        s: f64,
-        f_crit: f64,
-        x: f64,
-    ) -> f64 {
-        let here = if x <= f_crit {
-            0.0
-        } else {
-            side_phi(system, self.index, s, x)
-        };
-        self.folds
-            .iter()
-            .filter(|fold| fold.minimum && fold.force > x)
-            .fold(here, |m, fold| m.min(fold.velocity))
-    }
-
-    /// The plateau velocity if `x` lies on a filled jump of approach 2's graph.
-    pub(crate) fn plateau_below<S: NonSmooth<N>, const N: usize>(
-        &self,
-        system: &S,
-        s: f64,
-        f_crit: f64,
-        x: f64,
-    ) -> Option<f64> {
-        let here = side_phi(system, self.index, s, x.max(f_crit));
-        self.folds
-            .iter()
-            .filter(|fold| fold.minimum && fold.force > x && fold.velocity < here)
-            .map(|fold| fold.velocity)
-            .reduce(f64::min)
-    }
-
-    /// Approach 1: the first root of the continuous `g` met from `start`, moving in the
-    /// direction `−sgn g(start)`. The scan visits the breakpoints `±f_crit`, `±folds`;
-    /// between breakpoints it uses 64 cells on decreasing pieces of `φ` (where `g` need
-    /// not be monotone) and one cell on increasing ones; beyond the last breakpoint the
-    /// bracket is found by doubling. The root is refined by bisection.
-    pub(crate) fn first_root(
-        &self,
-        g: impl Fn(f64) -> f64,
-        f_crit: f64,
-        start: f64,
-    ) -> Result<f64, LawError> {
-        let g0 = g(start);
-        if !g0.is_finite() {
-            return Err(LawError::NonFinite);
-        }
-        if g0 == 0.0 {
-            return Ok(start);
-        }
-        let d = -g0.signum();
-        // Breakpoints strictly beyond `start` in direction d, in order.
-        let mut marks: Vec<f64> = std::iter::once(f_crit)
-            .chain(self.folds.iter().map(|fold| fold.force))
-            .flat_map(|x| [x, -x])
-            .filter(|&x| (x - start) * d > 0.0)
-            .collect();
-        marks.sort_by(|a, b| (d * a).total_cmp(&(d * b)));
-        marks.dedup();
-        let decreasing = |a: f64, b: f64| {
-            let mid = 0.5 * (a.abs() + b.abs());
-            let mut inside = self.folds.iter().filter(|fold| fold.force < mid);
-            // φ decreases between a maximum and the following minimum.
-            inside.next_back().is_some_and(|fold| !fold.minimum) && mid > f_crit
-        };
-        let mut a = start;
-        for &b in &marks {
-            let cells = if decreasing(a, b) { 64 } else { 1 };
-            let mut lo = a;
-            for k in 1..=cells {
-                let hi = a + (b - a) * k as f64 / cells as f64;
-                let gh = g(hi);
-                if !gh.is_finite() {
-                    return Err(LawError::NonFinite);
-                }
-                if gh * d >= 0.0 {
-                    return bisect(&g, lo, hi);
-                }
-                lo = hi;
-            }
-            a = b;
-        }
-        // Beyond all breakpoints: φ is monotone there; double the step until g changes sign.
-        let mut step = (a.abs() + f_crit + 1.0) * d;
-        for _ in 0..MAX_ITER {
-            let b = a + step;
-            let gb = g(b);
-            if !gb.is_finite() {
-                return Err(LawError::NonFinite);
-            }
-            if gb * d >= 0.0 {
-                return bisect(&g, a, b);
-            }
-            a = b;
-            step *= 2.0;
-        }
-        Err(LawError::NoConvergence)
+        with_kind!(self.element, |k| k.on_line(
+            &self.context(system),
+            line,
+            state
+        ))
     }
 }
 
 /// Parameter checks with messages naming the element and what would be right.
 fn check(el: &Element) -> Result<(), LawError> {
-    kind::of(el)
-        .check()
+    with_kind!(el, |k| k.check())
         .map_err(|what| LawError::InvalidElement(format!("element `{}`: {what}", el.name)))
-}
-
-/// `Φ(f)`: 0 in the dead zone, the slip law outside (Bingham laws; friction gives 0).
-pub(crate) fn phi<S: NonSmooth<N>, const N: usize>(
-    system: &S,
-    e: usize,
-    law: Law,
-    f_crit: f64,
-    f: f64,
-) -> f64 {
-    if f.abs() <= f_crit {
-        return 0.0;
-    }
-    match law {
-        Law::BinghamLinear { eta } => (f - f.signum() * f_crit) / eta,
-        Law::BinghamMonotone | Law::BinghamNonMonotone { .. } => system.law(e, f).0,
-        _ => 0.0,
-    }
-}
-
-/// The user slip law on side `s` as a function of `x = |f| > f_crit`: `s φ(s x)`.
-pub(crate) fn side_phi<S: NonSmooth<N>, const N: usize>(
-    system: &S,
-    e: usize,
-    s: f64,
-    x: f64,
-) -> f64 {
-    s * system.law(e, s * x).0
-}
-
-/// Root of `s φ(s x) + w x = a` on `[lo, hi]` (increasing, sign change): Newton with the
-/// law's derivative, kept inside a shrinking bracket, bisection when Newton leaves it.
-pub(crate) fn newton_bisect<S: NonSmooth<N>, const N: usize>(
-    system: &S,
-    e: usize,
-    s: f64,
-    w: f64,
-    a: f64,
-    mut lo: f64,
-    mut hi: f64,
-) -> Result<f64, LawError> {
-    let mut x = 0.5 * (lo + hi);
-    for _ in 0..MAX_ITER {
-        let (p, dp) = system.law(e, s * x);
-        let (g, dg) = (s * p + w * x - a, dp + w);
-        if !(g.is_finite() && dg.is_finite()) {
-            return Err(LawError::NonFinite);
-        }
-        if g == 0.0 {
-            return Ok(x);
-        }
-        if g < 0.0 {
-            lo = x
-        } else {
-            hi = x
-        }
-        let newton = x - g / dg;
-        let next = if dg > 0.0 && newton > lo && newton < hi {
-            newton
-        } else {
-            0.5 * (lo + hi)
-        };
-        if (next - x).abs() <= 4.0 * f64::EPSILON * x.abs()
-            || hi - lo <= 4.0 * f64::EPSILON * hi.abs()
-        {
-            return Ok(next);
-        }
-        x = next;
-    }
-    Err(LawError::NoConvergence)
-}
-
-/// Bisection of a continuous `g` with a sign change on `[a, b]` (either order), to
-/// round-off.
-pub(crate) fn bisect(g: impl Fn(f64) -> f64, a: f64, b: f64) -> Result<f64, LawError> {
-    let (mut lo, mut hi) = (a, b);
-    let glo = g(lo);
-    if glo == 0.0 {
-        return Ok(lo);
-    }
-    for _ in 0..MAX_ITER {
-        let mid = 0.5 * (lo + hi);
-        if mid == lo || mid == hi {
-            return Ok(mid);
-        }
-        let gm = g(mid);
-        if !gm.is_finite() {
-            return Err(LawError::NonFinite);
-        }
-        if gm == 0.0 {
-            return Ok(mid);
-        }
-        if (gm > 0.0) == (glo > 0.0) {
-            lo = mid
-        } else {
-            hi = mid
-        }
-    }
-    Ok(0.5 * (lo + hi))
-}
-
-/// Smallest `f_crit · 2^k`-type point where an eventually increasing `g` is ≥ 0.
-pub(crate) fn upper_bound(g: impl Fn(f64) -> f64, f_crit: f64) -> Result<f64, LawError> {
-    let mut x = 2.0 * f_crit + 1.0;
-    for _ in 0..MAX_ITER {
-        let gx = g(x);
-        if !gx.is_finite() {
-            return Err(LawError::NonFinite);
-        }
-        if gx >= 0.0 {
-            return Ok(x);
-        }
-        x *= 2.0;
-    }
-    Err(LawError::NoConvergence)
 }
 
 /// Local extrema of `φ` on `f_crit < f ≤ FOLD_SCAN (f_crit + 1)`: sign changes of `φ'`
@@ -1148,6 +785,7 @@ mod tests {
     /// changes sign there (random gaps on both sides of the support, stiffnesses 1…1e12).
     #[test]
     fn support_discrete_gradient_balances_energy() {
+        use crate::nonsmooth::kind::stop::support_discrete_gradient;
         let mut seed = 0x2545_f491_4f6c_dd1du64;
         let mut uniform = move || {
             seed ^= seed << 13;

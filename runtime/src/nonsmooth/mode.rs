@@ -19,7 +19,7 @@
 
 use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 
-use super::kind::{self, Kind};
+use super::kind::{At, Context, Forces, Kind, with_kind};
 use super::law::{Branch, Branches};
 use crate::element::{Element, ElementKind, Mode, NonSmooth, StopKind};
 
@@ -116,7 +116,7 @@ pub(crate) fn plateau_at(branches: &Branches, w: f64) -> Option<usize> {
 
 /// Every mode an element can take at a mode selection.
 pub(crate) fn candidates(element: &Element) -> &'static [Mode] {
-    kind::of(element).candidates()
+    with_kind!(element, |k| k.candidates())
 }
 
 /// Checks one element's parameters for the event-driven integrator.
@@ -127,9 +127,7 @@ pub(crate) fn validate_element(e: &Element, dof: usize) -> Result<(), String> {
             e.name, e.coordinate
         ));
     }
-    kind::of(e)
-        .check()
-        .map_err(|what| format!("element `{}`: {what}", e.name))
+    with_kind!(e, |k| k.check()).map_err(|what| format!("element `{}`: {what}", e.name))
 }
 
 pub(crate) use super::kind::stop::side_sign;
@@ -155,7 +153,7 @@ pub fn check_not_penetrating(el: &Element, q_c: f64) -> Result<(), String> {
 
 /// Gap `s (position − q)` of a stop (`≥ 0` when admissible); `+∞` for dash-pots.
 pub(crate) fn gap(element: &Element, qc: f64) -> f64 {
-    kind::of(element).gap(qc)
+    with_kind!(element, |k| k.gap(qc))
 }
 
 /// Accelerations and element forces in one mode assignment.
@@ -185,12 +183,14 @@ pub(crate) fn evaluate<S: NonSmooth<N>, const N: usize>(
         if modes[i].is_constraint() {
             active.push(i);
         } else {
-            let cx = kind::Context {
+            let cx = Context {
                 system,
                 index: i,
                 branches: &branches[i],
+                folds: &[],
             };
-            f[i] = kind::of(el).force(&cx, modes[i], q[c], v[c]);
+            let at = At::state(q[c], v[c], 0.0);
+            f[i] = with_kind!(el, |k| k.force(&cx, modes[i], &at));
         }
         tau_net[c] -= f[i];
     }
@@ -312,7 +312,11 @@ pub(crate) fn switching(
     vc: f64,
     f: f64,
 ) -> f64 {
-    kind::of(element).switching(branches, mode, qc, vc, f)
+    with_kind!(element, |k| k.switching(
+        branches,
+        mode,
+        &At::state(qc, vc, f)
+    ))
 }
 
 /// How consistently `mode` holds for `element` at an event, in force units: `≥ 0`
@@ -333,7 +337,8 @@ pub(crate) fn margin(
     f: f64,
     wcc: f64,
 ) -> f64 {
-    kind::of(element).margin(branches, mode, qc, vc, ac, f, wcc)
+    let at = At { qc, vc, ac, f, wcc };
+    with_kind!(element, |k| k.margin(branches, mode, &at))
 }
 
 /// The elements that take part in a mode selection, each with its candidate modes.
@@ -487,7 +492,7 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
     // to hold a switching coordinate at rest.
     let mut free_modes = modes.to_vec();
     for (e, _) in choices {
-        free_modes[*e] = kind::of(&elements[*e]).unconstrained();
+        free_modes[*e] = with_kind!(elements[*e], |k| k.unconstrained());
     }
     let mut scale: f64 = 1.0;
     if let Some(ev) = evaluate(system, elements, branches, &free_modes, q, v, tau) {
@@ -497,7 +502,7 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
         }
     }
     for el in elements {
-        scale = scale.max(kind::of(el).force_scale());
+        scale = scale.max(with_kind!(el, |k| k.force_scale()));
     }
     let tol = MARGIN_TOL * scale;
     let mut consistent: Vec<(f64, Vec<Mode>)> = Vec::new();
@@ -532,7 +537,9 @@ pub(crate) fn select<S: NonSmooth<N>, const N: usize>(
         let resting = |ms: &[Mode]| {
             choices
                 .iter()
-                .filter(|(e, _)| ms[*e] == Mode::Stick && kind::of(&elements[*e]).rest_persists())
+                .filter(|(e, _)| {
+                    ms[*e] == Mode::Stick && with_kind!(elements[*e], |k| k.rest_persists())
+                })
                 .count()
         };
         let most = robust.iter().map(|(_, ms)| resting(ms)).max().unwrap_or(0);

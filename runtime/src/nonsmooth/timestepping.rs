@@ -64,7 +64,7 @@
 use nalgebra::{DMatrix, SMatrix, SVector};
 
 use super::NonSmoothProblem;
-use super::kind::{self, Kind};
+use super::kind::{Kind, stop, with_kind};
 use super::law::{Graph, LawError, Line, Part, StepState, position_weight};
 use crate::element::{self, ElementKind, NonSmooth, StopKind};
 use crate::events::{EventHit, Tracker, hermite_qv};
@@ -559,11 +559,11 @@ fn log_transitions(
 
 /// A force scale for the relative tolerance: a dash-pot's critical force, else 1e-300.
 fn f_scale(graph: &Graph) -> f64 {
-    kind::of(&graph.element).force_scale().max(1e-300)
+    with_kind!(graph.element, |k| k.force_scale()).max(1e-300)
 }
 
 fn is_rigid(graph: &Graph) -> bool {
-    kind::is_rigid_stop(&graph.element)
+    stop::is_rigid(&graph.element)
 }
 
 /// Checks `h`, `θ`, the problem and every element; builds the graphs.

@@ -885,6 +885,7 @@ fn slip_force_continues_smoothly_past_a_cut_end_and_folds_are_told_apart() {
             system: &sys,
             index: 0,
             branches: &branches,
+            folds: &[],
         };
         let f = |w: f64| bingham.slip_force(&cx, 0, w, 1.0);
         if cut {

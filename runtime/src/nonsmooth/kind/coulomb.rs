@@ -15,11 +15,7 @@ impl Friction for Coulomb {
         dashpot::check_limit("critical force f_crit", self.f_crit)
     }
 
-    fn held(&self) -> f64 {
-        self.f_crit
-    }
-
-    fn sliding(&self) -> f64 {
-        self.f_crit
+    fn levels(&self) -> (f64, f64) {
+        (self.f_crit, self.f_crit)
     }
 }

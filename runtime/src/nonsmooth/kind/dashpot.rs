@@ -4,12 +4,12 @@
 //! whole behaviour of a friction law (a segment at rest and two constant slip levels),
 //! given its two levels ([`Friction`]).
 
-use super::super::law::{Branches, Graph, LawError, Line, Part, Point, StepState};
-use super::{Context, Kind};
+use super::graph::{Branches, Line, Part, Point, StepState};
+use super::traits::{At, Context, Forces, Found, Kind, Slip};
 use crate::element::{Mode, NonSmooth};
 
 /// A dash-pot at rest may stick or start to slip either way.
-pub(crate) const CANDIDATES: &[Mode] = &[Mode::Stick, Mode::SlipPos(0), Mode::SlipNeg(0)];
+const CANDIDATES: &[Mode] = &[Mode::Stick, Mode::SlipPos(0), Mode::SlipNeg(0)];
 
 /// `f_crit` (the half-width of the dead zone, the largest force held at rest) must be
 /// finite and `≥ 0`.
@@ -70,15 +70,8 @@ pub(crate) fn directed(d: f64, vc: f64, ac: f64, wcc: f64) -> f64 {
 /// branch at an end of its velocity range the acceleration into the range divided by
 /// `W_cc`; plateau at its speed the distance of the constraint force to the ends of its
 /// interval.
-pub(crate) fn margin(
-    limit: f64,
-    branches: &Branches,
-    mode: Mode,
-    vc: f64,
-    ac: f64,
-    f: f64,
-    wcc: f64,
-) -> f64 {
+pub(crate) fn margin(limit: f64, branches: &Branches, mode: Mode, at: &At) -> f64 {
+    let At { vc, ac, f, wcc, .. } = *at;
     match mode {
         Mode::Stick => limit - f.abs(),
         Mode::SlipPos(k) | Mode::SlipNeg(k) => {
@@ -130,25 +123,22 @@ pub(crate) fn slip_on_line(line: Line, f: f64) -> Point {
     }
 }
 
-/// A friction law: at rest it holds any force up to [`held`](Friction::held), slipping
-/// it resists with the constant [`sliding`](Friction::sliding) `≤ held`. Everything a
-/// [`Kind`] does follows from the two levels.
-pub(crate) trait Friction {
+/// A dash-pot, whatever its slip law: a dead zone `|f| ≤ limit` where it sticks. Its modes,
+/// switching functions and margins follow ([`Kind`]).
+pub(crate) trait DashPot {
     /// The parameters' check.
     fn check(&self) -> Result<(), String>;
-    /// The largest force held at rest (the stick segment's half-length).
-    fn held(&self) -> f64;
-    /// The force while slipping.
-    fn sliding(&self) -> f64;
+    /// The largest force held at rest (`f_crit`, or the static friction force).
+    fn limit(&self) -> f64;
     /// Whether rest persists where both rest and slip are consistent.
     fn rest_persists(&self) -> bool {
         false
     }
 }
 
-impl<F: Friction> Kind for F {
+impl<D: DashPot> Kind for D {
     fn check(&self) -> Result<(), String> {
-        Friction::check(self)
+        DashPot::check(self)
     }
 
     fn candidates(&self) -> &'static [Mode] {
@@ -160,73 +150,74 @@ impl<F: Friction> Kind for F {
     }
 
     fn force_scale(&self) -> f64 {
+        self.limit()
+    }
+
+    fn switching(&self, branches: &Branches, mode: Mode, at: &At) -> f64 {
+        switching(self.limit(), branches, mode, at.vc, at.f)
+    }
+
+    fn margin(&self, branches: &Branches, mode: Mode, at: &At) -> f64 {
+        margin(self.limit(), branches, mode, at)
+    }
+
+    fn rest_persists(&self) -> bool {
+        DashPot::rest_persists(self)
+    }
+}
+
+/// A friction law: at rest it holds any force up to [`held`](Friction::held), slipping
+/// it resists with the constant [`sliding`](Friction::sliding) `≤ held`. Everything a
+/// [`Kind`] does follows from the two levels.
+pub(crate) trait Friction {
+    /// The parameters' check.
+    fn check(&self) -> Result<(), String>;
+    /// `(held, sliding)`: the largest force held at rest (the stick segment's
+    /// half-length) and the force while slipping.
+    fn levels(&self) -> (f64, f64);
+    /// The largest force held at rest.
+    fn held(&self) -> f64 {
+        self.levels().0
+    }
+    /// The force while slipping.
+    fn sliding(&self) -> f64 {
+        self.levels().1
+    }
+    /// Whether rest persists where both rest and slip are consistent.
+    fn rest_persists(&self) -> bool {
+        false
+    }
+}
+
+impl<F: Friction> DashPot for F {
+    fn check(&self) -> Result<(), String> {
+        Friction::check(self)
+    }
+
+    fn limit(&self) -> f64 {
         self.held()
-    }
-
-    /// Slipping in direction `d`: `d · sliding` (the mode's direction, not `sgn v_c`, so
-    /// the force stays smooth while a root finder looks just past `v_c = 0`).
-    fn force<S: NonSmooth<N>, const N: usize>(
-        &self,
-        _cx: &Context<S>,
-        mode: Mode,
-        _qc: f64,
-        _vc: f64,
-    ) -> f64 {
-        mode.slip().map_or(0.0, |(d, _)| d * self.sliding())
-    }
-
-    fn switching(&self, branches: &Branches, mode: Mode, _qc: f64, vc: f64, f: f64) -> f64 {
-        switching(self.held(), branches, mode, vc, f)
-    }
-
-    fn margin(
-        &self,
-        branches: &Branches,
-        mode: Mode,
-        _qc: f64,
-        vc: f64,
-        ac: f64,
-        f: f64,
-        wcc: f64,
-    ) -> f64 {
-        margin(self.held(), branches, mode, vc, ac, f, wcc)
     }
 
     fn rest_persists(&self) -> bool {
         Friction::rest_persists(self)
     }
+}
+
+impl<F: Friction, S: NonSmooth<N>, const N: usize> Forces<S, N> for F {
+    /// Slipping in direction `d`: `d · sliding` (the mode's direction, not `sgn v_c`, so
+    /// the force stays smooth while a root finder looks just past `v_c = 0`).
+    fn force(&self, _cx: &Context<S>, mode: Mode, _at: &At) -> f64 {
+        mode.slip().map_or(0.0, |(d, _)| d * self.sliding())
+    }
 
     /// The line meets the segment at rest whenever it crosses `v = 0` there, else one
     /// slip level.
-    fn on_line<S: NonSmooth<N>, const N: usize>(
-        &self,
-        _graph: &Graph,
-        _system: &S,
-        line: Line,
-        _state: &StepState,
-    ) -> Result<Point, LawError> {
+    fn on_line(&self, _cx: &Context<S>, line: Line, _state: &StepState) -> Found {
         Ok(stick_on_line(line, self.held())
             .unwrap_or_else(|| slip_on_line(line, line.v_free.signum() * self.sliding())))
     }
 
-    fn force_of_velocity<S: NonSmooth<N>, const N: usize>(
-        &self,
-        _graph: &Graph,
-        _system: &S,
-        v: f64,
-        _previous: f64,
-    ) -> Result<Option<f64>, LawError> {
+    fn force_of_velocity(&self, _cx: &Context<S>, v: f64, _previous: f64) -> Slip {
         Ok(Some(v.signum() * self.sliding()))
-    }
-
-    /// Not a function of the force (a force inside the segment has `v = 0`, a slip level
-    /// any `v`).
-    fn velocity_of_force<S: NonSmooth<N>, const N: usize>(
-        &self,
-        _system: &S,
-        _index: usize,
-        _f: f64,
-    ) -> Option<f64> {
-        None
     }
 }

@@ -31,12 +31,8 @@ impl Friction for StaticKinetic {
         Ok(())
     }
 
-    fn held(&self) -> f64 {
-        self.f_static
-    }
-
-    fn sliding(&self) -> f64 {
-        self.f_kinetic
+    fn levels(&self) -> (f64, f64) {
+        (self.f_static, self.f_kinetic)
     }
 
     fn rest_persists(&self) -> bool {

@@ -7,11 +7,10 @@
 //! are the event driver's (`event.rs`), as they couple every element on the impact's
 //! coordinates.
 
-use super::super::law::{
-    Branches, Graph, LawError, Line, Part, Point, StepState, support_discrete_gradient,
-};
-use super::{Context, Kind, dashpot};
-use crate::element::{Mode, NonSmooth, Side, StopKind};
+use super::dashpot;
+use super::graph::{Branches, Line, Part, Point, StepState};
+use super::traits::{At, Context, Forces, Found, Kind};
+use crate::element::{Element, ElementKind, Mode, NonSmooth, Side, StopKind};
 
 /// A stop at `position` on `side`, rigid or spring-backed.
 #[derive(Clone, Copy, Debug)]
@@ -27,6 +26,17 @@ pub(crate) fn side_sign(side: Side) -> f64 {
         Side::Upper => 1.0,
         Side::Lower => -1.0,
     }
+}
+
+/// Whether `element` is a rigid stop.
+pub(crate) fn is_rigid(element: &Element) -> bool {
+    matches!(
+        element.kind,
+        ElementKind::Stop {
+            kind: StopKind::Rigid { .. },
+            ..
+        }
+    )
 }
 
 impl Stop {
@@ -75,24 +85,9 @@ impl Kind for Stop {
         self.sign() * (self.position - qc)
     }
 
-    /// Compressed: `s k_support · penetration`; free: `0`.
-    fn force<S: NonSmooth<N>, const N: usize>(
-        &self,
-        _cx: &Context<S>,
-        mode: Mode,
-        qc: f64,
-        _vc: f64,
-    ) -> f64 {
-        match (self.kind, mode) {
-            (StopKind::SpringBacked { stiffness }, Mode::Compressed) => {
-                self.sign() * stiffness * (-self.gap(qc))
-            }
-            _ => 0.0,
-        }
-    }
-
     /// Free: the gap; contact: `λ`; compressed: the penetration.
-    fn switching(&self, _branches: &Branches, mode: Mode, qc: f64, _vc: f64, f: f64) -> f64 {
+    fn switching(&self, _branches: &Branches, mode: Mode, at: &At) -> f64 {
+        let (qc, f) = (at.qc, at.f);
         match mode {
             Mode::Free => self.gap(qc),
             Mode::Contact => self.sign() * f,
@@ -104,16 +99,10 @@ impl Kind for Stop {
     /// Contact: `λ`; a rigid stop free at gap `0` and rest: the gap acceleration divided
     /// by `W_cc` (`+∞` while the gap is open or opening); a spring-backed stop is always
     /// consistent (its force is a function of the state).
-    fn margin(
-        &self,
-        _branches: &Branches,
-        mode: Mode,
-        qc: f64,
-        vc: f64,
-        ac: f64,
-        f: f64,
-        wcc: f64,
-    ) -> f64 {
+    fn margin(&self, _branches: &Branches, mode: Mode, at: &At) -> f64 {
+        let At {
+            qc, vc, ac, f, wcc, ..
+        } = *at;
         match (self.kind, mode) {
             (_, Mode::Contact) => self.sign() * f,
             (StopKind::Rigid { .. }, Mode::Free) => {
@@ -128,16 +117,22 @@ impl Kind for Stop {
             _ => f64::NEG_INFINITY,
         }
     }
+}
+
+impl<S: NonSmooth<N>, const N: usize> Forces<S, N> for Stop {
+    /// Compressed: `s k_support · penetration`; free: `0`.
+    fn force(&self, _cx: &Context<S>, mode: Mode, at: &At) -> f64 {
+        match (self.kind, mode) {
+            (StopKind::SpringBacked { stiffness }, Mode::Compressed) => {
+                self.sign() * stiffness * (-self.gap(at.qc))
+            }
+            _ => 0.0,
+        }
+    }
 
     /// In the gap coordinate `g = σ (q − position)` (`σ = −s`) with contact force
     /// `λ ≥ 0`, element force `f = −σ λ`.
-    fn on_line<S: NonSmooth<N>, const N: usize>(
-        &self,
-        _graph: &Graph,
-        _system: &S,
-        line: Line,
-        state: &StepState,
-    ) -> Result<Point, LawError> {
+    fn on_line(&self, _cx: &Context<S>, line: Line, state: &StepState) -> Found {
         let Line { v_free, w } = line;
         let sigma = -self.sign();
         let gap = sigma * (state.q - self.position);
@@ -192,23 +187,47 @@ impl Kind for Stop {
             }
         }
     }
+}
 
-    fn force_of_velocity<S: NonSmooth<N>, const N: usize>(
-        &self,
-        _graph: &Graph,
-        _system: &S,
-        _v: f64,
-        _previous: f64,
-    ) -> Result<Option<f64>, LawError> {
-        Ok(None)
-    }
-
-    fn velocity_of_force<S: NonSmooth<N>, const N: usize>(
-        &self,
-        _system: &S,
-        _index: usize,
-        _f: f64,
-    ) -> Option<f64> {
-        None
+/// The force `λ ≥ 0` of a support of stiffness `k` (energy `V(g) = ½ k ((−g)₊)²` in the
+/// gap `g`) over a step from gap `g_a` to `g_b = g_free + c λ` (`c > 0`): the root of
+/// `λ = −(V(g_b) − V(g_a)) / (g_b − g_a)`, the discrete gradient (O. Gonzalez, "Time
+/// integration and discrete Hamiltonian systems", J. Nonlinear Sci. 6 (1996) 449–467).
+/// With positions advanced by the mean velocity, the work of `λ` over the step equals the
+/// change of `V` exactly, whatever the step: a support hit within one step gives back
+/// what it stored. The right side falls as `λ` grows (`V` is convex), so the root is
+/// unique; each piece of `V` gives it in closed form.
+pub(crate) fn support_discrete_gradient(k: f64, g_a: f64, g_free: f64, c: f64) -> f64 {
+    if g_a < 0.0 {
+        // Pressed in at the start. Still pressed in at the end: λ = −½k (g_a + g_b).
+        let lambda = -0.5 * k * (g_a + g_free) / (1.0 + 0.5 * k * c);
+        if lambda >= 0.0 && g_free + c * lambda < 0.0 {
+            return lambda;
+        }
+        // Released within the step: λ (g_b − g_a) = ½ k g_a², g_b ≥ 0, so
+        // c λ² + (g_free − g_a) λ − ½ k g_a² = 0, the positive root.
+        let b = g_free - g_a;
+        let d = (b * b + 2.0 * c * k * g_a * g_a).sqrt();
+        if b > 0.0 {
+            k * g_a * g_a / (b + d)
+        } else {
+            (d - b) / (2.0 * c)
+        }
+    } else if g_free >= 0.0 {
+        0.0
+    } else {
+        // Free at the start, pressed in at the end: λ (g_a − g_b) = ½ k g_b², g_b < 0:
+        // with λ = (g_b − g_free)/c, (1 + ½kc) g_b² − (g_a + g_free) g_b + g_a g_free = 0,
+        // whose negative root (the product of the roots is ≤ 0) is g_b; λ from g_b by the
+        // balance itself (g_b − g_free cancels when kc ≪ 1).
+        let a = 1.0 + 0.5 * k * c;
+        let s = g_a + g_free;
+        let d = (s * s - 4.0 * a * g_a * g_free).sqrt();
+        let g_b = if s >= 0.0 {
+            2.0 * g_a * g_free / (s + d)
+        } else {
+            (s - d) / (2.0 * a)
+        };
+        (0.5 * k * g_b * g_b / (g_a - g_b)).max(0.0)
     }
 }

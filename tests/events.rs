@@ -3,13 +3,15 @@
 //! to rest under friction, a block bouncing on a rigid stop: crossings between the
 //! switches and across the impacts' velocity jumps) and time-stepping (a block sliding
 //! under a constant net force, which θ = ½ integrates exactly). Lie-group runs use the
-//! same `Event` (their closed-form tests are in the runtime: a falling body).
+//! same `Event` (their closed-form tests are in the runtime: a falling body). Resets:
+//! a bouncing ball written as an ODE (smooth runs), kicks on a block under friction and a
+//! reset into a rigid stop (event-driven runs); time-stepping refuses them.
 
 use filippov::prelude::*;
 use filippov::runtime::nonsmooth::Integrator;
 use filippov::runtime::{
     Event, EventDirection, FnSystem, Method, Mode, NonSmoothMethod, NonSmoothProblem, Options,
-    Problem, solve_with_events,
+    Problem, SwitchKind, solve_with_events,
 };
 
 const RTOL: f64 = 1e-10;
@@ -275,4 +277,206 @@ fn time_stepping_crossings_under_a_constant_net_force() {
             .collect();
         assert_times(&format!("h = {h}"), &got, &expected);
     }
+}
+
+/// A reset on a smooth run: a ball written as an ODE, its bounce a user event that
+/// reverses the velocity with restitution `e`. From rest at height `h` it lands at
+/// `√(2h/g)` at speed `√(2gh)`; each flight after a bounce at speed `w` lasts `2w/g`.
+#[test]
+fn a_reset_event_bounces_a_smooth_ball_at_the_closed_form_times() {
+    let g = 9.81;
+    let ball = FnSystem::new(2, move |_t, y: &[f64], dy: &mut [f64]| {
+        dy[0] = y[1];
+        dy[1] = -g;
+    });
+    let ground = |_t: f64, y: &[f64]| y[0];
+    for (h, e) in [(1.0, 0.8), (0.3, 0.5), (2.0, 0.9)] {
+        let bounce = move |_t: f64, y: &mut [f64]| y[1] = -e * y[1];
+        let events = [Event::new(&ground)
+            .direction(EventDirection::Falling)
+            .reset(&bounce)];
+        let mut expected = vec![f64::sqrt(2.0 * h / g)];
+        let mut w = e * f64::sqrt(2.0 * g * h);
+        while expected.len() < 5 {
+            let last = expected[expected.len() - 1];
+            expected.push(last + 2.0 * w / g);
+            w *= e;
+        }
+        let tf = expected[4] + 0.5 * w / g;
+        for method in [
+            Method::Dopri5(Options::tolerances(RTOL, ATOL)),
+            Method::Sdirk4(Options::tolerances(RTOL, ATOL)),
+            Method::Bdf(Options::tolerances(RTOL, ATOL)),
+        ] {
+            let what = format!("{} h = {h}, e = {e}", method.name());
+            let sol = solve_with_events(&ball, &Problem::new(0.0, tf, [h, 0.0]), &method, &events)
+                .unwrap();
+            let got: Vec<f64> = sol.events.iter().map(|hit| hit.t).collect();
+            assert_times(&what, &got, &expected);
+            // Both sides of each bounce are rows at its time: falling at the landing
+            // speed, rising at e times it.
+            for (n, &t) in got.iter().enumerate() {
+                let rows: Vec<&[f64]> = (0..sol.len())
+                    .filter(|&i| sol.times()[i] == t)
+                    .map(|i| sol.state(i))
+                    .collect();
+                assert_eq!(rows.len(), 2, "{what}: bounce {n}");
+                let landing = f64::sqrt(2.0 * g * h) * e.powi(n as i32);
+                assert!((rows[0][1] + landing).abs() < 1e-8, "{what}: {rows:?}");
+                assert!((rows[1][1] - e * landing).abs() < 1e-8, "{what}: {rows:?}");
+            }
+            assert!(sol.stats.events == 5, "{what}: {}", sol.stats.events);
+        }
+    }
+}
+
+/// A reset on an event-driven run: a block at rest under Coulomb friction, kicked at
+/// given times (a time event whose reset adds to the velocity). Each kick `Δv` sets it
+/// sliding; it decelerates at `f_c/m` and sticks after `m Δv / f_c`, having moved
+/// `m Δv² / (2 f_c)`. The log shows the reset, then the friction's stick→slip, then the
+/// slip→stick; each kick's time is a row before and after it.
+#[test]
+fn reset_kicks_on_an_event_driven_block_match_the_closed_form() {
+    let (m, mu) = (1.5, 0.6);
+    let block = SlidingBlock { m, mu };
+    let kicks = [(1.0, 0.6), (3.0, -1.1), (6.5, 0.4)];
+    // One time event per kick, `t_k − t` falling through zero, its reset adding `Δv`.
+    let clocks: Vec<Box<dyn Fn(f64, &[f64]) -> f64>> = kicks
+        .iter()
+        .map(|&(tk, _)| {
+            Box::new(move |t: f64, _y: &[f64]| tk - t) as Box<dyn Fn(f64, &[f64]) -> f64>
+        })
+        .collect();
+    let pushes: Vec<Box<dyn Fn(f64, &mut [f64])>> = kicks
+        .iter()
+        .map(|&(_, dv)| {
+            Box::new(move |_t: f64, y: &mut [f64]| y[1] += dv) as Box<dyn Fn(f64, &mut [f64])>
+        })
+        .collect();
+    let events: Vec<Event> = clocks
+        .iter()
+        .zip(&pushes)
+        .map(|(g, r)| {
+            Event::new(g.as_ref())
+                .direction(EventDirection::Falling)
+                .reset(r.as_ref())
+        })
+        .collect();
+    let tf = 8.5;
+    let problem = NonSmoothProblem::new(0.0, tf, V1::zeros(), V1::zeros());
+    let mut run = Integrator::held(&block, &problem, &event_driven())
+        .unwrap()
+        .with_events(&events)
+        .unwrap();
+    run.advance_to(tf).unwrap();
+    let sol = run.into_solution();
+    let decel = mu / m;
+    let mut x = 0.0;
+    let mut expected_stops = Vec::new();
+    for &(tk, dv) in &kicks {
+        expected_stops.push(tk + dv.abs() / decel);
+        x += dv * dv.abs() / (2.0 * decel);
+    }
+    let kick_times: Vec<f64> = sol.events.iter().map(|h| h.t).collect();
+    assert_times("kicks", &kick_times, &kicks.map(|k| k.0));
+    let resets: Vec<f64> = sol
+        .switches
+        .iter()
+        .filter(|s| s.kind == SwitchKind::Reset)
+        .map(|s| s.t)
+        .collect();
+    assert_eq!(resets, kick_times);
+    let sticks: Vec<f64> = sol
+        .switches
+        .iter()
+        .filter(|s| s.to == Some(Mode::Stick))
+        .map(|s| s.t)
+        .collect();
+    assert_times("sticks", &sticks, &expected_stops);
+    for (tk, dv) in kicks {
+        let k = sol
+            .switches
+            .iter()
+            .position(|s| s.kind == SwitchKind::Reset && (s.t - tk).abs() < 1e-9)
+            .unwrap();
+        let next = &sol.switches[k + 1];
+        let slip = if dv > 0.0 {
+            Mode::SlipPos(0)
+        } else {
+            Mode::SlipNeg(0)
+        };
+        assert_eq!(
+            (next.kind, next.from, next.to),
+            (SwitchKind::Mode, Some(Mode::Stick), Some(slip))
+        );
+        assert_eq!(sol.switches[k].after[1] - sol.switches[k].before[1], dv);
+    }
+    let (_, last) = sol.last().unwrap();
+    assert!((last[0] - x).abs() < 1e-9, "x = {}, exact {x}", last[0]);
+}
+
+/// A reset that puts a block into its rigid stop is an impact at that instant, applied
+/// and logged after the reset.
+#[test]
+fn a_reset_into_a_rigid_stop_is_an_impact() {
+    for e in [0.0, 0.4, 1.0] {
+        let bouncer = Bouncer { m: 2.0, e };
+        let at_one = |t: f64, _y: &[f64]| 1.0 - t;
+        let onto_the_stop = |_t: f64, y: &mut [f64]| {
+            y[0] = 1.0;
+            y[1] = 3.0;
+        };
+        let events = [Event::new(&at_one)
+            .direction(EventDirection::Falling)
+            .reset(&onto_the_stop)];
+        let problem = NonSmoothProblem::new(0.0, 2.0, V1::new(0.2), V1::zeros());
+        let input = |_t: f64, _q: &V1, _v: &V1| V1::zeros();
+        let mut run = Integrator::new(&bouncer, input, &problem, &event_driven())
+            .unwrap()
+            .with_events(&events)
+            .unwrap();
+        run.advance_to(2.0).unwrap();
+        let sol = run.into_solution();
+        let kinds: Vec<SwitchKind> = sol.switches.iter().map(|s| s.kind).collect();
+        let impact = if e == 0.0 {
+            SwitchKind::Settled
+        } else {
+            SwitchKind::Impact
+        };
+        assert_eq!(kinds, [SwitchKind::Reset, impact], "e = {e}");
+        assert!((sol.switches[1].before[1] - 3.0).abs() < 1e-12);
+        // After the impact at t = 1 the block leaves the stop at e · 3.
+        let (t, y) = sol.last().unwrap();
+        assert_eq!(t, 2.0);
+        assert!(
+            (y[0] - (1.0 - 3.0 * e)).abs() < 1e-9,
+            "e = {e}: x = {}",
+            y[0]
+        );
+        assert!((y[1] + 3.0 * e).abs() < 1e-9, "e = {e}: v = {}", y[1]);
+    }
+}
+
+/// Time-stepping cannot change its state at an event: it refuses a reset, by event.
+#[test]
+fn time_stepping_refuses_a_reset_event() {
+    let block = SlidingBlock { m: 1.0, mu: 0.5 };
+    let g = |_t: f64, y: &[f64]| y[0];
+    let r = |_t: f64, y: &mut [f64]| y[1] = 0.0;
+    let events = [Event::new(&g), Event::new(&g).reset(&r)];
+    let problem = NonSmoothProblem::new(0.0, 1.0, V1::zeros(), V1::new(1.0));
+    let method = NonSmoothMethod::TimeStepping {
+        h: 1e-3,
+        theta: 1.0,
+    };
+    let Err(err) = Integrator::held(&block, &problem, &method)
+        .unwrap()
+        .with_events(&events)
+    else {
+        panic!("time-stepping took a reset event");
+    };
+    assert!(
+        matches!(&err.kind, filippov::runtime::ErrorKind::InvalidInput(m) if m.contains("event 1")),
+        "{err}"
+    );
 }

@@ -23,6 +23,14 @@
 //!   at the jump's time when `g` changes sign across it.
 //! * A **terminal** event ends the run at the first terminal crossing: the last row is
 //!   the state there, and crossings after it in the same step are dropped.
+//! * An event with a **reset** changes the state at each crossing (a user-written impact,
+//!   a kick, a re-initialisation): the step is cut there, the row before the reset and
+//!   the row after it are both kept at the crossing's time, and the run goes on from the
+//!   new state as from any discontinuity (the method restarts; a non-smooth run selects
+//!   its modes again, and an impact that the new state makes is applied). Crossings
+//!   after it in the same step are dropped; the functions are evaluated afresh at the
+//!   new state, so the reset itself is not a crossing. Smooth and event-driven runs
+//!   reset; time-stepping and Lie-group runs refuse events with a reset.
 //! * Time-stepping has no continuous extension of its own: between two steps the
 //!   positions are the cubic through both ends' positions and velocities, the velocities
 //!   the line between them (exact where the motion is, under a constant force with
@@ -55,6 +63,9 @@ pub struct Event<'a, Y: ?Sized = [f64]> {
     /// End the run at the first crossing.
     pub terminal: bool,
     pub direction: EventDirection,
+    /// Change the state at each crossing, `reset(t, y)` in place, and go on from the new
+    /// state (see the [module documentation](self)).
+    pub reset: Option<&'a dyn Fn(f64, &mut Y)>,
 }
 
 impl<Y: ?Sized> Clone for Event<'_, Y> {
@@ -72,6 +83,16 @@ impl<'a, Y: ?Sized> Event<'a, Y> {
             function,
             terminal: false,
             direction: EventDirection::Either,
+            reset: None,
+        }
+    }
+
+    /// The same event, changing the state at each crossing with `reset(t, y)` (in place)
+    /// and going on from there.
+    pub fn reset(self, reset: &'a dyn Fn(f64, &mut Y)) -> Self {
+        Event {
+            reset: Some(reset),
+            ..self
         }
     }
 
@@ -94,6 +115,7 @@ impl<Y: ?Sized> std::fmt::Debug for Event<'_, Y> {
         f.debug_struct("Event")
             .field("terminal", &self.terminal)
             .field("direction", &self.direction)
+            .field("reset", &self.reset.is_some())
             .finish_non_exhaustive()
     }
 }
@@ -117,10 +139,14 @@ pub(crate) struct Tracker<'e, 'a, Y: ?Sized> {
 }
 
 /// The crossings of one step: `(event, time)` in the order of their times, cut after
-/// the first terminal one, and that terminal time.
+/// the first one that acts (terminal, or with a reset), and that one.
 pub(crate) struct Crossings {
     pub found: Vec<(usize, f64)>,
+    /// The first terminal crossing's time, if it is the first that acts.
     pub terminal: Option<f64>,
+    /// The first crossing with a reset, `(event, time)`, if it is the first that acts
+    /// (an event both terminal and with a reset gives both).
+    pub reset: Option<(usize, f64)>,
 }
 
 impl<'e, 'a, Y: ?Sized> Tracker<'e, 'a, Y> {
@@ -190,14 +216,50 @@ impl<'e, 'a, Y: ?Sized> Tracker<'e, 'a, Y> {
 
     fn finish(&self, mut found: Vec<(usize, f64)>) -> Crossings {
         found.sort_by(|x, y| x.1.total_cmp(&y.1));
-        let terminal = found
-            .iter()
-            .find(|&&(k, _)| self.events[k].terminal)
-            .map(|&(_, t)| t);
-        if let Some(ts) = terminal {
-            found.retain(|&(_, t)| t <= ts);
+        let acts = |k: usize| self.events[k].terminal || self.events[k].reset.is_some();
+        let Some(first) = found.iter().position(|&(k, _)| acts(k)) else {
+            return Crossings {
+                found,
+                terminal: None,
+                reset: None,
+            };
+        };
+        found.truncate(first + 1);
+        let (k, t) = found[first];
+        Crossings {
+            found,
+            terminal: self.events[k].terminal.then_some(t),
+            reset: self.events[k].reset.is_some().then_some((k, t)),
         }
-        Crossings { found, terminal }
+    }
+
+    /// Applies event `k`'s reset to `y` at `t`, and takes the new state as the last
+    /// point: the functions are evaluated there afresh (a sign change across the reset
+    /// itself is not a crossing). A NaN there is an error naming the event.
+    pub(crate) fn apply_reset(&mut self, k: usize, t: f64, y: &mut Y) -> Result<(), String> {
+        if let Some(reset) = self.events[k].reset {
+            reset(t, y);
+        }
+        for (j, event) in self.events.iter().enumerate() {
+            self.values[j] = (event.function)(t, y);
+            if self.values[j].is_nan() {
+                return Err(format!(
+                    "event {j} is NaN after the reset of event {k} at t = {t}"
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Refuses events with a reset, for a driver that cannot restart at them (`driver`
+    /// names it in the message).
+    pub(crate) fn refuse_resets(&self, driver: &str) -> Result<(), String> {
+        match self.events.iter().position(|e| e.reset.is_some()) {
+            Some(k) => Err(format!(
+                "event {k} has a reset; {driver} record and end at events but do not change the state (use an event-driven or smooth run)"
+            )),
+            None => Ok(()),
+        }
     }
 }
 

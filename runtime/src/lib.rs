@@ -17,7 +17,7 @@
 //!     [`Event`]s, located the same way by every driver ([`events`]);
 //!   - methods ([`method`]): [`Rk4`], [`Dopri5`], [`Sdirk4`], [`Bdf`], each a
 //!     configuration that makes a [`Stepper`] — the step-level trait every driver runs
-//!     on (start, one accepted step, restart at a discontinuity, dense output);
+//!     on (begin afresh or after a discontinuity, one accepted step, dense output);
 //!   - shared numerics ([`numerics`]): error norms, [`PiController`], tableaus
 //!     ([`tableau`]), dense output, the Newton matrix, root finding.
 //! * The problem ([`OdeSystem`], [`Problem`], the adapters [`MechanicalSystem`] and

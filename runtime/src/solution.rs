@@ -80,6 +80,11 @@ pub enum SwitchKind {
     HandOverToTimeStepping,
     /// Back from time-stepping to event-driven integration at `t`.
     HandBack,
+    /// A user event's reset changed the state at `t` (`before` and `after` are the states
+    /// across it); the modes are selected again at the new state, each element whose mode
+    /// changes logged by its own entry after this one (an impact the new state makes as
+    /// `Impact`/`Settled`, any other change as `Mode`).
+    Reset,
 }
 
 /// One entry of a non-smooth solution's switch log.
@@ -89,9 +94,10 @@ pub enum SwitchKind {
 pub struct Switch {
     pub t: f64,
     pub kind: SwitchKind,
-    /// The element's name as the scene declares it (`None` for hand-overs).
+    /// The element's name as the scene declares it (`None` for hand-overs and resets).
     pub element: Option<String>,
-    /// The element's index in the scene (`NonSmooth::element`), `None` for hand-overs.
+    /// The element's index in the scene (`NonSmooth::element`), `None` for hand-overs and
+    /// resets.
     pub index: Option<usize>,
     /// The element's mode before and after (equal for an impact that keeps it).
     pub from: Option<Mode>,

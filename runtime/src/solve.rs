@@ -180,8 +180,12 @@ where
         let t_prev = stepper.t();
         stepper.step(&mut Eval::new(system, &mut sol.stats), tf)?;
         let t = stepper.t();
-        if !tracker.is_empty() && locate_events(stepper, system, sol, tracker, t_prev)? {
-            return Ok(());
+        if !tracker.is_empty() {
+            match locate_events(stepper, system, problem, sol, tracker, t_prev)? {
+                Located::Nothing => {}
+                Located::End => return Ok(()),
+                Located::Reset => continue,
+            }
         }
         let keep = if t >= tf { Keep::Last } else { Keep::AsAsked };
         let needs_dense = sol.needs_dense(t);
@@ -197,16 +201,28 @@ where
     Ok(())
 }
 
-/// The user events of the step from `t_prev` to the stepper's point, recorded in `sol`;
-/// `true` when a terminal one ended the run (its row written, the step's dense output
-/// cut there).
+/// What the user events of a step did to the run.
+enum Located {
+    /// Nothing but records: the step stands.
+    Nothing,
+    /// A terminal event ended the run.
+    End,
+    /// A reset changed the state; the stepper begins again from there.
+    Reset,
+}
+
+/// The user events of the step from `t_prev` to the stepper's point, recorded in `sol`.
+/// At a terminal crossing the step's dense output is cut there and its row written; at a
+/// reset the row before it and the row after it are written at its time, and the stepper
+/// begins again from the new state.
 fn locate_events<St, S>(
     stepper: &mut St,
     system: &S,
+    problem: &Problem,
     sol: &mut Solution,
     tracker: &mut Tracker<'_, '_, [f64]>,
     t_prev: f64,
-) -> Result<bool, ErrorKind>
+) -> Result<Located, ErrorKind>
 where
     St: Stepper,
     S: OdeSystem + ?Sized,
@@ -227,14 +243,36 @@ where
         });
         sol.stats.events += 1;
     }
-    let Some(te) = crossings.terminal else {
-        return Ok(false);
+    let Some(te) = crossings.reset.map(|r| r.1).or(crossings.terminal) else {
+        return Ok(Located::Nothing);
     };
     let mut cut = dense.clone();
     cut.truncate(te);
-    let y = at(te);
+    let mut y = at(te);
     let mut f = vec![0.0; y.len()];
     Eval::new(system, &mut sol.stats).rhs(te, &y, &mut f)?;
-    sol.push_step(te, &y, &f, Some(&cut), Keep::Last);
-    Ok(true)
+    let Some((k, _)) = crossings.reset else {
+        sol.push_step(te, &y, &f, Some(&cut), Keep::Last);
+        return Ok(Located::End);
+    };
+    sol.push_step(te, &y, &f, Some(&cut), Keep::Event);
+    tracker
+        .apply_reset(k, te, &mut y)
+        .map_err(ErrorKind::InvalidInput)?;
+    if let Some(component) = y.iter().position(|x| !x.is_finite()) {
+        return Err(ErrorKind::NonFinite { t: te, component });
+    }
+    Eval::new(system, &mut sol.stats).rhs(te, &y, &mut f)?;
+    sol.push_jump(te, &y, &f);
+    if crossings.terminal.is_some() {
+        return Ok(Located::End);
+    }
+    let at = Begin {
+        t: te,
+        y: &y,
+        span: problem.tf - te,
+        fresh: false,
+    };
+    stepper.begin(&mut Eval::new(system, &mut sol.stats), at)?;
+    Ok(Located::Reset)
 }

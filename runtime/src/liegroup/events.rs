@@ -26,8 +26,10 @@ pub(super) struct EventTracker<'e, 'a> {
 impl<'e, 'a> EventTracker<'e, 'a> {
     /// Evaluates the functions at the initial point; a NaN there is invalid input.
     pub(super) fn new(events: &'e [LieEvent<'a>], problem: &LieProblem) -> Result<Self, String> {
+        let tracker = Tracker::new(events, problem.t0, &problem.y0)?;
+        tracker.refuse_resets("Lie-group runs")?;
         Ok(EventTracker {
-            tracker: Tracker::new(events, problem.t0, &problem.y0)?,
+            tracker,
             hits: Vec::new(),
         })
     }

@@ -102,7 +102,7 @@ use super::mode::{self, Choices};
 use super::timestepping::time_stepping_observed;
 use crate::Method;
 use crate::element::{Element, ElementKind, Law, Mode, NonSmooth, Selection, Side, StopKind};
-use crate::events::{EventHit, Tracker, hermite_qv};
+use crate::events::{Crossings, EventHit, Tracker, hermite_qv};
 use crate::input::{Capped, Input};
 use crate::method::{Begin, DenseStep, Eval, Stepper};
 use crate::numerics::rootfind::find_root;
@@ -509,10 +509,10 @@ where
         self.arming = arming;
         match located {
             None => {
-                if let Some(te) = self.user_events(stepper.dense(), t1, y1) {
+                if let Some(act) = self.user_events(stepper.dense(), t1, y1) {
                     let mut cut = stepper.dense().clone();
-                    cut.truncate(te);
-                    return self.end_at(te, &cut, buf);
+                    cut.truncate(act.t);
+                    return self.act(act, &cut, buf, stepper);
                 }
                 let (t1, y1) = (stepper.t(), stepper.y());
                 let q = SVector::from_column_slice(&y1[..N]);
@@ -548,13 +548,19 @@ where
                     let mut dense = stepper.dense().clone();
                     dense.truncate(event.t);
                     dense.eval(event.t, buf);
-                    if let Some(te) = self.user_events(&dense, event.t, buf) {
-                        dense.truncate(te);
-                        return self.end_at(te, &dense, buf);
+                    if let Some(act) = self.user_events(&dense, event.t, buf) {
+                        dense.truncate(act.t);
+                        return self.act(act, &dense, buf, stepper);
                     }
                     self.transition(event.t, buf, &event.triggered, &dense)?;
-                    if self.user_jump() {
-                        return Ok(());
+                    if let Some(act) = self.user_jump() {
+                        if let Some(k) = act.reset {
+                            self.apply_reset(k)?;
+                        }
+                        if act.terminal {
+                            self.ended = Some(self.t);
+                            return Ok(());
+                        }
                     }
                     if let Some(end) = self.check_accumulation(t_stop)? {
                         self.hand_over(end, observer)?;
@@ -608,8 +614,8 @@ where
     }
 
     /// The user events of the arc from the current point to `(t1, y1)` on `dense`,
-    /// recorded; the time of a terminal one.
-    fn user_events(&mut self, dense: &DenseStep, t1: f64, y1: &[f64]) -> Option<f64> {
+    /// recorded; the first that acts (terminal, or with a reset).
+    fn user_events(&mut self, dense: &DenseStep, t1: f64, y1: &[f64]) -> Option<Act> {
         if self.tracker.is_empty() {
             return None;
         }
@@ -626,14 +632,14 @@ where
                 state: at(t),
             });
         }
-        crossings.terminal
+        Act::of(&crossings)
     }
 
-    /// The user events crossed by the jump of the state at the switch just applied;
-    /// `true` when a terminal one ended the run there.
-    fn user_jump(&mut self) -> bool {
+    /// The user events crossed by the jump of the state at the switch just applied,
+    /// recorded; the first that acts.
+    fn user_jump(&mut self) -> Option<Act> {
         if self.tracker.is_empty() {
-            return false;
+            return None;
         }
         let state = self.state();
         let crossings = self.tracker.jump(self.t, &state);
@@ -644,13 +650,12 @@ where
                 state: state.clone(),
             });
         }
-        self.ended = crossings.terminal;
-        self.ended.is_some()
+        Act::of(&crossings)
     }
 
     /// The user events between two rows of time-stepping (see [`hermite_qv`]),
-    /// recorded; the time of a terminal one.
-    fn user_events_between(&mut self, a: (f64, &[f64]), b: (f64, &[f64])) -> Option<f64> {
+    /// recorded; the first that acts.
+    fn user_events_between(&mut self, a: (f64, &[f64]), b: (f64, &[f64])) -> Option<Act> {
         if self.tracker.is_empty() {
             return None;
         }
@@ -667,7 +672,84 @@ where
                 state: at(t),
             });
         }
-        crossings.terminal
+        Act::of(&crossings)
+    }
+
+    /// Acts on a user event at `act.t` inside the arc whose extension `dense` is cut
+    /// there: a terminal event without a reset ends the run; a reset writes the row
+    /// before it, changes the state, selects the modes again, and (unless the event is
+    /// also terminal) restarts the stepper.
+    fn act<St: Stepper>(
+        &mut self,
+        act: Act,
+        dense: &DenseStep,
+        buf: &mut [f64],
+        stepper: &mut St,
+    ) -> Result<(), ErrorKind> {
+        let Some(k) = act.reset else {
+            return self.end_at(act.t, dense, buf);
+        };
+        dense.eval(act.t, buf);
+        let q = SVector::from_column_slice(&buf[..N]);
+        let v = SVector::from_column_slice(&buf[N..2 * N]);
+        let row = Row::Step {
+            dense: Some(dense),
+            keep: Keep::Event,
+        };
+        self.push_row(act.t, &q, &v, row)?;
+        (self.t, self.q, self.v) = (act.t, q, v);
+        self.apply_reset(k)?;
+        if act.terminal {
+            self.ended = Some(act.t);
+            return Ok(());
+        }
+        self.restart(stepper)
+    }
+
+    /// Applies user event `k`'s reset to the current state (its row written), then
+    /// selects the modes at the new state as at a start (an impact the new state makes
+    /// is applied and logged), writes the row after it, and logs the reset and each
+    /// other element whose mode changed.
+    fn apply_reset(&mut self, k: usize) -> Result<(), ErrorKind> {
+        let t = self.t;
+        let before = self.state();
+        let mut y = before.clone();
+        self.tracker
+            .apply_reset(k, t, &mut y)
+            .map_err(ErrorKind::InvalidInput)?;
+        if let Some(component) = y.iter().position(|x| !x.is_finite()) {
+            return Err(ErrorKind::NonFinite { t, component });
+        }
+        let (old, forces_before) = (self.modes.clone(), self.last_forces.clone());
+        self.out.switches.push(Switch {
+            t,
+            kind: SwitchKind::Reset,
+            element: None,
+            index: None,
+            from: None,
+            to: None,
+            jump: 0.0,
+            accumulation: None,
+            before: before.clone(),
+            after: y.clone(),
+        });
+        let logged = self.out.switches.len();
+        let q = SVector::<f64, N>::from_column_slice(&y[..N]);
+        let v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
+        self.initialise(&NonSmoothProblem::new(t, t, q, v), true)?;
+        self.out.stats.events += 1;
+        let after = self.state();
+        for e in 0..self.elements.len() {
+            let entry = self.out.switches[logged..]
+                .iter()
+                .any(|s| s.index == Some(e));
+            if old[e] != self.modes[e] && !entry {
+                self.out.stats.mode_changes += 1;
+                let jump = self.last_forces[e] - forces_before[e];
+                self.log(t, SwitchKind::Mode, e, old[e], jump, (&y, &after));
+            }
+        }
+        Ok(())
     }
 
     /// Ends the run at a terminal user event at `te`, on the arc's extension `dense`
@@ -1802,18 +1884,31 @@ where
         for i in 1..traj.len() {
             let (ta, tb) = (traj.times()[i - 1], traj.times()[i]);
             let (ya, yb) = (&traj.state(i - 1)[..2 * N], &traj.state(i)[..2 * N]);
-            if let Some(te) = self.user_events_between((ta, ya), (tb, yb)) {
+            if let Some(act) = self.user_events_between((ta, ya), (tb, yb)) {
+                let te = act.t;
                 let mut row = vec![0.0; 2 * N];
                 hermite_qv((ta, ya), (tb, yb), te, &mut row);
                 row.extend_from_slice(&traj.state(i)[2 * N..]);
-                self.out
-                    .push_step(te, &row, traj.derivative(i), None, Keep::Last);
+                let keep = if act.reset.is_some() {
+                    Keep::Event
+                } else {
+                    Keep::Last
+                };
+                self.out.push_step(te, &row, traj.derivative(i), None, keep);
                 let ended = traj.switches.iter().filter(|s| s.t <= te).cloned();
                 self.out.switches.extend(ended);
                 self.t = te;
                 self.q = SVector::from_column_slice(&row[..N]);
                 self.v = SVector::from_column_slice(&row[N..2 * N]);
-                self.ended = Some(te);
+                self.last_forces = row[2 * N..].to_vec();
+                // A reset ends the hand-over: event-driven integration goes on from the
+                // new state.
+                if let Some(k) = act.reset {
+                    self.apply_reset(k)?;
+                }
+                if act.terminal {
+                    self.ended = Some(te);
+                }
                 return Ok(());
             }
             self.out
@@ -1862,6 +1957,35 @@ where
             after: state,
         });
         Ok(())
+    }
+}
+
+/// What a user event asks of the run at its crossing.
+#[derive(Clone, Copy, Debug)]
+struct Act {
+    t: f64,
+    /// The event whose reset changes the state there.
+    reset: Option<usize>,
+    /// The run ends there (after the reset, if any).
+    terminal: bool,
+}
+
+impl Act {
+    /// The first crossing that acts, if any.
+    fn of(crossings: &Crossings) -> Option<Act> {
+        match (crossings.reset, crossings.terminal) {
+            (Some((k, t)), terminal) => Some(Act {
+                t,
+                reset: Some(k),
+                terminal: terminal.is_some(),
+            }),
+            (None, Some(t)) => Some(Act {
+                t,
+                reset: None,
+                terminal: true,
+            }),
+            (None, None) => None,
+        }
     }
 }
 

@@ -291,7 +291,7 @@ fn a_reset_event_bounces_a_smooth_ball_at_the_closed_form_times() {
     });
     let ground = |_t: f64, y: &[f64]| y[0];
     for (h, e) in [(1.0, 0.8), (0.3, 0.5), (2.0, 0.9)] {
-        let bounce = move |_t: f64, y: &mut [f64]| y[1] = -e * y[1];
+        let bounce = move |_t: f64, y: &mut [f64]| y[1] *= -e;
         let events = [Event::new(&ground)
             .direction(EventDirection::Falling)
             .reset(&bounce)];
@@ -341,13 +341,15 @@ fn reset_kicks_on_an_event_driven_block_match_the_closed_form() {
     let block = SlidingBlock { m, mu };
     let kicks = [(1.0, 0.6), (3.0, -1.1), (6.5, 0.4)];
     // One time event per kick, `t_k − t` falling through zero, its reset adding `Δv`.
-    let clocks: Vec<Box<dyn Fn(f64, &[f64]) -> f64>> = kicks
+    type Clock = Box<dyn Fn(f64, &[f64]) -> f64>;
+    type Push = Box<dyn Fn(f64, &mut [f64])>;
+    let clocks: Vec<Clock> = kicks
         .iter()
         .map(|&(tk, _)| {
             Box::new(move |t: f64, _y: &[f64]| tk - t) as Box<dyn Fn(f64, &[f64]) -> f64>
         })
         .collect();
-    let pushes: Vec<Box<dyn Fn(f64, &mut [f64])>> = kicks
+    let pushes: Vec<Push> = kicks
         .iter()
         .map(|&(_, dv)| {
             Box::new(move |_t: f64, y: &mut [f64]| y[1] += dv) as Box<dyn Fn(f64, &mut [f64])>

@@ -65,8 +65,11 @@ pub struct Event<'a, Y: ?Sized = [f64]> {
     pub direction: EventDirection,
     /// Change the state at each crossing, `reset(t, y)` in place, and go on from the new
     /// state (see the [module documentation](self)).
-    pub reset: Option<&'a dyn Fn(f64, &mut Y)>,
+    pub reset: Option<&'a Reset<Y>>,
 }
+
+/// A reset: changes the state `y` at the crossing's time `t`, in place.
+pub type Reset<Y> = dyn Fn(f64, &mut Y);
 
 impl<Y: ?Sized> Clone for Event<'_, Y> {
     fn clone(&self) -> Self {
@@ -89,7 +92,7 @@ impl<'a, Y: ?Sized> Event<'a, Y> {
 
     /// The same event, changing the state at each crossing with `reset(t, y)` (in place)
     /// and going on from there.
-    pub fn reset(self, reset: &'a dyn Fn(f64, &mut Y)) -> Self {
+    pub fn reset(self, reset: &'a Reset<Y>) -> Self {
         Event {
             reset: Some(reset),
             ..self

@@ -99,7 +99,7 @@ pub mod system;
 
 pub use element::{Mode, NonSmooth};
 pub use error::{ErrorKind, SolveError};
-pub use events::{Event, EventDirection, EventHit};
+pub use events::{Event, EventDirection, EventHit, Reset};
 pub use input::Input;
 pub use liegroup::{
     FnLieSystem, LieEvent, LieEventHit, LieInputFn, LieMechanical, LieMechanism, LieProblem,

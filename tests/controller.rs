@@ -309,3 +309,69 @@ fn driving_errors_are_typed_and_keep_the_run() {
     run.advance_to(1.0).unwrap();
     assert_eq!(run.solution().last().unwrap().0, 1.0);
 }
+
+/// `step()` says what each step did, and `modes()` follows the switch log: summed over a
+/// run, the steps' counts are the log's and the events' lengths; after every step each
+/// element's mode is the `to` of its last log entry (for time-stepping, `None` before the
+/// first step). Random initial states and a constant push, both kinds of run.
+#[test]
+fn steps_report_their_switches_and_modes_follow_the_log() {
+    let mut rng = Rng(0x57e9_5e1f);
+    let cart_turns = |_t: f64, y: &[f64]| y[2];
+    let events = [filippov::runtime::Event::new(&cart_turns)];
+    for case in 0..6 {
+        let q0 = V2::new(rng.uniform(-0.3, 0.3), rng.uniform(-2.0, -1.0));
+        let v0 = V2::new(rng.uniform(-1.5, 1.5), rng.uniform(-2.0, 2.0));
+        let push = rng.uniform(-3.0, 3.0);
+        let problem = NonSmoothProblem::new(0.0, 1.5, q0, v0);
+        for method in [
+            method(),
+            NonSmoothMethod::TimeStepping {
+                h: 2e-3,
+                theta: 1.0,
+            },
+        ] {
+            let time_stepping = matches!(method, NonSmoothMethod::TimeStepping { .. });
+            let mut run = Integrator::held(&SCENE, &problem, &method)
+                .unwrap()
+                .with_events(&events)
+                .unwrap();
+            run.set_input(CartPendulum::input_forces(&SVector::from([push])))
+                .unwrap();
+            let modes0 = run.modes();
+            assert_eq!(modes0.len(), 4);
+            assert_eq!(
+                modes0.iter().all(Option::is_none),
+                time_stepping,
+                "case {case}: {modes0:?}"
+            );
+            let (mut switches, mut hits) = (run.solution().switches.len(), 0);
+            while run.t() < problem.tf {
+                let before = run.t();
+                let stepped = run.step().unwrap();
+                assert!(stepped.t > before && stepped.t == run.t());
+                switches += stepped.switches;
+                hits += stepped.events;
+                let sol = run.solution();
+                assert_eq!(
+                    (switches, hits),
+                    (sol.switches.len(), sol.events.len()),
+                    "case {case} {method:?}"
+                );
+                let modes = run.modes();
+                for (e, mode) in modes.iter().enumerate() {
+                    assert!(mode.is_some(), "case {case} {method:?}: element {e}");
+                    if let Some(last) = sol.switches.iter().rfind(|s| s.index == Some(e)) {
+                        assert_eq!(
+                            last.to,
+                            *mode,
+                            "case {case} {method:?} t = {}: element {e}",
+                            run.t()
+                        );
+                    }
+                }
+            }
+            assert!(switches > 0, "case {case} {method:?}: nothing switched");
+        }
+    }
+}

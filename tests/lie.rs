@@ -15,7 +15,7 @@ use common::{Rng, assert_close};
 use filippov::nalgebra::{DVector, SMatrix, SVector, Vector3};
 use filippov::prelude::*;
 use filippov::runtime::liegroup::{LieMechanical, LieMechanism};
-use filippov::runtime::{LieProblem, Options, Rkmk5, UnitQuat, numeric};
+use filippov::runtime::{LieProblem, Options, Output, Rkmk5, UnitQuat, numeric};
 use filippov_scenes::{BallChain, FreeBody, Satellite, SphericalBody};
 
 fn dv<const N: usize>(v: &SVector<f64, N>) -> DVector<f64> {
@@ -287,5 +287,55 @@ fn satellite_conserves_energy_and_momentum() {
         );
         let e = sat.kinetic_energy(&qk, &vk);
         assert!((e - e0).abs() <= 1e-9 * e0, "energy drifts: {:.3e}", e - e0);
+    }
+}
+
+/// `Output` on a Lie-group run: `Times(ts)` gives exactly `ts`, each state the dense
+/// output on the group of the same run kept at every step; `Every(k)` every `k`-th step
+/// and the last, equal to those rows. Both methods.
+#[test]
+fn lie_runs_keep_the_rows_output_asks_for() {
+    let sat = Satellite::default();
+    let mut q = Satellite::identity_configuration();
+    q[1] = 0.3;
+    q[Satellite::CONFIG - 2] = 0.7;
+    let v = SVector::<f64, 8>::from([0.1, -0.2, 0.05, 0.3, -0.5, 0.8, 1.5, -2.0]);
+    let system = LieMechanical::free(&sat);
+    let problem = LieProblem::new(0.0, 3.0, Satellite::qv_to_state(&q, &v));
+    let ts: Vec<f64> = (0..=30).map(|k| 0.1 * k as f64).collect();
+    let flat = |s: &filippov::runtime::LieState| -> Vec<f64> {
+        let (q, v) = Satellite::state_to_qv(s);
+        q.iter().chain(v.iter()).copied().collect()
+    };
+    let options = Options::tolerances(1e-9, 1e-11);
+    for name in ["RKMK5", "LieSdirk"] {
+        let solve = |p: &LieProblem| match name {
+            "RKMK5" => Rkmk5::new(options).solve(&system, p).unwrap(),
+            _ => filippov::runtime::LieSdirk::new(options)
+                .solve(&system, p)
+                .unwrap(),
+        };
+        let steps = solve(&problem);
+        let at_times = solve(&problem.clone().with_output(Output::Times(ts.clone())));
+        assert_eq!(at_times.times(), &ts[..], "{name}");
+        assert_eq!(at_times.flat().times(), &ts[..], "{name}");
+        for (i, &t) in ts.iter().enumerate() {
+            assert_eq!(
+                flat(&at_times.state(i)),
+                flat(&steps.at(t).unwrap()),
+                "{name}: t = {t}"
+            );
+            // The dense output still covers every step.
+            assert_eq!(at_times.at(t), steps.at(t), "{name}: t = {t}");
+        }
+        let every = solve(&problem.clone().with_output(Output::Every(3)));
+        let n = steps.len();
+        let kept: Vec<usize> = (0..n).filter(|&i| i % 3 == 0 || i + 1 == n).collect();
+        assert_eq!(every.len(), kept.len(), "{name}");
+        for (row, &i) in kept.iter().enumerate() {
+            assert_eq!(every.times()[row], steps.times()[i]);
+            assert_eq!(flat(&every.state(row)), flat(&steps.state(i)));
+        }
+        assert_eq!(every.stats, steps.stats, "{name}: the same run");
     }
 }

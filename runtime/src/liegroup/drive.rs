@@ -130,9 +130,27 @@ pub(super) fn drive<M: LieMethod, S: LieSystem + ?Sized>(
         }
         Ok(())
     };
-    match integrate() {
-        Ok(()) => {
+    let sampled = integrate().and_then(|()| {
+        let system = run.system;
+        let mut evaluations = 0;
+        let rows = run.traj.sample(&problem.output, |t, y, f| {
+            evaluations += 1;
+            system.rhs(t, y, f);
+            match f.iter().position(|x| !x.is_finite()) {
+                Some(component) => Err(ErrorKind::NonFinite { t, component }),
+                None => Ok(()),
+            }
+        })?;
+        run.traj.flat.stats.rhs_evaluations += evaluations;
+        Ok(rows)
+    });
+    match sampled {
+        Ok(rows) => {
             run.traj.stats = run.traj.flat.stats;
+            run.traj.show(rows.map(|mut r| {
+                r.stats = run.traj.stats;
+                r
+            }));
             Ok((run.traj, tracker.into_hits()))
         }
         Err(kind) => Err(SolveError::new(kind, run.traj.flat)),

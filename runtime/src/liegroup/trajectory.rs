@@ -17,11 +17,27 @@ pub struct LieProblem {
     pub t0: f64,
     pub tf: f64,
     pub y0: LieState,
+    /// Which rows the trajectory shows (every step by default). The dense output on the
+    /// group ([`LieTrajectory::at`]) keeps every step whatever the rows.
+    pub output: Output,
 }
 
 impl LieProblem {
     pub fn new(t0: f64, tf: f64, y0: LieState) -> Self {
-        LieProblem { t0, tf, y0 }
+        LieProblem {
+            t0,
+            tf,
+            y0,
+            output: Output::Steps,
+        }
+    }
+
+    /// The same problem showing the rows `output` says: [`Output::Every`] every `k`-th
+    /// step and the last, [`Output::Times`] exactly the given times (each on the dense
+    /// output on the group).
+    pub fn with_output(mut self, output: Output) -> Self {
+        self.output = output;
+        self
     }
 
     pub(super) fn validate<S: LieSystem + ?Sized>(&self, system: &S) -> Result<(), String> {
@@ -43,6 +59,7 @@ impl LieProblem {
                 3 * m + n
             ));
         }
+        self.output.validate(self.t0, self.tf)?;
         let finite = |x: &[f64]| x.iter().all(|v| v.is_finite());
         let quats_finite = y.rotations.iter().all(|q| finite(&q.coords()));
         if !finite(&y.euclid) || !finite(&y.velocity) || !quats_finite {
@@ -96,6 +113,9 @@ pub struct LieTrajectory {
     /// Per interval: the step's length `h` (the chart's time scale; longer than the
     /// interval when a terminal event cut the step short).
     steps: Vec<f64>,
+    /// The rows the problem's [`Output`] asked for, when not every step (sampled at the
+    /// end of the run); `flat` keeps every step for the dense output.
+    rows: Option<Solution>,
 }
 
 impl LieTrajectory {
@@ -113,7 +133,71 @@ impl LieTrajectory {
             stats: Stats::default(),
             chart: Vec::new(),
             steps: Vec::new(),
+            rows: None,
         }
+    }
+
+    /// The rows shown: the sampled ones, or every step.
+    fn shown(&self) -> &Solution {
+        self.rows.as_ref().unwrap_or(&self.flat)
+    }
+
+    /// The flat row `y` as a state.
+    fn decode(&self, y: &[f64]) -> LieState {
+        let m4 = 4 * self.n_rot;
+        let rotations = y[..m4]
+            .chunks(4)
+            .map(|c| UnitQuat::from_coords_unchecked(c[0], c[1], c[2], c[3]))
+            .collect();
+        let euclid = y[m4..m4 + self.n_euclid].to_vec();
+        let velocity = y[m4 + self.n_euclid..].to_vec();
+        LieState::new(rotations, euclid, velocity)
+    }
+
+    /// The rows `output` asks for, from the steps stored (`rhs`: the derivative at a
+    /// sampled state): every `k`-th step and the last, or the given times on the dense
+    /// output (those up to the last step: a terminal event may end the run early).
+    pub(super) fn sample(
+        &self,
+        output: &Output,
+        mut rhs: impl FnMut(f64, &LieState, &mut [f64]) -> Result<(), ErrorKind>,
+    ) -> Result<Option<Solution>, ErrorKind> {
+        let mut rows = Solution::new(self.flat.names().to_vec(), 0, Output::Steps);
+        let n = self.flat.len();
+        match output {
+            Output::Steps => return Ok(None),
+            Output::Every(k) => {
+                for i in (0..n).filter(|&i| i % k == 0 || i + 1 == n) {
+                    let (t, y, dy) = (
+                        self.flat.times()[i],
+                        self.flat.state(i),
+                        self.flat.derivative(i),
+                    );
+                    rows.push_step(t, y, dy, None, Keep::AsAsked);
+                }
+            }
+            Output::Times(ts) => {
+                let Some(mut y) = self.last().map(|(_, y)| y) else {
+                    return Ok(Some(rows));
+                };
+                let mut f = vec![0.0; y.velocity.len()];
+                for &t in ts {
+                    if !self.at_into(t, &mut y) {
+                        break;
+                    }
+                    rhs(t, &y, &mut f)?;
+                    let (flat, dflat) = encode(&y, &f);
+                    rows.push_step(t, &flat, &dflat, None, Keep::AsAsked);
+                }
+            }
+        }
+        rows.stats = self.flat.stats;
+        Ok(Some(rows))
+    }
+
+    /// Shows `rows` (from [`sample`](Self::sample)).
+    pub(super) fn show(&mut self, rows: Option<Solution>) {
+        self.rows = rows;
     }
 
     fn local_dim(&self) -> usize {
@@ -121,19 +205,7 @@ impl LieTrajectory {
     }
 
     pub(super) fn push(&mut self, y: &LieState, t: f64, f: &[f64]) {
-        let (mut flat, mut dflat) = (Vec::new(), Vec::new());
-        for (k, q) in y.rotations.iter().enumerate() {
-            let [w, x, yy, z] = q.coords();
-            let u = Vector3::new(x, yy, z);
-            let om = y.omega(k);
-            let du = (om * w + u.cross(&om)) * 0.5;
-            flat.extend_from_slice(&q.coords());
-            dflat.extend_from_slice(&[-0.5 * u.dot(&om), du.x, du.y, du.z]);
-        }
-        flat.extend_from_slice(&y.euclid);
-        flat.extend_from_slice(&y.velocity);
-        dflat.extend_from_slice(y.euclid_velocity());
-        dflat.extend_from_slice(f);
+        let (flat, dflat) = encode(y, f);
         self.flat.push_step(t, &flat, &dflat, None, Keep::AsAsked);
     }
 
@@ -172,31 +244,23 @@ impl LieTrajectory {
         self.push(y, t, f);
     }
 
-    /// Number of stored points.
+    /// Number of rows (every step, or those the problem's [`Output`] asked for).
     pub fn len(&self) -> usize {
-        self.flat.len()
+        self.shown().len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.flat.is_empty()
+        self.shown().is_empty()
     }
 
-    /// Times of the stored points, increasing.
+    /// Times of the rows, increasing.
     pub fn times(&self) -> &[f64] {
-        self.flat.times()
+        self.shown().times()
     }
 
-    /// State at stored point `i`.
+    /// State at row `i`.
     pub fn state(&self, i: usize) -> LieState {
-        let y = self.flat.state(i);
-        let m4 = 4 * self.n_rot;
-        let rotations = y[..m4]
-            .chunks(4)
-            .map(|c| UnitQuat::from_coords_unchecked(c[0], c[1], c[2], c[3]))
-            .collect();
-        let euclid = y[m4..m4 + self.n_euclid].to_vec();
-        let velocity = y[m4 + self.n_euclid..].to_vec();
-        LieState::new(rotations, euclid, velocity)
+        self.decode(self.shown().state(i))
     }
 
     /// The last stored time and state.
@@ -216,7 +280,7 @@ impl LieTrajectory {
     /// [`at`](Self::at) written into `out` (shaped like the trajectory's states);
     /// `false`, and `out` untouched, outside `[t_first, t_last]`.
     pub fn at_into(&self, t: f64, out: &mut LieState) -> bool {
-        let times = self.times();
+        let times = self.flat.times();
         let (Some(&first), Some(&last)) = (times.first(), times.last()) else {
             return false;
         };
@@ -224,8 +288,9 @@ impl LieTrajectory {
             return false;
         }
         let i = times.partition_point(|&ti| ti <= t).saturating_sub(1);
-        if i + 1 >= self.len() {
-            out.clone_from(&self.state(i));
+        let base = self.decode(self.flat.state(i));
+        if i + 1 >= times.len() {
+            out.clone_from(&base);
             return true;
         }
         let h = self.steps[i];
@@ -238,7 +303,6 @@ impl LieTrajectory {
         let theta: Vec<f64> = (0..d)
             .map(|c| dopri5_dense(s, h, 0.0, th1[c], k1[c], k7[c], r5[c]))
             .collect();
-        let base = self.state(i);
         retract(&base, &theta, out);
         for q in &mut out.rotations {
             *q = q.normalised();
@@ -246,8 +310,28 @@ impl LieTrajectory {
         true
     }
 
-    /// The flat trajectory (layout in the type's documentation), e.g. for CSV output.
+    /// The flat trajectory's rows (layout in the type's documentation), e.g. for CSV
+    /// output.
     pub fn flat(&self) -> &Solution {
-        &self.flat
+        self.shown()
     }
+}
+
+/// A state and its derivative `f` as a flat row and its derivative (layout in
+/// [`LieTrajectory`]'s documentation).
+fn encode(y: &LieState, f: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let (mut flat, mut dflat) = (Vec::new(), Vec::new());
+    for (k, q) in y.rotations.iter().enumerate() {
+        let [w, x, yy, z] = q.coords();
+        let u = Vector3::new(x, yy, z);
+        let om = y.omega(k);
+        let du = (om * w + u.cross(&om)) * 0.5;
+        flat.extend_from_slice(&q.coords());
+        dflat.extend_from_slice(&[-0.5 * u.dot(&om), du.x, du.y, du.z]);
+    }
+    flat.extend_from_slice(&y.euclid);
+    flat.extend_from_slice(&y.velocity);
+    dflat.extend_from_slice(y.euclid_velocity());
+    dflat.extend_from_slice(f);
+    (flat, dflat)
 }

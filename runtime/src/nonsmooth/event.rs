@@ -291,7 +291,7 @@ pub(super) struct Driver<'a, S, I, const N: usize> {
     /// Forces that tell approach-1 elements which branch they are on when the modes are
     /// initialised again after a hand-over.
     hints: Vec<Option<f64>>,
-    modes: Vec<Mode>,
+    pub(super) modes: Vec<Mode>,
     pub(super) t: f64,
     pub(super) q: SVector<f64, N>,
     pub(super) v: SVector<f64, N>,

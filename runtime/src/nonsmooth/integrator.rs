@@ -21,7 +21,7 @@ use nalgebra::SVector;
 use super::event::Driver;
 use super::timestepping::TimeSteps;
 use super::{NonSmoothMethod, NonSmoothProblem};
-use crate::element::NonSmooth;
+use crate::element::{Mode, NonSmooth};
 use crate::events::{Event, Tracker};
 use crate::input::{Held, Input};
 use crate::method::{AnyStepper, Stepper};
@@ -33,6 +33,19 @@ pub type NoInput<const N: usize> = fn(f64, &SVector<f64, N>, &SVector<f64, N>) -
 
 fn no_input<const N: usize>(_: f64, _: &SVector<f64, N>, _: &SVector<f64, N>) -> SVector<f64, N> {
     SVector::zeros()
+}
+
+/// What one [`Integrator::step`] did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct Stepped {
+    /// The time reached.
+    pub t: f64,
+    /// Entries added to the switch log ([`Solution::switches`]): switches, impacts,
+    /// resets, hand-overs.
+    pub switches: usize,
+    /// User events located ([`Solution::events`]).
+    pub events: usize,
 }
 
 /// A non-smooth run in progress (see the module documentation).
@@ -244,6 +257,16 @@ where
         }
     }
 
+    /// The elements' modes at [`t`](Self::t), in the scene's order: the event-driven
+    /// method's current modes; time-stepping's from its last step (`None` before the
+    /// first).
+    pub fn modes(&self) -> Vec<Option<Mode>> {
+        match &self.run {
+            Run::EventDriven { driver, .. } => driver.modes.iter().copied().map(Some).collect(),
+            Run::TimeStepping { steps, .. } => steps.modes.clone(),
+        }
+    }
+
     /// The value held by [`set_input`](Self::set_input).
     pub fn input(&self) -> SVector<f64, N> {
         match &self.run {
@@ -301,9 +324,18 @@ where
 
     /// One step towards `tf`: an accepted step of the smooth method, or a step cut at
     /// an event with the switch there (event-driven), or one step of size `h`
-    /// (time-stepping). Nothing is done at `tf`.
-    pub fn step(&mut self) -> Result<(), ErrorKind> {
-        self.step_observed(self.tf, &mut unobserved)
+    /// (time-stepping). Nothing is done at `tf`. Says what the step did: the time
+    /// reached, and how many switch-log entries and user events it added.
+    pub fn step(&mut self) -> Result<Stepped, ErrorKind> {
+        let sol = self.solution();
+        let (switches, events) = (sol.switches.len(), sol.events.len());
+        self.step_observed(self.tf, &mut unobserved)?;
+        let sol = self.solution();
+        Ok(Stepped {
+            t: self.t(),
+            switches: sol.switches.len() - switches,
+            events: sol.events.len() - events,
+        })
     }
 
     /// Integrates up to exactly `t` (`t ≤ tf`; the last step ends there). A row is

@@ -162,7 +162,7 @@ pub(crate) struct TimeSteps<'a, const N: usize> {
     point_v: Vec<f64>,
     exact: Vec<bool>,
     /// Each element's mode in the last step (its graph point), for the switch log.
-    modes: Vec<Option<element::Mode>>,
+    pub(crate) modes: Vec<Option<element::Mode>>,
     point_mode: Vec<Part>,
     /// `[q; v]` after the last step.
     y: Vec<f64>,

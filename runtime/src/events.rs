@@ -27,10 +27,12 @@
 //!   a kick, a re-initialisation): the step is cut there, the row before the reset and
 //!   the row after it are both kept at the crossing's time, and the run goes on from the
 //!   new state as from any discontinuity (the method restarts; a non-smooth run selects
-//!   its modes again, and an impact that the new state makes is applied). Crossings
-//!   after it in the same step are dropped; the functions are evaluated afresh at the
-//!   new state, so the reset itself is not a crossing. Smooth and event-driven runs
-//!   reset; time-stepping and Lie-group runs refuse events with a reset.
+//!   its modes again, and an impact that the new state makes is applied; time-stepping
+//!   ends its step at the crossing, on the cubic below, and steps on from the new state).
+//!   Crossings after it in the same step are dropped; the functions are evaluated afresh
+//!   at the new state, so the reset itself is not a crossing. A reset that leaves a rigid
+//!   stop penetrated is [`InconsistentInitialData`](crate::ErrorKind::InconsistentInitialData).
+//!   Lie-group runs refuse events with a reset.
 //! * Time-stepping has no continuous extension of its own: between two steps the
 //!   positions are the cubic through both ends' positions and velocities, the velocities
 //!   the line between them (exact where the motion is, under a constant force with

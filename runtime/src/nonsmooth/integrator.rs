@@ -191,19 +191,12 @@ where
     /// The same run locating user [`Event`]s of `(t, [q; v])` from here on (see
     /// [`crate::events`]): each crossing is added to the solution's
     /// [`events`](Solution::events), a terminal one ends the run there
-    /// ([`ended`](Self::ended)), and one with a reset changes the state there (event-driven
-    /// runs; time-stepping refuses it). A function that is NaN at the current point is
+    /// ([`ended`](Self::ended)), and one with a reset changes the state there and the run
+    /// goes on from the new state. A function that is NaN at the current point is
     /// [`ErrorKind::InvalidInput`].
     pub fn with_events(mut self, events: &'a [Event<'a>]) -> Result<Self, SolveError> {
         let y: Vec<f64> = self.q().iter().chain(self.v().iter()).copied().collect();
-        let time_stepping = matches!(self.run, Run::TimeStepping { .. });
-        let tracker = Tracker::new(events, self.t(), &y[..]).and_then(|tracker| {
-            if time_stepping {
-                tracker.refuse_resets("time-stepping runs")?;
-            }
-            Ok(tracker)
-        });
-        let tracker = match tracker {
+        let tracker = match Tracker::new(events, self.t(), &y[..]) {
             Ok(tracker) => tracker,
             Err(msg) => {
                 return Err(SolveError::new(

@@ -435,6 +435,53 @@ impl<const N: usize> TimeSteps<'_, N> {
                     state: at(te),
                 });
             }
+            if let Some((k, te)) = crossings.reset {
+                // A reset inside the step: the step ends there (its state on the cubic
+                // between the step's ends), the state changes, and the steps go on from
+                // the new state on a grid anchored there.
+                let mut row_e = at(te);
+                row_e.extend_from_slice(f);
+                traj.push_step(te, &row_e, &dy, None, Keep::Event);
+                let mut y_e = row_e[..2 * N].to_vec();
+                self.tracker
+                    .apply_reset(k, te, &mut y_e)
+                    .map_err(ErrorKind::InvalidInput)?;
+                if let Some(component) = y_e.iter().position(|x| !x.is_finite()) {
+                    return Err(ErrorKind::NonFinite { t: te, component });
+                }
+                for g in graphs {
+                    let c = g.element.coordinate;
+                    super::mode::check_not_penetrating(&g.element, y_e[c]).map_err(|msg| {
+                        ErrorKind::InconsistentInitialData(format!(
+                            "after the reset of event {k} at t = {te}: {msg}"
+                        ))
+                    })?;
+                }
+                traj.switches.push(Switch {
+                    t: te,
+                    kind: SwitchKind::Reset,
+                    element: None,
+                    index: None,
+                    from: None,
+                    to: None,
+                    jump: 0.0,
+                    accumulation: None,
+                    before: row_e[..2 * N].to_vec(),
+                    after: y_e.clone(),
+                });
+                let mut row_after = y_e.clone();
+                row_after.extend_from_slice(f);
+                traj.push_jump(te, &row_after, &dy);
+                self.q = SVector::from_column_slice(&y_e[..N]);
+                self.v = SVector::from_column_slice(&y_e[N..2 * N]);
+                self.t = te;
+                self.y = y_e;
+                (self.anchor, self.taken) = (te, 0);
+                if crossings.terminal.is_some() {
+                    self.ended = Some(te);
+                }
+                return Ok(());
+            }
             if let Some(te) = crossings.terminal {
                 // The run ends inside the step: its state there, the step's forces.
                 let mut row_e = at(te);

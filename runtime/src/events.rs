@@ -32,7 +32,8 @@
 //!   Crossings after it in the same step are dropped; the functions are evaluated afresh
 //!   at the new state, so the reset itself is not a crossing. A reset that leaves a rigid
 //!   stop penetrated is [`InconsistentInitialData`](crate::ErrorKind::InconsistentInitialData).
-//!   Lie-group runs refuse events with a reset.
+//!   A Lie-group run keeps the two points at the crossing's time and begins again from
+//!   the new state (its quaternions re-normalised).
 //! * Time-stepping has no continuous extension of its own: between two steps the
 //!   positions are the cubic through both ends' positions and velocities, the velocities
 //!   the line between them (exact where the motion is, under a constant force with
@@ -254,17 +255,6 @@ impl<'e, 'a, Y: ?Sized> Tracker<'e, 'a, Y> {
             }
         }
         Ok(())
-    }
-
-    /// Refuses events with a reset, for a driver that cannot restart at them (`driver`
-    /// names it in the message).
-    pub(crate) fn refuse_resets(&self, driver: &str) -> Result<(), String> {
-        match self.events.iter().position(|e| e.reset.is_some()) {
-            Some(k) => Err(format!(
-                "event {k} has a reset; {driver} record and end at events but do not change the state (use an event-driven or smooth run)"
-            )),
-            None => Ok(()),
-        }
     }
 }
 

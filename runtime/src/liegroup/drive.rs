@@ -4,7 +4,7 @@
 //! the start, the starting step).
 
 use super::chart::{chart_field, magnitudes, retract};
-use super::events::{EventTracker, LieEvent, LieEventHit};
+use super::events::{AfterStep, EventTracker, LieEvent, LieEventHit};
 use super::trajectory::{LieProblem, LieRun, LieTrajectory};
 use super::{LieState, LieSystem};
 use crate::numerics::starting_step;
@@ -124,8 +124,22 @@ pub(super) fn drive<M: LieMethod, S: LieSystem + ?Sized>(
         stepper.start(&mut run, problem)?;
         while stepper.t() < problem.tf {
             stepper.step(&mut run, problem.tf)?;
-            if !events.is_empty() && tracker.after_step(&mut run)? {
-                break;
+            if events.is_empty() {
+                continue;
+            }
+            match tracker.after_step(&mut run)? {
+                AfterStep::Go => {}
+                AfterStep::End => break,
+                AfterStep::Reset { t, state, end } => {
+                    // The state after the reset, a second point at `t`, then the run
+                    // begins again there.
+                    let again = LieProblem::new(t, problem.tf, state);
+                    stepper.start(&mut run, &again)?;
+                    run.traj.push_jump_interval();
+                    if end {
+                        break;
+                    }
+                }
             }
         }
         Ok(())

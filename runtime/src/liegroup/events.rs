@@ -26,10 +26,8 @@ pub(super) struct EventTracker<'e, 'a> {
 impl<'e, 'a> EventTracker<'e, 'a> {
     /// Evaluates the functions at the initial point; a NaN there is invalid input.
     pub(super) fn new(events: &'e [LieEvent<'a>], problem: &LieProblem) -> Result<Self, String> {
-        let tracker = Tracker::new(events, problem.t0, &problem.y0)?;
-        tracker.refuse_resets("Lie-group runs")?;
         Ok(EventTracker {
-            tracker,
+            tracker: Tracker::new(events, problem.t0, &problem.y0)?,
             hits: Vec::new(),
         })
     }
@@ -39,11 +37,12 @@ impl<'e, 'a> EventTracker<'e, 'a> {
     }
 
     /// Checks the step ending at the trajectory's last point (there are at least two
-    /// points); `Ok(true)` when a terminal event cut the trajectory there.
+    /// points). At a terminal event or a reset the trajectory is cut at the crossing;
+    /// a reset then gives the new state to begin again from.
     pub(super) fn after_step<S: LieSystem + ?Sized>(
         &mut self,
         run: &mut LieRun<'_, S>,
-    ) -> Result<bool, ErrorKind> {
+    ) -> Result<AfterStep, ErrorKind> {
         let traj = &run.traj;
         let n = traj.len();
         let (t0, t1) = (traj.times()[n - 2], traj.times()[n - 1]);
@@ -57,15 +56,39 @@ impl<'e, 'a> EventTracker<'e, 'a> {
             });
         }
         run.traj.flat.stats.events = self.hits.len();
-        let Some(ts) = crossings.terminal else {
-            return Ok(false);
+        let Some(ts) = crossings.reset.map(|r| r.1).or(crossings.terminal) else {
+            return Ok(AfterStep::Go);
         };
-        let state = dense(&run.traj, ts);
+        let mut state = dense(&run.traj, ts);
         let mut f = vec![0.0; state.velocity.len()];
         run.rhs(ts, &state, &mut f)?;
         run.traj.truncate_last(ts, &state, &f);
-        Ok(true)
+        let Some((k, _)) = crossings.reset else {
+            return Ok(AfterStep::End);
+        };
+        self.tracker
+            .apply_reset(k, ts, &mut state)
+            .map_err(ErrorKind::InvalidInput)?;
+        for q in &mut state.rotations {
+            *q = q.normalised();
+        }
+        Ok(AfterStep::Reset {
+            t: ts,
+            state,
+            end: crossings.terminal.is_some(),
+        })
     }
+}
+
+/// What the events of a step ask of the run.
+pub(super) enum AfterStep {
+    /// Nothing but records.
+    Go,
+    /// A terminal event ended the run.
+    End,
+    /// A reset at `t` changed the state to `state`; the run ends there when the event
+    /// is also terminal (`end`).
+    Reset { t: f64, state: LieState, end: bool },
 }
 
 /// The dense output at `t` inside the trajectory's span.

@@ -225,6 +225,15 @@ impl LieTrajectory {
         self.steps.push(h);
     }
 
+    /// The interval of zero length between the two points of a reset (the state before
+    /// it and after it, at one time): never interpolated (a time there reads the point
+    /// after it), its chart data zero.
+    pub(super) fn push_jump_interval(&mut self) {
+        let d = self.local_dim();
+        self.chart.extend(std::iter::repeat_n(0.0, 4 * d));
+        self.steps.push(1.0);
+    }
+
     /// Replaces the last point by `(t, y)` with `f = f(t, y)`, `t` inside the last
     /// interval (a terminal event); the interval keeps its step's interpolant.
     pub(super) fn truncate_last(&mut self, t: f64, y: &LieState, f: &[f64]) {

@@ -245,3 +245,57 @@ fn nan_event_at_start_is_invalid_input() {
         "{err}"
     );
 }
+
+/// A reset bounces the falling body off the ground (`u_z → −e u_z`): both methods land
+/// at the closed-form bounce times (`√(2 h₀/g)`, then flights of `2w/g` at speeds `w`
+/// shrinking by `e`), each bounce a point before and after at its time, the attitude
+/// continuous across it.
+#[test]
+fn falling_body_bounces_by_a_reset() {
+    let e = 0.7;
+    let height = |_t: f64, y: &LieState| y.euclid[2];
+    let bounce = move |_t: f64, y: &mut LieState| y.velocity[5] *= -e;
+    let mut expected = vec![(2.0 * HEIGHT / G).sqrt()];
+    let mut w = e * (2.0 * G * HEIGHT).sqrt();
+    while expected.len() < 4 {
+        let last = expected[expected.len() - 1];
+        expected.push(last + 2.0 * w / G);
+        w *= e;
+    }
+    let tf = expected[3] + 0.5 * w / G;
+    let problem = LieProblem::new(0.0, tf, drop_problem().y0);
+    for (name, solve) in solvers(1e-10) {
+        let events = [LieEvent::new(&height)
+            .direction(EventDirection::Falling)
+            .reset(&bounce)];
+        let (traj, hits) = solve(&falling_body(), &problem, &events).unwrap();
+        assert_eq!(hits.len(), 4, "{name}: {hits:?}");
+        for (n, (hit, t)) in hits.iter().zip(&expected).enumerate() {
+            assert!(
+                (hit.t - t).abs() < 1e-9,
+                "{name}: bounce {n} at {} vs {t}",
+                hit.t
+            );
+            let at: Vec<usize> = (0..traj.len())
+                .filter(|&i| traj.times()[i] == hit.t)
+                .collect();
+            assert_eq!(at.len(), 2, "{name}: bounce {n}");
+            let (before, after) = (traj.state(at[0]), traj.state(at[1]));
+            let landing = (2.0 * G * HEIGHT).sqrt() * e.powi(n as i32);
+            assert!(
+                (before.velocity[5] + landing).abs() < 1e-8,
+                "{name}: {before:?}"
+            );
+            assert!(
+                (after.velocity[5] - e * landing).abs() < 1e-8,
+                "{name}: {after:?}"
+            );
+            assert_eq!(before.rotations, after.rotations);
+            // Just after the bounce the body rises.
+            let later = traj.at(hit.t + 1e-3).unwrap();
+            assert!(later.euclid[2] > 0.0, "{name}: {later:?}");
+        }
+        let (t_end, _) = traj.last().unwrap();
+        assert_eq!(t_end, tf);
+    }
+}

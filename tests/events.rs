@@ -330,6 +330,35 @@ fn a_reset_event_bounces_a_smooth_ball_at_the_closed_form_times() {
     }
 }
 
+type Clock = Box<dyn Fn(f64, &[f64]) -> f64>;
+type Push = Box<dyn Fn(f64, &mut [f64])>;
+
+/// One time event per kick `(t_k, Δv)`: `t_k − t`, falling through zero at `t_k`, and the
+/// reset adding `Δv` to the velocity.
+fn kicks_of(kicks: &[(f64, f64)]) -> (Vec<Clock>, Vec<Push>) {
+    let clocks = kicks
+        .iter()
+        .map(|&(tk, _)| Box::new(move |t: f64, _y: &[f64]| tk - t) as Clock)
+        .collect();
+    let pushes = kicks
+        .iter()
+        .map(|&(_, dv)| Box::new(move |_t: f64, y: &mut [f64]| y[1] += dv) as Push)
+        .collect();
+    (clocks, pushes)
+}
+
+fn kick_events<'a>(clocks: &'a [Clock], pushes: &'a [Push]) -> Vec<Event<'a>> {
+    clocks
+        .iter()
+        .zip(pushes)
+        .map(|(g, r)| {
+            Event::new(g.as_ref())
+                .direction(EventDirection::Falling)
+                .reset(r.as_ref())
+        })
+        .collect()
+}
+
 /// A reset on an event-driven run: a block at rest under Coulomb friction, kicked at
 /// given times (a time event whose reset adds to the velocity). Each kick `Δv` sets it
 /// sliding; it decelerates at `f_c/m` and sticks after `m Δv / f_c`, having moved
@@ -340,30 +369,8 @@ fn reset_kicks_on_an_event_driven_block_match_the_closed_form() {
     let (m, mu) = (1.5, 0.6);
     let block = SlidingBlock { m, mu };
     let kicks = [(1.0, 0.6), (3.0, -1.1), (6.5, 0.4)];
-    // One time event per kick, `t_k − t` falling through zero, its reset adding `Δv`.
-    type Clock = Box<dyn Fn(f64, &[f64]) -> f64>;
-    type Push = Box<dyn Fn(f64, &mut [f64])>;
-    let clocks: Vec<Clock> = kicks
-        .iter()
-        .map(|&(tk, _)| {
-            Box::new(move |t: f64, _y: &[f64]| tk - t) as Box<dyn Fn(f64, &[f64]) -> f64>
-        })
-        .collect();
-    let pushes: Vec<Push> = kicks
-        .iter()
-        .map(|&(_, dv)| {
-            Box::new(move |_t: f64, y: &mut [f64]| y[1] += dv) as Box<dyn Fn(f64, &mut [f64])>
-        })
-        .collect();
-    let events: Vec<Event> = clocks
-        .iter()
-        .zip(&pushes)
-        .map(|(g, r)| {
-            Event::new(g.as_ref())
-                .direction(EventDirection::Falling)
-                .reset(r.as_ref())
-        })
-        .collect();
+    let (clocks, pushes) = kicks_of(&kicks);
+    let events = kick_events(&clocks, &pushes);
     let tf = 8.5;
     let problem = NonSmoothProblem::new(0.0, tf, V1::zeros(), V1::zeros());
     let mut run = Integrator::held(&block, &problem, &event_driven())
@@ -478,25 +485,8 @@ fn time_stepping_resets_converge_to_the_kicked_block() {
         .iter()
         .map(|&(tk, dv)| tk + dv.abs() / decel)
         .collect();
-    type Clock = Box<dyn Fn(f64, &[f64]) -> f64>;
-    type Push = Box<dyn Fn(f64, &mut [f64])>;
-    let clocks: Vec<Clock> = kicks
-        .iter()
-        .map(|&(tk, _)| Box::new(move |t: f64, _y: &[f64]| tk - t) as Clock)
-        .collect();
-    let pushes: Vec<Push> = kicks
-        .iter()
-        .map(|&(_, dv)| Box::new(move |_t: f64, y: &mut [f64]| y[1] += dv) as Push)
-        .collect();
-    let events: Vec<Event> = clocks
-        .iter()
-        .zip(&pushes)
-        .map(|(g, r)| {
-            Event::new(g.as_ref())
-                .direction(EventDirection::Falling)
-                .reset(r.as_ref())
-        })
-        .collect();
+    let (clocks, pushes) = kicks_of(&kicks);
+    let events = kick_events(&clocks, &pushes);
     let errors = |h: f64| -> (f64, f64) {
         let problem = NonSmoothProblem::new(0.0, 8.5, V1::zeros(), V1::zeros());
         let method = NonSmoothMethod::TimeStepping { h, theta: 1.0 };

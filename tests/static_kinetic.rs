@@ -8,6 +8,9 @@
 //! The belt is modelled in its own frame: the coordinate is `y = x − v_b t`, the spring
 //! pulls with `−k y`, and the input adds the rest of the spring force, `−k v_b t`.
 
+mod common;
+
+use common::Rng;
 use filippov::prelude::*;
 use filippov::runtime::nonsmooth::Mode;
 use filippov::runtime::{
@@ -40,18 +43,6 @@ struct CoulombBelt {
 }
 
 type V1 = SVector<f64, 1>;
-
-/// A small deterministic generator (xorshift), so that each case is reproducible.
-struct Rng(u64);
-
-impl Rng {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        lo + (hi - lo) * (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 /// The limit cycle of theory.md §5.
 struct Cycle {
@@ -113,7 +104,7 @@ fn random_belt(rng: &mut Rng) -> (Belt, f64) {
 #[test]
 fn event_driven_stick_slip_meets_the_closed_form() {
     let tol = 1e-9;
-    let mut rng = Rng(0x5eed_be17);
+    let mut rng = Rng::new(0x5eed_be17);
     let mut below_a_third = 0;
     for case in 0..12 {
         let (belt, v_b) = random_belt(&mut rng);
@@ -196,7 +187,7 @@ fn time_stepping_errors(belt: &Belt, v_b: f64, h: f64) -> [f64; 4] {
 /// implicit Euler, and the position where it ends improve with the step as `O(h)`.
 #[test]
 fn time_stepping_converges_to_the_cycle_at_first_order() {
-    let mut rng = Rng(0x7153_0001);
+    let mut rng = Rng::new(0x7153_0001);
     for case in 0..4 {
         let (belt, v_b) = random_belt(&mut rng);
         let coarse = time_stepping_errors(&belt, v_b, 8e-4);
@@ -225,7 +216,7 @@ fn time_stepping_converges_to_the_cycle_at_first_order() {
 /// With `f_static = f_kinetic` the law is Coulomb's: the same run, to round-off.
 #[test]
 fn equal_forces_are_coulomb_friction() {
-    let mut rng = Rng(0xc0_1001);
+    let mut rng = Rng::new(0xc0_1001);
     for _ in 0..4 {
         let (mut belt, v_b) = random_belt(&mut rng);
         belt.f_kinetic = belt.f_static;

@@ -115,6 +115,25 @@ pub struct Switch {
     pub after: Vec<f64>,
 }
 
+impl Switch {
+    /// An entry of the run as a whole, not of one element (a hand-over, a hand-back, a
+    /// reset): the states just before and after it.
+    pub(crate) fn of_run(t: f64, kind: SwitchKind, before: Vec<f64>, after: Vec<f64>) -> Self {
+        Switch {
+            t,
+            kind,
+            element: None,
+            index: None,
+            from: None,
+            to: None,
+            jump: 0.0,
+            accumulation: None,
+            before,
+            after,
+        }
+    }
+}
+
 /// Whether an accepted step's row is kept whatever the [`Output`] says.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Keep {

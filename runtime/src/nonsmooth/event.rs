@@ -721,18 +721,12 @@ where
             return Err(ErrorKind::NonFinite { t, component });
         }
         let (old, forces_before) = (self.modes.clone(), self.last_forces.clone());
-        self.out.switches.push(Switch {
+        self.out.switches.push(Switch::of_run(
             t,
-            kind: SwitchKind::Reset,
-            element: None,
-            index: None,
-            from: None,
-            to: None,
-            jump: 0.0,
-            accumulation: None,
-            before: before.clone(),
-            after: y.clone(),
-        });
+            SwitchKind::Reset,
+            before.clone(),
+            y.clone(),
+        ));
         let logged = self.out.switches.len();
         let q = SVector::<f64, N>::from_column_slice(&y[..N]);
         let v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
@@ -1857,18 +1851,12 @@ where
             return Ok(());
         }
         let state: Vec<f64> = self.q.iter().chain(self.v.iter()).copied().collect();
-        self.out.switches.push(Switch {
-            t: self.t,
-            kind: SwitchKind::HandOverToTimeStepping,
-            element: None,
-            index: None,
-            from: None,
-            to: None,
-            jump: 0.0,
-            accumulation: None,
-            before: state.clone(),
-            after: state,
-        });
+        self.out.switches.push(Switch::of_run(
+            self.t,
+            SwitchKind::HandOverToTimeStepping,
+            state.clone(),
+            state,
+        ));
         let problem = NonSmoothProblem::new(self.t, end, self.q, self.v);
         let h = (end - self.t) / HANDOVER_STEPS as f64;
         let input = Capped {
@@ -1944,18 +1932,12 @@ where
             .filter(|(a, b)| a != b)
             .count();
         let state: Vec<f64> = self.q.iter().chain(self.v.iter()).copied().collect();
-        self.out.switches.push(Switch {
+        self.out.switches.push(Switch::of_run(
             t,
-            kind: SwitchKind::HandBack,
-            element: None,
-            index: None,
-            from: None,
-            to: None,
-            jump: 0.0,
-            accumulation: None,
-            before: y[..2 * N].to_vec(),
-            after: state,
-        });
+            SwitchKind::HandBack,
+            y[..2 * N].to_vec(),
+            state,
+        ));
         Ok(())
     }
 }

@@ -457,18 +457,12 @@ impl<const N: usize> TimeSteps<'_, N> {
                         ))
                     })?;
                 }
-                traj.switches.push(Switch {
-                    t: te,
-                    kind: SwitchKind::Reset,
-                    element: None,
-                    index: None,
-                    from: None,
-                    to: None,
-                    jump: 0.0,
-                    accumulation: None,
-                    before: row_e[..2 * N].to_vec(),
-                    after: y_e.clone(),
-                });
+                traj.switches.push(Switch::of_run(
+                    te,
+                    SwitchKind::Reset,
+                    row_e[..2 * N].to_vec(),
+                    y_e.clone(),
+                ));
                 let mut row_after = y_e.clone();
                 row_after.extend_from_slice(f);
                 traj.push_jump(te, &row_after, &dy);

@@ -75,18 +75,34 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     ));
     // The diffsol peer is built and run once, for the non-smooth plots and the peers'
     // section; cold, its build takes minutes, so the progress line says so first.
+    // Where no progress bar can draw (the output goes to a file), one line per section
+    // as it ends, with its time.
+    let log = |what: &str, since: std::time::Instant| {
+        if config.show_progress && !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+            eprintln!(
+                "report: {what}: {:.0} s (total {:.0} s)",
+                since.elapsed().as_secs_f64(),
+                started.elapsed().as_secs_f64()
+            );
+        }
+    };
     if config.peers && (config.runs("nonsmooth") || config.runs("kernels")) {
         progress.set_message(
             "building and running the diffsol peer (peers/diffsol; minutes when cold)",
         );
+        let since = std::time::Instant::now();
         let _ = peers::diffsol(config);
+        log("the diffsol peer built and run", since);
     }
     // A section not asked for by `--only` is left out (empty page, no summary).
     macro_rules! section {
         ($key:literal, $msg:literal, $run:expr) => {{
             let s = if config.runs($key) {
                 progress.set_message($msg);
-                $run
+                let since = std::time::Instant::now();
+                let s = $run;
+                log($msg, since);
+                s
             } else {
                 Default::default()
             };

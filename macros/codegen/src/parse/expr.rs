@@ -158,7 +158,7 @@ fn lower_unchecked(e: &Expr, fields: &[String], diag: &mut Diagnostics) -> Optio
                 diag.error_at(
                     id,
                     format_args!(
-                        "no field `{name}` in this struct; an expression may use the fields ({}), numbers, `PI` and {}",
+                        "no field `{name}` in this struct; an expression may use the fields ({}), numbers, `PI` and the functions {}",
                         fields.join(", "),
                         func_list()
                     ),
@@ -289,7 +289,7 @@ fn call(
         diag.error_at(
             e,
             format_args!(
-                "unknown function `{}`; expressions may call {} and `powi`",
+                "unknown function `{}`; expressions may call {}",
                 name.unwrap_or("?"),
                 func_list()
             ),
@@ -310,12 +310,12 @@ fn call(
     lower(args[0], fields, diag).map(|x| PExpr::Call(func, Box::new(x)))
 }
 
+/// The functions an expression may call, as a message lists them: the named ones, and
+/// `powi` with a literal exponent.
 fn func_list() -> String {
-    FUNCS
-        .iter()
-        .map(|(n, _)| format!("`{n}`"))
-        .collect::<Vec<_>>()
-        .join(", ")
+    let mut names: Vec<String> = FUNCS.iter().map(|(n, _)| format!("`{n}`")).collect();
+    names.push("`x.powi(n)` (n = 1 to 8)".into());
+    names.join(", ")
 }
 
 /// Lowers an expression in one free variable `var` (the force `f` of a law, the

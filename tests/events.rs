@@ -347,6 +347,15 @@ fn kicks_of(kicks: &[(f64, f64)]) -> (Vec<Clock>, Vec<Push>) {
     (clocks, pushes)
 }
 
+/// The times of the switch log's entries into a stick.
+fn stick_times(sol: &filippov::runtime::Solution) -> Vec<f64> {
+    sol.switches
+        .iter()
+        .filter(|s| s.to == Some(Mode::Stick))
+        .map(|s| s.t)
+        .collect()
+}
+
 fn kick_events<'a>(clocks: &'a [Clock], pushes: &'a [Push]) -> Vec<Event<'a>> {
     clocks
         .iter()
@@ -395,12 +404,7 @@ fn reset_kicks_on_an_event_driven_block_match_the_closed_form() {
         .map(|s| s.t)
         .collect();
     assert_eq!(resets, kick_times);
-    let sticks: Vec<f64> = sol
-        .switches
-        .iter()
-        .filter(|s| s.to == Some(Mode::Stick))
-        .map(|s| s.t)
-        .collect();
+    let sticks = stick_times(&sol);
     assert_times("sticks", &sticks, &expected_stops);
     for (tk, dv) in kicks {
         let k = sol
@@ -506,12 +510,7 @@ fn time_stepping_resets_converge_to_the_kicked_block() {
             assert!((s.t - tk).abs() < 1e-12, "h = {h}: reset at {}", s.t);
             assert!((s.after[1] - s.before[1] - dv).abs() < 1e-12);
         }
-        let sticks: Vec<f64> = sol
-            .switches
-            .iter()
-            .filter(|s| s.to == Some(Mode::Stick))
-            .map(|s| s.t)
-            .collect();
+        let sticks = stick_times(&sol);
         assert_eq!(sticks.len(), 3, "h = {h}: {sticks:?}");
         let dt = sticks
             .iter()

@@ -74,8 +74,9 @@ fn non_finite_initial_state_is_invalid_input() {
     for m in nonsmooth_methods() {
         let err = solve_nonsmooth(&s, &|_t, _q: &V1, _v: &V1| V1::zeros(), &problem, &m)
             .expect_err("infinite state");
+        // Named by its column, as the scene declares the joint.
         assert!(
-            matches!(err.kind, ErrorKind::InvalidInput(_)),
+            matches!(&err.kind, ErrorKind::InvalidInput(m) if m.contains("initial state `q_x` is not finite")),
             "{:?}",
             err.kind
         );
@@ -123,6 +124,12 @@ fn non_finite_forcing_is_reported_with_the_trajectory_so_far() {
             matches!(err.kind, ErrorKind::NonFinite { .. }),
             "{:?}",
             err.kind
+        );
+        // The message names the column the NaN appeared in.
+        let message = err.to_string();
+        assert!(
+            message.contains("non-finite value in `v_x`") || message.contains("in `f_"),
+            "{message}"
         );
         assert!(
             err.solution.len() > 1,
@@ -185,7 +192,8 @@ fn penetrating_initial_state_is_inconsistent_initial_data() {
         let err = solve_nonsmooth(&b, &|_t, _q: &V1, _v: &V1| V1::zeros(), &problem, &method)
             .expect_err("penetration");
         assert!(
-            matches!(&err.kind, ErrorKind::InconsistentInitialData(m) if m.contains("penetrates the rigid stop `stop_x`")),
+            matches!(&err.kind, ErrorKind::InconsistentInitialData(m)
+                if m.contains("joint `x` starts at -0.1, inside the rigid stop `stop_x` at 0; start it at or above 0")),
             "{method:?}: {:?}",
             err.kind
         );
@@ -378,5 +386,28 @@ fn an_element_that_keeps_switching_is_named() {
     let bound = 0.2 / 1e5 + 0.2 / 1e10;
     for (t, y) in sol.rows() {
         assert!(y[0].abs() <= bound * 1.01, "q = {:e} at t = {t}", y[0]);
+    }
+}
+
+/// A run that uses up its step budget says where its steps ended and what to try.
+#[test]
+fn max_steps_says_what_to_try() {
+    let p = DoublePendulum::default();
+    let problem = Problem::new(0.0, 10.0, [1.0, 0.5, 0.0, 0.0]);
+    let options = Options {
+        max_steps: 20,
+        ..Options::default()
+    };
+    for m in [
+        Method::Dopri5(options),
+        Method::Sdirk4(options),
+        Method::Bdf(options),
+    ] {
+        let err = solve(&MechanicalSystem::unforced(&p), &problem, &m).expect_err("budget");
+        assert!(matches!(err.kind, ErrorKind::MaxSteps { .. }), "{err}");
+        let message = err.to_string();
+        for part in ["the last step", "raise `Options::max_steps`", "Method::Bdf"] {
+            assert!(message.contains(part), "{m:?}: {message}");
+        }
     }
 }

@@ -192,6 +192,15 @@ impl Mode {
 
 /// Column names of a non-smooth solution: those of the mechanism's state
 /// ([`state_names`](crate::system::state_names)), then `f_<element>`.
+/// How a message names coordinate `c`: its joint as the scene declares it (`` `rail` ``),
+/// or `coordinate c` for a scene without joint names.
+pub(crate) fn joint_name(joints: &[&str], c: usize) -> String {
+    match joints.get(c) {
+        Some(j) if !j.is_empty() => format!("joint `{j}`"),
+        _ => format!("coordinate {c}"),
+    }
+}
+
 pub(crate) fn column_names<S: NonSmooth<N>, const N: usize>(system: &S) -> Vec<String> {
     let mut names = crate::system::state_names(&S::JOINTS);
     names.extend((0..S::ELEMENTS).map(|e| format!("f_{}", system.element(e).name)));

@@ -89,13 +89,39 @@ impl SolveError {
     }
 }
 
+/// The kind's message with the names the solution knows: a non-finite component by its
+/// column (`v_rail`), a run out of steps with the step size it ended at and what to try.
 impl fmt::Display for SolveError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{} (after {} accepted steps)",
-            self.kind, self.solution.stats.steps
-        )
+        let steps = self.solution.stats.steps;
+        match &self.kind {
+            ErrorKind::NonFinite { t, component } => match self.solution.names().get(*component) {
+                Some(name) => write!(
+                    f,
+                    "non-finite value in `{name}` (component {component}) at t = {t}"
+                )?,
+                None => write!(f, "{}", self.kind)?,
+            },
+            ErrorKind::MaxSteps { .. } => {
+                write!(f, "{}", self.kind)?;
+                let times = self.solution.times();
+                if let [.., a, b] = times {
+                    let h = b - a;
+                    if h > 0.0 {
+                        write!(f, ", the last step {h:.3e} long")?;
+                    }
+                }
+                write!(
+                    f,
+                    ": raise `Options::max_steps`, loosen `rtol`/`atol`, or, if the steps \
+                     are held short by stiffness (a stiff spring or support: steps far \
+                     shorter than the motion you see), use a stiff method (`Method::Sdirk4`, \
+                     `Method::Bdf`) or `NonSmoothMethod::TimeStepping`"
+                )?;
+            }
+            kind => write!(f, "{kind}")?,
+        }
+        write!(f, " (after {steps} accepted steps)")
     }
 }
 

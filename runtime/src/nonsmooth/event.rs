@@ -108,6 +108,7 @@ use crate::method::{Begin, DenseStep, Eval, Stepper};
 use crate::numerics::rootfind::find_root;
 use crate::solve::{Observer, unobserved};
 use crate::{ErrorKind, Keep, OdeSystem, Options, Solution, SolveError, Stats, Switch, SwitchKind};
+use resting::{Pressed, Support};
 /// Samples of the switching functions per accepted step (the last at the step's end).
 pub const SAMPLES: usize = 4;
 /// Relative width in time of a located event bracket, or `rtol / 100` where that is
@@ -418,7 +419,8 @@ where
             .chain(problem.v0.iter())
             .position(|x| !x.is_finite())
         {
-            return Err(format!("initial state component {i} is not finite"));
+            let name = &crate::system::state_names(&S::JOINTS)[i];
+            return Err(format!("initial state `{name}` is not finite"));
         }
         if !problem.forces0.is_empty() && problem.forces0.len() != self.elements.len() {
             return Err(format!(
@@ -468,6 +470,7 @@ where
         problem: &NonSmoothProblem<N>,
     ) -> Result<(), ErrorKind> {
         self.initialise(problem, false)?;
+        self.rest_supports()?;
         self.start_arc(stepper, true)
     }
 
@@ -532,6 +535,9 @@ where
                 self.v = v;
                 if self.landing.is_some_and(|t| t1 >= t) {
                     self.landing = None;
+                }
+                if t1 < tf && self.rest_supports()? {
+                    self.restart(stepper)?;
                 }
             }
             Some(event) => {
@@ -915,6 +921,11 @@ where
     }
 
     /// The current `[q; v]`.
+    /// The integrator's accuracy at a component of size `x`: `atol + rtol |x|`.
+    fn tol(&self, x: f64) -> f64 {
+        self.options.atol + self.options.rtol * x.abs()
+    }
+
     fn state(&self) -> Vec<f64> {
         self.q.iter().chain(self.v.iter()).copied().collect()
     }
@@ -1081,6 +1092,12 @@ where
                         },
                         _ => ev.f[e],
                     };
+                    // A spring-backed stop resting on its support: lift-off, or its held
+                    // position off the static compression by the tolerance.
+                    if let (Some(support), Mode::Contact) = (Support::of(el), self.modes[e]) {
+                        let drift = support.drift_margin(q[c], support.s * ev.f[e], self.tol(q[c]));
+                        return (support.s * f).min(drift);
+                    }
                     mode::switching(el, &self.branches[e], self.modes[e], q[c], v[c], f)
                 })
                 .collect(),
@@ -1292,6 +1309,26 @@ where
                         kind: StopKind::SpringBacked { .. },
                         ..
                     },
+                    Mode::Contact,
+                ) => {
+                    // Resting (see `resting`): re-anchored at the static compression, or
+                    // lifted off at the stop's position when the load no longer presses.
+                    let Some(support) = Support::of(&el) else {
+                        continue;
+                    };
+                    let lambda = support.s * forces_before[e];
+                    if lambda > support.drift_margin(q[c], lambda, self.tol(q[c])) {
+                        q[c] = support.anchor(lambda);
+                    } else {
+                        q[c] = support.position;
+                        self.modes[e] = Mode::Free;
+                    }
+                }
+                (
+                    ElementKind::Stop {
+                        kind: StopKind::SpringBacked { .. },
+                        ..
+                    },
                     m,
                 ) => {
                     self.modes[e] = if m == Mode::Compressed {
@@ -1371,6 +1408,92 @@ where
             before: before.to_vec(),
             after: after.to_vec(),
         });
+    }
+
+    /// Spring-backed stops pressed onto their support that now rest on it (see
+    /// [`resting`]): each one's vibration is removed by an impulse along its coordinate
+    /// (`v⁺ = v − W e_c v_c / W_cc`, so `v_c = 0`), its coordinate set to the static
+    /// compression and its mode to `Contact`; a second row is written at the current
+    /// time and the changes are logged. Returns whether any stop came to rest.
+    fn rest_supports(&mut self) -> Result<bool, ErrorKind> {
+        // Pressed in, or free at rest on the support's position (let go there).
+        let pressed: Vec<usize> = (0..self.elements.len())
+            .filter(|&e| {
+                let el = &self.elements[e];
+                let c = el.coordinate;
+                Support::of(el).is_some()
+                    && match self.modes[e] {
+                        Mode::Compressed => true,
+                        Mode::Free => {
+                            mode::gap(el, self.q[c]) <= self.tol(self.q[c])
+                                && self.v[c].abs() <= self.tol(0.0)
+                        }
+                        _ => false,
+                    }
+            })
+            .collect();
+        if pressed.is_empty() {
+            return Ok(false);
+        }
+        let (t, mut q, mut v) = (self.t, self.q, self.v);
+        let old = self.modes.clone();
+        let hold_force = |modes: &[Mode], q: &SVector<f64, N>, v: &SVector<f64, N>, e: usize| {
+            let tau = self.tau(t, q, v);
+            mode::evaluate(
+                self.system,
+                &self.elements,
+                &self.branches,
+                modes,
+                q,
+                v,
+                &tau,
+            )
+            .map(|ev| ev.f[e])
+        };
+        let mut modes = self.modes.clone();
+        for e in pressed {
+            let Some(support) = Support::of(&self.elements[e]) else {
+                continue;
+            };
+            let c = self.elements[e].coordinate;
+            let mut trial = modes.clone();
+            trial[e] = Mode::Contact;
+            let Some(f) = hold_force(&trial, &q, &v, e) else {
+                continue;
+            };
+            let w = self.system.inverse_mass_matrix(&q);
+            let at = Pressed {
+                qc: q[c],
+                vc: v[c],
+                lambda: support.s * f,
+                wcc: w[(c, c)],
+            };
+            let tol = (self.tol(q[c]), self.tol(v[c]));
+            if !support.rests(at, tol, self.tf - t) {
+                continue;
+            }
+            v -= w.column(c) * (v[c] / w[(c, c)]);
+            v[c] = 0.0;
+            let lambda = hold_force(&trial, &q, &v, e).map_or(at.lambda, |f| support.s * f);
+            q[c] = support.anchor(lambda);
+            modes = trial;
+        }
+        if modes == old {
+            return Ok(false);
+        }
+        let (before, forces_before) = (self.state(), self.last_forces.clone());
+        (self.q, self.v, self.modes) = (q, v, modes);
+        let forces_after = self.push_row(t, &q, &v, Row::Jump)?;
+        let after = self.state();
+        self.out.stats.events += 1;
+        for e in 0..self.elements.len() {
+            if old[e] != self.modes[e] {
+                self.out.stats.mode_changes += 1;
+                let jump = forces_after[e] - forces_before[e];
+                self.log(t, SwitchKind::Mode, e, old[e], jump, (&before, &after));
+            }
+        }
+        Ok(true)
     }
 
     /// Logs the impacts of one instant: `Settled` for a stop in contact after it,
@@ -1638,6 +1761,11 @@ where
                         kind: StopKind::Rigid { .. },
                         ..
                     } => Mode::Free,
+                    // A spring-backed stop resting on its support set moving by an
+                    // impact elsewhere (a support takes no impulse) vibrates again.
+                    ElementKind::Stop { .. } if self.modes[e] == Mode::Contact && v[c] != 0.0 => {
+                        Mode::Compressed
+                    }
                     _ => self.modes[e],
                 };
             }
@@ -1655,10 +1783,18 @@ where
             (self.options.atol, self.options.rtol),
         )
         .map_err(|detail| ErrorKind::IllPosedMode { t, detail })?;
-        check_unique_forces(&self.elements, &self.modes, v)
+        check_unique_forces(&self.elements, &self.modes, v, &S::JOINTS)
             .map_err(|detail| ErrorKind::IllPosedMode { t, detail })?;
         for (e, el) in self.elements.iter().enumerate() {
-            if let (Mode::Contact, ElementKind::Stop { position, .. }) = (self.modes[e], el.kind) {
+            if let (
+                Mode::Contact,
+                ElementKind::Stop {
+                    position,
+                    kind: StopKind::Rigid { .. },
+                    ..
+                },
+            ) = (self.modes[e], el.kind)
+            {
                 q[el.coordinate] = position;
             }
         }
@@ -1707,7 +1843,7 @@ where
                     position,
                     side,
                 } => {
-                    mode::check_not_penetrating(el, q[c])
+                    mode::check_not_penetrating(el, q[c], &S::JOINTS)
                         .map_err(ErrorKind::InconsistentInitialData)?;
                     if g <= 0.0 {
                         q[c] = position;
@@ -1971,6 +2107,7 @@ impl Act {
     }
 }
 
+mod resting;
 #[cfg(test)]
 mod tests;
 
@@ -1982,6 +2119,7 @@ fn check_unique_forces<const N: usize>(
     elements: &[Element],
     modes: &[Mode],
     v: &SVector<f64, N>,
+    joints: &[&str],
 ) -> Result<(), String> {
     let holds = |m: Mode| {
         matches!(
@@ -2018,8 +2156,10 @@ fn check_unique_forces<const N: usize>(
             }
             if (holds(ma) && (holds(mb) || at_rest_slip(mb))) || (holds(mb) && at_rest_slip(ma)) {
                 return Err(format!(
-                    "elements `{}` and `{}` both hold coordinate {} at rest: their forces are not unique (only their sum is determined)",
-                    ea.name, eb.name, ea.coordinate
+                    "elements `{}` and `{}` both hold {} at rest: their forces are not unique (only their sum is determined)",
+                    ea.name,
+                    eb.name,
+                    crate::element::joint_name(joints, ea.coordinate)
                 ));
             }
         }

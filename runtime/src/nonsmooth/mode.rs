@@ -135,7 +135,8 @@ pub(crate) use super::kind::stop::side_sign;
 /// A rigid stop may not start penetrated beyond round-off (`10⁻¹² (1 + |position|)`):
 /// neither integrator can give it a meaning (time-stepping would hold the violation for
 /// the whole run). Other elements always pass.
-pub fn check_not_penetrating(el: &Element, q_c: f64) -> Result<(), String> {
+/// `joints` names the coordinates in the message.
+pub fn check_not_penetrating(el: &Element, q_c: f64, joints: &[&str]) -> Result<(), String> {
     if let ElementKind::Stop {
         kind: StopKind::Rigid { .. },
         position,
@@ -143,9 +144,17 @@ pub fn check_not_penetrating(el: &Element, q_c: f64) -> Result<(), String> {
     } = el.kind
         && gap(el, q_c) < -1e-12 * (1.0 + position.abs())
     {
+        let side = match el.kind {
+            ElementKind::Stop {
+                side: crate::element::Side::Upper,
+                ..
+            } => "at or below",
+            _ => "at or above",
+        };
         return Err(format!(
-            "coordinate {} = {q_c} penetrates the rigid stop `{}` at {position}; start on its admissible side",
-            el.coordinate, el.name
+            "{} starts at {q_c}, inside the rigid stop `{}` at {position}; start it {side} {position}",
+            crate::element::joint_name(joints, el.coordinate),
+            el.name
         ));
     }
     Ok(())
@@ -246,13 +255,7 @@ fn stop_and_stick(
     let is_stop = |e: usize| {
         matches!(
             (elements[e].kind, modes[e]),
-            (
-                ElementKind::Stop {
-                    kind: StopKind::Rigid { .. },
-                    ..
-                },
-                Mode::Contact
-            )
+            (ElementKind::Stop { .. }, Mode::Contact)
         )
     };
     let is_stick = |e: usize| {

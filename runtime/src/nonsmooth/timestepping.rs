@@ -193,7 +193,9 @@ impl<const N: usize> TimeSteps<'_, N> {
         };
         for g in &graphs {
             let el = &g.element;
-            if let Err(msg) = super::mode::check_not_penetrating(el, problem.q0[el.coordinate]) {
+            if let Err(msg) =
+                super::mode::check_not_penetrating(el, problem.q0[el.coordinate], &S::JOINTS)
+            {
                 return Err(SolveError::new(
                     ErrorKind::InconsistentInitialData(msg),
                     traj,
@@ -451,11 +453,13 @@ impl<const N: usize> TimeSteps<'_, N> {
                 }
                 for g in graphs {
                     let c = g.element.coordinate;
-                    super::mode::check_not_penetrating(&g.element, y_e[c]).map_err(|msg| {
-                        ErrorKind::InconsistentInitialData(format!(
-                            "after the reset of event {k} at t = {te}: {msg}"
-                        ))
-                    })?;
+                    super::mode::check_not_penetrating(&g.element, y_e[c], &S::JOINTS).map_err(
+                        |msg| {
+                            ErrorKind::InconsistentInitialData(format!(
+                                "after the reset of event {k} at t = {te}: {msg}"
+                            ))
+                        },
+                    )?;
                 }
                 traj.switches.push(Switch::of_run(
                     te,
@@ -626,13 +630,14 @@ fn validate<S: NonSmooth<N>, const N: usize>(
             problem.t0, problem.tf
         ));
     }
-    if problem
+    if let Some(i) = problem
         .q0
         .iter()
         .chain(problem.v0.iter())
-        .any(|x| !x.is_finite())
+        .position(|x| !x.is_finite())
     {
-        return Err("initial state q0, v0 must be finite".into());
+        let name = &crate::system::state_names(&S::JOINTS)[i];
+        return Err(format!("initial state `{name}` is not finite"));
     }
     if !problem.forces0.is_empty() && problem.forces0.len() != S::ELEMENTS {
         return Err(format!(

@@ -557,7 +557,7 @@ fn bad_input_gives_typed_errors() {
     );
     // x0 = 1 is past an upper stop at 0.5.
     assert!(
-        matches!(run(&oscillator(1.0, 1.0, rigid(0.0)), &p), ErrorKind::InconsistentInitialData(m) if m.contains("penetrates"))
+        matches!(run(&oscillator(1.0, 1.0, rigid(0.0)), &p), ErrorKind::InconsistentInitialData(m) if m.contains("inside the rigid stop"))
     );
     // A given stuck force beyond f_crit.
     let p = problem1(1.0, 0.0, 0.0).with_forces(vec![Some(0.3)]);

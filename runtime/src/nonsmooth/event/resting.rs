@@ -1,0 +1,177 @@
+//! A spring-backed stop resting on its support (theory.md §3, "Resting on a stiff
+//! support").
+//!
+//! Pressed onto a support of stiffness `k`, a coordinate vibrates about the static
+//! compression `λ/k` at `ω = √(k W_cc)` (`W = M⁻¹`); the model has no damping to end it.
+//! With `k = 1e9` on an arm the vibration has thousands of periods per second and an
+//! amplitude of nanoradians: an explicit method is held to `h ≈ 3/ω` by stability, a
+//! stiff one by accuracy while the vibration is above the tolerance, and both spend the
+//! step budget on it. So while the vibration stays below the static compression (the
+//! support never lets go) and either is within the tolerance or would last more than
+//! [`RESTING_PERIODS`] periods in the rest of the run, the event driver takes the stop
+//! as *resting*: its coordinate is held at the static compression (mode
+//! [`Mode::Contact`], `v_c = 0`, the force `λ` from the constraint, as for a rigid stop
+//! in contact), and the vibration is dropped: the switch to `Contact` is logged with
+//! the states before and after it, and the energy dropped is below `λ²/2k`.
+//!
+//! While resting, the coordinate is re-anchored whenever the static compression `λ/k`
+//! has moved from it by more than the position tolerance (an event with a second row),
+//! and the stop lifts off (mode `Free`, at its position) when `λ` falls to zero.
+
+use crate::element::{Element, ElementKind, StopKind};
+use crate::nonsmooth::kind::stop::side_sign;
+
+/// A support vibration is not followed when more than this many of its periods are
+/// left in the run (and it would not let go of the support): resolving it would cost
+/// tens of thousands of steps that show nothing but the vibration.
+pub const RESTING_PERIODS: f64 = 1000.0;
+
+/// The support of a spring-backed stop: stiffness `k`, side sign `s`, position.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Support {
+    pub k: f64,
+    pub s: f64,
+    pub position: f64,
+}
+
+impl Support {
+    /// `element`'s support if it is a spring-backed stop.
+    pub fn of(element: &Element) -> Option<Support> {
+        match element.kind {
+            ElementKind::Stop {
+                kind: StopKind::SpringBacked { stiffness },
+                side,
+                position,
+            } => Some(Support {
+                k: stiffness,
+                s: side_sign(side),
+                position,
+            }),
+            _ => None,
+        }
+    }
+
+    /// The penetration `s (q_c − position)` (positive pressed in).
+    pub fn penetration(&self, qc: f64) -> f64 {
+        self.s * (qc - self.position)
+    }
+
+    /// The coordinate at the static compression under the contact force `λ ≥ 0`.
+    pub fn anchor(&self, lambda: f64) -> f64 {
+        self.position + self.s * lambda.max(0.0) / self.k
+    }
+
+    /// The energy of the vibration about the static compression under `λ`: the
+    /// support's spring energy about it and the kinetic energy of the coordinate's
+    /// velocity `v_c` at its effective mass `1 / W_cc`.
+    pub fn vibration_energy(&self, qc: f64, vc: f64, lambda: f64, wcc: f64) -> f64 {
+        let d = self.penetration(qc) - lambda / self.k;
+        0.5 * self.k * d * d + 0.5 * vc * vc / wcc
+    }
+
+    /// Whether the stop, pressed with the hold force `λ`, is taken as resting: the
+    /// vibration's amplitude is below the static compression (it never lets go), and it
+    /// is within the tolerance `(tol_q, tol_v)` of the coordinate or would last more
+    /// than [`RESTING_PERIODS`] periods in the `remaining` time.
+    pub fn rests(&self, at: Pressed, tol: (f64, f64), remaining: f64) -> bool {
+        let Pressed {
+            qc,
+            vc,
+            lambda,
+            wcc,
+        } = at;
+        if !(lambda > 0.0 && wcc > 0.0) {
+            return false;
+        }
+        let e = self.vibration_energy(qc, vc, lambda, wcc);
+        // `≤`: a coordinate let go at rest exactly at the stop's position grazes it.
+        let holds = 0.5 * lambda * lambda / self.k;
+        if e.is_nan() || e > holds {
+            return false;
+        }
+        let (tol_q, tol_v) = tol;
+        let within = e <= 0.5 * self.k * tol_q * tol_q + 0.5 * tol_v * tol_v / wcc;
+        let omega = (self.k * wcc).sqrt();
+        within || remaining * omega / std::f64::consts::TAU > RESTING_PERIODS
+    }
+
+    /// How far the spring force at the held compression `k · penetration` may still
+    /// move from the hold force `λ` before the held position is off the static
+    /// compression by the tolerance `tol_q`: `k tol_q − |k · penetration − λ|`
+    /// (re-anchoring at `0`).
+    pub fn drift_margin(&self, qc: f64, lambda: f64, tol_q: f64) -> f64 {
+        self.k * tol_q - (self.k * self.penetration(qc) - lambda).abs()
+    }
+}
+
+/// A pressed stop's coordinate, velocity, hold force and `W_cc`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Pressed {
+    pub qc: f64,
+    pub vc: f64,
+    pub lambda: f64,
+    pub wcc: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::element::Side;
+
+    fn lower(k: f64) -> Support {
+        Support::of(&Element {
+            name: "s",
+            coordinate: 0,
+            kind: ElementKind::Stop {
+                side: Side::Lower,
+                position: -0.5,
+                kind: StopKind::SpringBacked { stiffness: k },
+            },
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn anchor_is_the_static_compression_and_rests_below_it() {
+        let s = lower(1e9);
+        let lambda = 13.0;
+        let q = s.anchor(lambda);
+        // To the rounding of q near the stop position 0.5.
+        assert!((s.penetration(q) - lambda / 1e9).abs() < 4.0 * f64::EPSILON);
+        assert!(q < -0.5, "a lower stop is pressed below its position");
+        assert!(s.vibration_energy(q, 0.0, lambda, 1.0) < 1e-20);
+        let at = |qc, vc| Pressed {
+            qc,
+            vc,
+            lambda,
+            wcc: 1.0,
+        };
+        // Vibration above the static compression (it would let go): not resting.
+        let big = (lambda / 1e9) * (1e9f64).sqrt() * 1.01;
+        assert!(!s.rests(at(q, big), (1e-12, 1e-12), 10.0));
+        // Below it with ~5000 periods left: resting; with 1 period left, only within
+        // the tolerance.
+        let small = 0.5 * big;
+        assert!(s.rests(at(q, small), (1e-12, 1e-12), 1.0));
+        assert!(!s.rests(at(q, small), (1e-12, 1e-12), 2e-4));
+        assert!(s.rests(at(q, 1e-13), (1e-12, 1e-12), 2e-4));
+        // Pulling (λ ≤ 0) never rests.
+        assert!(!s.rests(
+            Pressed {
+                lambda: -1.0,
+                ..at(q, 0.0)
+            },
+            (1.0, 1.0),
+            10.0
+        ));
+    }
+
+    #[test]
+    fn drift_margin_is_the_position_tolerance_in_force_units() {
+        let s = lower(1e6);
+        let q = s.anchor(10.0);
+        assert!((s.drift_margin(q, 10.0, 1e-9) - 1e-3).abs() < 1e-9);
+        // λ moved by k · tol: on the boundary.
+        assert!(s.drift_margin(q, 10.0 + 1e-3, 1e-9).abs() < 1e-9);
+    }
+}

@@ -116,7 +116,7 @@
 //!   joint_friction = true, joint_damping = true, base = free)]` (feature `urdf`) reads
 //!   the scene from a URDF file, relative to the crate's `Cargo.toml`, at compile time;
 //!   `#[urdf_param(link.mass = m, joint.friction = f, joint.upper = l)]` binds values to
-//!   fields. See the README's "Robots from URDF".
+//!   fields. See "Robots from URDF" in `docs/guide.md`.
 //! - `#[mechanism(crate = fil)]` when the crate is a renamed dependency
 //!   (`fil = { package = "filippov", … }`).
 //!
@@ -148,3 +148,9 @@ pub mod prelude {
     };
     pub use nalgebra::{SMatrix, SVector};
 }
+
+/// The README's quick starts, compiled and run as doctests: a program copied from the
+/// README builds unchanged.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -1447,7 +1447,9 @@ fn two_sided_stop_between_walls() {
     }
     assert_eq!(impacts.len(), k);
     assert!(sol.rows().all(|(_, y)| y[0].abs() <= l));
-    // Time-stepping at two steps: its error at tf falls about linearly.
+    // Time-stepping: a free flight's bounce is placed exactly inside its step (the
+    // coordinate travels to the wall and back), so between the walls its end state is
+    // the event-driven one up to rounding, at any step.
     let x_end = sol.last().unwrap().1[0];
     let errs: Vec<f64> = [1e-3, 5e-4]
         .iter()
@@ -1456,7 +1458,7 @@ fn two_sided_stop_between_walls() {
             (ts.last().unwrap().1[0] - x_end).abs()
         })
         .collect();
-    assert!(errs[0] < 2e-2 && errs[1] < 0.75 * errs[0], "{errs:?}");
+    assert!(errs.iter().all(|e| *e < 1e-12), "{errs:?}");
 }
 
 /// Large but finite scales integrate (the error norm used to overflow to ∞ and make the

@@ -41,7 +41,11 @@
 //! more than the finest run's error fails, however close both are in absolute terms.
 //! Passivity: at every event-driven row, the energy (kinetic, potential, stored in
 //! spring-backed stops) exceeds the initial energy plus the applied force's work (by
-//! Gauss–Legendre on the dense output) by at most 100·rtol of the energy scale.
+//! Gauss–Legendre on the dense output) by at most 100·rtol of the energy scale. Every
+//! time-stepping run (θ = 1 at each h, and θ = ½ at the coarsest) is passive step by
+//! step: no step ends with more energy than it began with plus the force's work over it,
+//! `τ(t_n + θh) · (q_{n+1} − q_n)`, beyond 1e-12 of the energy scale, and no rigid stop
+//! is passed.
 //!
 //! Time-stepping is refined (to at most h = 3.9e-6) until every observable is in its
 //! asymptotic range and agrees; a disagreement in an observable still outside its
@@ -752,6 +756,61 @@ where
     e
 }
 
+/// Where a time-stepping run `sol` at `theta` gains energy in a step beyond the force's
+/// work `τ(t_n + θh) · (q_{n+1} − q_n)` by more than 1e-12 of the energy scale, or passes
+/// a rigid stop.
+fn time_stepping_not_passive<S, const N: usize>(
+    scene: &S,
+    elements: &[Element],
+    sol: &Solution,
+    theta: f64,
+    tau: &dyn Fn(f64) -> SVector<f64, N>,
+) -> Option<String>
+where
+    S: filippov::Energy<N>,
+{
+    let t = sol.times();
+    let mut scale = energy::<_, N>(scene, elements, sol.state(0)).abs().max(1.0);
+    for i in 1..t.len() {
+        let (a, b) = (sol.state(i - 1), sol.state(i));
+        let f = tau(t[i - 1] + theta * (t[i] - t[i - 1]));
+        let work: f64 = (0..N).map(|c| f[c] * (b[c] - a[c])).sum();
+        let (ea, eb) = (
+            energy::<_, N>(scene, elements, a),
+            energy::<_, N>(scene, elements, b),
+        );
+        scale = scale.max(eb.abs());
+        let gain = (eb - ea - work) / scale;
+        if gain > 1e-12 {
+            return Some(format!(
+                "the step to t = {:.6} gains {gain:.2e} of the energy scale beyond the work",
+                t[i]
+            ));
+        }
+        for el in elements {
+            if let ElementKind::Stop {
+                side,
+                position,
+                kind: StopKind::Rigid { .. },
+            } = el.kind
+            {
+                let q = b[el.coordinate];
+                let passed = match side {
+                    Side::Upper => q > position,
+                    Side::Lower => q < position,
+                };
+                if passed {
+                    return Some(format!(
+                        "at t = {:.6} `{}` is passed: q = {q} beyond {position}",
+                        t[i], el.name
+                    ));
+                }
+            }
+        }
+    }
+    None
+}
+
 fn check<const N: usize, const E: usize>(d: Description) -> Verdict {
     let elements: [Element; E] = std::array::from_fn(|k| d.elements[k]);
     let Some(mut scene) = Scene::<N, E>::new(d.model.clone(), elements) else {
@@ -784,6 +843,11 @@ fn check<const N: usize, const E: usize>(d: Description) -> Verdict {
         ..Options::tolerances(ED_RTOL, ED_ATOL)
     }));
     let ts = |h: f64| NonSmoothMethod::TimeStepping { h, theta: 1.0 };
+    let tau_of = move |t: f64| {
+        let mut tau = SVector::<f64, N>::zeros();
+        tau[fc] = amp * (w * t).sin();
+        tau
+    };
     let ed = solve_nonsmooth(&scene, &input, &p, &ed_method);
     if d.start == Start::Penetrating {
         // The description put the coordinate past its rigid stop (by 0.05); both
@@ -835,6 +899,19 @@ fn check<const N: usize, const E: usize>(d: Description) -> Verdict {
         .iter()
         .map(|s| s.windows(2).map(|w| (w[1].1 - w[0].1).abs()).sum::<f64>())
         .sum();
+    // θ = ½ is held to passivity too (it is not part of the convergence study).
+    let midpoint = NonSmoothMethod::TimeStepping {
+        h: H_COARSE,
+        theta: 0.5,
+    };
+    match solve_nonsmooth(&scene, &input, &p, &midpoint) {
+        Ok(sol) => {
+            if let Some(why) = time_stepping_not_passive(&scene, &elements, &sol, 0.5, &tau_of) {
+                return Verdict::Failed(format!("time-stepping at θ = ½: {why}"));
+            }
+        }
+        Err(e) => return Verdict::Failed(format!("time-stepping at θ = ½: {e}")),
+    }
     // Time-stepping at 4× smaller steps until every observable is in its asymptotic range
     // and agrees (or RUNS_MAX runs): a disagreement must persist at the finest step.
     let mut to_ed: Vec<[f64; 3]> = Vec::new();
@@ -848,6 +925,9 @@ fn check<const N: usize, const E: usize>(d: Description) -> Verdict {
         };
         if let Some(why) = time_stepping_log_broken(&sol, N) {
             return Verdict::Failed(format!("time-stepping's switch log at h = {h:e}: {why}"));
+        }
+        if let Some(why) = time_stepping_not_passive(&scene, &elements, &sol, 1.0, &tau_of) {
+            return Verdict::Failed(format!("time-stepping at h = {h:e}: {why}"));
         }
         let run = Run {
             velocities: velocity_steps(&sol, N),

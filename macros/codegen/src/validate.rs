@@ -194,6 +194,9 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let frames = read_frames(frame_attrs, &links, &names, diag);
     // Declaring a frame is asking for its pose.
     emit.kinematics |= !frames.is_empty();
+    // Scenes with non-smooth elements always carry their energies: time-stepping keeps
+    // each step passive with them (`NonSmooth: Energy`).
+    emit.energy |= !elements.is_empty();
     let inputs = match &inputs_expr {
         Some(e) => read_inputs(e, &links, diag),
         None => Vec::new(),

@@ -421,6 +421,15 @@ pub(crate) mod test_systems {
         }
     }
 
+    impl<const N: usize, const E: usize> crate::kernels::Energy<N> for Chain<N, E> {
+        fn kinetic_energy(&self, _q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64 {
+            0.5 * v.dot(&(self.m() * v))
+        }
+        fn potential_energy(&self, q: &SVector<f64, N>) -> f64 {
+            (0..N).map(|i| 0.5 * self.springs[i] * q[i] * q[i]).sum()
+        }
+    }
+
     impl<const N: usize, const E: usize> NonSmooth<N> for Chain<N, E> {
         const ELEMENTS: usize = E;
         fn element(&self, e: usize) -> Element {
@@ -499,6 +508,7 @@ mod tests {
             h: 0.01,
             theta_q: 1.0,
             force,
+            v_smooth: 0.0,
         }
     }
 
@@ -687,6 +697,7 @@ mod tests {
             h: 0.01,
             theta_q: 1.0,
             force: 0.0,
+            v_smooth: -2.0,
         };
         let p = g
             .on_line(
@@ -737,6 +748,7 @@ mod tests {
                 h: 0.01,
                 theta_q,
                 force: 0.0,
+                v_smooth: 1.0,
             };
             let line = Line {
                 v_free: 1.0,

@@ -77,7 +77,8 @@ pub enum NonSmoothMethod {
     /// (a stiff support hit at `h ≫ √(m/k)` loses much of its energy); `theta = 0.5`:
     /// implicit midpoint, which keeps the energy of springs and stiff supports at any
     /// `h`, except on coordinates carrying a rigid stop, which keep implicit Euler's
-    /// positions (see [`time_stepping`](crate::nonsmooth::time_stepping)).
+    /// positions (see [`time_stepping`](crate::nonsmooth::time_stepping)). At every θ no
+    /// step gains energy beyond the input's work, and no rigid stop is ever passed.
     TimeStepping { h: f64, theta: f64 },
 }
 

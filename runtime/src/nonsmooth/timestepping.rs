@@ -57,6 +57,16 @@
 //! SPD `W` the sweeps converge. Not converging within [`MAX_SWEEPS`] sweeps is a typed
 //! error ([`ErrorKind::NewtonDivergence`]), never a silent answer.
 //!
+//! Passivity (theory.md §3): no step ends with more energy (kinetic, potential, stored in
+//! spring-backed supports) than it began with plus the input's work over it,
+//! `τ(t_n + θh, q_θ, v_n) · (q_{n+1} − q_n)`. Where the step would gain (an O(h²) local
+//! error of the linearly implicit step, of friction stopping a coordinate moved by the
+//! mean velocity at θ = ½, of an impact inside a step), the free coordinates' velocities
+//! are scaled down, and where they carry too little, their displacement is shortened.
+//! A rigid stop the coordinate's smooth motion would pass inside a step is reached
+//! there: the coordinate travels to it and back at the rebound velocity, so rigid stops
+//! are never passed (the gap stays `≥ 0` exactly) and a free flight's bounce is exact.
+//!
 //! Exact sticking: the coordinate velocity of a stuck dash-pot (and of a rigid stop in
 //! contact, and of a non-monotone law on its plateau) is *set* to the graph's value
 //! (`0.0` for stick), not computed from the momentum balance.
@@ -160,12 +170,17 @@ pub(crate) struct TimeSteps<'a, const N: usize> {
     anchor: f64,
     taken: usize,
     point_v: Vec<f64>,
+    /// The displacement over the step where it is not `h v` ([`Point::dq`](super::law::Point)).
+    point_dq: Vec<Option<f64>>,
     exact: Vec<bool>,
     /// Each element's mode in the last step (its graph point), for the switch log.
     pub(crate) modes: Vec<Option<element::Mode>>,
     point_mode: Vec<Part>,
     /// `[q; v]` after the last step.
     y: Vec<f64>,
+    /// The energy after the last step (kinetic, potential, stored in spring-backed
+    /// supports): no step ends above it plus the input's work over the step.
+    energy: f64,
     /// The input is read at `min(t + θh, until)` (see the event driver's `until`).
     pub(crate) until: f64,
     /// The user events (none unless the integrator was given some).
@@ -226,6 +241,7 @@ impl<const N: usize> TimeSteps<'_, N> {
             }
         });
         let y = q.iter().chain(v.iter()).copied().collect();
+        let energy = energy(system, &graphs, &q, &v);
         Ok(TimeSteps {
             traj,
             graphs,
@@ -241,10 +257,12 @@ impl<const N: usize> TimeSteps<'_, N> {
             anchor: problem.t0,
             taken: 0,
             point_v: vec![0.0; ne],
+            point_dq: vec![None; ne],
             exact: vec![false; ne],
             modes: vec![None; ne],
             point_mode: vec![Part::Open; ne],
             y,
+            energy,
             until: f64::INFINITY,
             tracker: Tracker::none(),
             ended: None,
@@ -341,6 +359,7 @@ impl<const N: usize> TimeSteps<'_, N> {
                     h: hn,
                     theta_q: theta_q[coord[e]],
                     force: f_prev[e],
+                    v_smooth: v_free[coord[e]],
                 };
                 let p = match graphs[e].on_line(system, line, &state) {
                     Ok(p) => p,
@@ -361,6 +380,7 @@ impl<const N: usize> TimeSteps<'_, N> {
                 );
                 f[e] = p.f;
                 self.point_v[e] = p.v;
+                self.point_dq[e] = p.dq;
                 self.point_mode[e] = p.part;
                 self.exact[e] = matches!(p.part, Part::Stick | Part::Plateau)
                     || (p.part == Part::Contact && is_rigid(&graphs[e]));
@@ -401,11 +421,78 @@ impl<const N: usize> TimeSteps<'_, N> {
         // Positions move by the θ-weighted velocity; a coordinate an element holds
         // (stuck, on a plateau, against a rigid stop) by the velocity it is held at.
         let mut q_next = q + hn * (v + theta_q.component_mul(&(v_new - v)));
+        let mut held = SVector::<bool, N>::repeat(false);
+        let mut exact = SVector::<bool, N>::repeat(false);
         for e in 0..ne {
             if self.exact[e] {
                 let c = coord[e];
                 v_next[c] = self.point_v[e];
                 q_next[c] = q[c] + hn * self.point_v[e];
+                exact[c] = true;
+                // A plateau's speed is exact; zero (stuck, resting) stays zero when
+                // scaled, and a rebound may lose a little more.
+                held[c] |= self.point_mode[e] == Part::Plateau;
+            }
+        }
+        // A rigid stop reached inside the step moves its coordinate to the stop and back
+        // (whatever else holds the coordinate at the step's end).
+        for e in 0..ne {
+            if let (true, Some(dq)) = (self.exact[e], self.point_dq[e]) {
+                q_next[coord[e]] = q[coord[e]] + dq;
+            }
+        }
+        // No rigid stop is passed (a guard: the stop's own step above never passes it).
+        for g in graphs.iter().filter(|g| is_rigid(g)) {
+            let c = g.element.coordinate;
+            if let ElementKind::Stop { position, .. } = g.element.kind
+                && super::mode::gap(&g.element, q_next[c]) < 0.0
+            {
+                q_next[c] = position;
+            }
+        }
+        // Passivity: the step may not end with more energy than it started with plus the
+        // input's work over it, `τ · (q_{n+1} − q_n)`. The scheme's local energy error is
+        // O(h²) of either sign (the linearly implicit smooth step on a configuration-
+        // dependent mass matrix, an impact placed in a step, friction that stops a
+        // coordinate moved by the mean velocity at θ = ½); where it would gain, the
+        // velocities of the coordinates no element holds are scaled down until it does
+        // not, and where they carry too little, the displacement of the coordinates no
+        // element holds is shortened (theory.md §3).
+        let work = tau.dot(&(q_next - q));
+        let allowed = self.energy + work;
+        let mut e_next = energy(system, graphs, &q_next, &v_next);
+        if e_next > allowed {
+            v_next = dissipate(system, &q_next, &v_next, &held, e_next - allowed);
+            e_next = energy(system, graphs, &q_next, &v_next);
+        }
+        if e_next > allowed {
+            let shortened = |beta: f64| {
+                SVector::<f64, N>::from_fn(|c, _| {
+                    if exact[c] {
+                        q_next[c]
+                    } else {
+                        q[c] + beta * (q_next[c] - q[c])
+                    }
+                })
+            };
+            // The input's work shrinks with the displacement.
+            let fits = |beta: f64| {
+                let qb = shortened(beta);
+                let e = energy(system, graphs, &qb, &v_next);
+                (e <= self.energy + tau.dot(&(qb - q))).then_some(e)
+            };
+            if fits(0.0).is_some() {
+                let (mut lo, mut hi) = (0.0, 1.0);
+                for _ in 0..40 {
+                    let mid = 0.5 * (lo + hi);
+                    if fits(mid).is_some() {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                q_next = shortened(lo);
+                e_next = energy(system, graphs, &q_next, &v_next);
             }
         }
 
@@ -472,6 +559,7 @@ impl<const N: usize> TimeSteps<'_, N> {
                 traj.push_jump(te, &row_after, &dy);
                 self.q = SVector::from_column_slice(&y_e[..N]);
                 self.v = SVector::from_column_slice(&y_e[N..2 * N]);
+                self.energy = energy(system, graphs, &self.q, &self.v);
                 self.t = te;
                 self.y = y_e;
                 (self.anchor, self.taken) = (te, 0);
@@ -516,10 +604,65 @@ impl<const N: usize> TimeSteps<'_, N> {
             (self.anchor, self.taken) = (t_next, 0);
         }
         (self.q, self.v, self.t) = (q_next, v_next, t_next);
+        self.energy = e_next;
         self.y.clear();
         self.y.extend_from_slice(&y[..2 * N]);
         Ok(())
     }
+}
+
+/// The energy of state `(q, v)`: kinetic and potential ([`Energy`](crate::kernels::Energy))
+/// and what the spring-backed supports store, `½ k_s ((−gap)₊)²`.
+fn energy<S: NonSmooth<N>, const N: usize>(
+    system: &S,
+    graphs: &[Graph],
+    q: &SVector<f64, N>,
+    v: &SVector<f64, N>,
+) -> f64 {
+    let stored: f64 = graphs
+        .iter()
+        .filter_map(|g| match g.element.kind {
+            ElementKind::Stop {
+                kind: StopKind::SpringBacked { stiffness },
+                ..
+            } => {
+                let pressed = (-super::mode::gap(&g.element, q[g.element.coordinate])).max(0.0);
+                Some(0.5 * stiffness * pressed * pressed)
+            }
+            _ => None,
+        })
+        .sum();
+    system.total_energy(q, v) + stored
+}
+
+/// `v` with the velocities of the coordinates not `held` scaled by the `α ∈ [0, 1]`
+/// closest to 1 that lowers the kinetic energy `½ vᵀ M(q) v` by `excess` (by as much as
+/// it can where that is more than they carry).
+fn dissipate<S: NonSmooth<N>, const N: usize>(
+    system: &S,
+    q: &SVector<f64, N>,
+    v: &SVector<f64, N>,
+    held: &SVector<bool, N>,
+    excess: f64,
+) -> SVector<f64, N> {
+    let m = system.mass_matrix(q);
+    let vx = SVector::<f64, N>::from_fn(|c, _| if held[c] { v[c] } else { 0.0 });
+    let vf = v - vx;
+    // T(α) = a α² + b α + c; T(1) − excess wanted.
+    let a = 0.5 * vf.dot(&(m * vf));
+    let b = vf.dot(&(m * vx));
+    let c = 0.5 * vx.dot(&(m * vx));
+    if a.is_nan() || a <= 0.0 {
+        return *v;
+    }
+    let target = a + b + c - excess;
+    let disc = b * b - 4.0 * a * (c - target);
+    let alpha = if disc >= 0.0 {
+        (-b + disc.sqrt()) / (2.0 * a)
+    } else {
+        -b / (2.0 * a)
+    };
+    vx + vf * alpha.clamp(0.0, 1.0)
 }
 
 /// `[q; v; f]`, a row of the trajectory.
@@ -922,7 +1065,7 @@ mod tests {
         let problem = NonSmoothProblem::new(0.0, 15.0, SVector::zeros(), SVector::zeros());
         let mut finals = Vec::new();
         let mut modes = [0usize; 2];
-        for h in [4e-3, 2e-3, 1e-3] {
+        for h in [4e-3, 2e-3, 1e-3, 5e-4] {
             let traj = time_stepping(&sys, &input, &problem, h, 0.5).unwrap();
             assert!(
                 traj.stats.newton_iterations > traj.stats.steps,
@@ -956,12 +1099,15 @@ mod tests {
                 .map(|(x, y)| (x - y).abs())
                 .fold(0.0, f64::max)
         };
-        let (d1, d2) = (d(&finals[0], &finals[1]), d(&finals[1], &finals[2]));
-        eprintln!(
-            "coupled chain: successive differences {d1:e} {d2:e}, ratio {}",
-            d1 / d2
-        );
-        assert!(d1 < 0.05 && (1.5..3.0).contains(&(d1 / d2)), "{d1} {d2}");
+        // Successive differences shrink, at an order between one and two over the range
+        // (stick–slip transitions fall on grid-dependent steps, so one pair alone is
+        // noisy: 3.5 and 1.5 for the first two pairs, with passivity enforced at θ = ½).
+        let diffs: Vec<f64> = finals.windows(2).map(|w| d(&w[0], &w[1])).collect();
+        let order = (diffs[0] / diffs[2]).log2() / 2.0;
+        eprintln!("coupled chain: successive differences {diffs:?}, order {order:.2}");
+        assert!(diffs[0] < 0.05, "{diffs:?}");
+        assert!(diffs.windows(2).all(|w| w[1] < w[0]), "{diffs:?}");
+        assert!((0.7..=2.2).contains(&order), "order {order}: {diffs:?}");
     }
 
     /// Bouncing on a rigid floor under gravity-like force (Zeno at t = √2 (1 + 2e/(1−e))

@@ -73,6 +73,15 @@ impl<const N: usize, const E: usize> Mechanism<N> for Lumped<N, E> {
     }
 }
 
+impl<const N: usize, const E: usize> crate::kernels::Energy<N> for Lumped<N, E> {
+    fn kinetic_energy(&self, _q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64 {
+        (0..N).map(|i| 0.5 * self.m[i] * v[i] * v[i]).sum()
+    }
+    fn potential_energy(&self, q: &SVector<f64, N>) -> f64 {
+        0.5 * q.dot(&(self.k * q))
+    }
+}
+
 impl<const N: usize, const E: usize> NonSmooth<N> for Lumped<N, E> {
     const ELEMENTS: usize = E;
     fn element(&self, e: usize) -> Element {

@@ -117,6 +117,7 @@ impl<S: NonSmooth<N>, const N: usize> Forces<S, N> for Bingham {
                     v: 0.0,
                     f,
                     part: Part::Stick,
+                    dq: None,
                 }
             } else {
                 slip(f)
@@ -140,6 +141,7 @@ impl<S: NonSmooth<N>, const N: usize> Forces<S, N> for Bingham {
                         v: s * v_min,
                         f: s * (a - v_min) / w,
                         part: Part::Plateau,
+                        dq: None,
                     },
                     None => slip(s * x),
                 }

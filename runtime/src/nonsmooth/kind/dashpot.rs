@@ -111,6 +111,7 @@ pub(crate) fn stick_on_line(line: Line, limit: f64) -> Option<Point> {
         v: 0.0,
         f: line.v_free / line.w,
         part: Part::Stick,
+        dq: None,
     })
 }
 
@@ -120,6 +121,7 @@ pub(crate) fn slip_on_line(line: Line, f: f64) -> Point {
         v: line.v_free - line.w * f,
         f,
         part: Part::Slip,
+        dq: None,
     }
 }
 
@@ -210,11 +212,20 @@ impl<F: Friction, S: NonSmooth<N>, const N: usize> Forces<S, N> for F {
         mode.slip().map_or(0.0, |(d, _)| d * self.sliding())
     }
 
-    /// The line meets the segment at rest whenever it crosses `v = 0` there, else one
-    /// slip level.
-    fn on_line(&self, _cx: &Context<S>, line: Line, _state: &StepState) -> Found {
-        Ok(stick_on_line(line, self.held())
-            .unwrap_or_else(|| slip_on_line(line, line.v_free.signum() * self.sliding())))
+    /// Within one step the graph is Coulomb's at the level the step starts in: at rest
+    /// (`v_c = 0`), held up to `held` and slipping at `held` for the step it breaks away
+    /// in (rest persists); moving, at `sliding`. Each step's graph is then monotone, so
+    /// coupled elements' forces converge (with the graph's jump from `held` down to
+    /// `sliding` inside one step they can cycle for ever), and the breakaway step's
+    /// force is off by `held − sliding` for one step: first order, as the scheme.
+    fn on_line(&self, _cx: &Context<S>, line: Line, state: &StepState) -> Found {
+        let level = if state.v == 0.0 {
+            self.held()
+        } else {
+            self.sliding()
+        };
+        Ok(stick_on_line(line, level)
+            .unwrap_or_else(|| slip_on_line(line, line.v_free.signum() * level)))
     }
 
     fn force_of_velocity(&self, _cx: &Context<S>, v: f64, _previous: f64) -> Slip {

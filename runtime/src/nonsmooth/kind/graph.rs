@@ -35,6 +35,10 @@ pub struct StepState {
     pub theta_q: f64,
     /// The element's force at `t_n` (approach 1: the current branch).
     pub force: f64,
+    /// The coordinate's velocity at the step's end under the smooth forces alone (no
+    /// element force): fixed while coupled elements' forces are solved, so a rigid stop
+    /// decides from it whether the step reaches it, and its graph stays monotone.
+    pub v_smooth: f64,
 }
 
 /// Which part of the graph a point lies on.
@@ -59,6 +63,9 @@ pub struct Point {
     pub v: f64,
     pub f: f64,
     pub part: Part,
+    /// The coordinate's displacement over the step where it is not `h v` (a rigid stop
+    /// reached inside the step: it travels to the stop, then back at `v`).
+    pub dq: Option<f64>,
 }
 
 /// A local extremum of a non-monotone slip law on `f > f_crit`.

@@ -141,23 +141,45 @@ impl<S: NonSmooth<N>, const N: usize> Forces<S, N> for Stop {
             v: v_free,
             f: 0.0,
             part: Part::Open,
+            dq: None,
         };
         match self.kind {
             StopKind::Rigid { restitution } => {
-                // Moreau's velocity-level rule with Newton restitution, active set from
-                // the gap predicted half a step ahead (Acary & Brogliato 2008, §10.1):
-                // 0 ≤ u + e·min(u_n, 0) ⊥ λ ≥ 0.
+                // Moreau's velocity-level rule with Newton restitution (Acary & Brogliato
+                // 2008, §10.1), 0 ≤ u − u⁺ ⊥ λ ≥ 0, u⁺ = −e·u_a, active where the step
+                // starts on the stop or its smooth motion u_s (no element forces) would
+                // pass it. The approach speed u_a is the smaller of the step's start and
+                // smooth end, max(u_n, u_s) ≤ 0, so a rebound is never faster than the
+                // velocity it reverses. A rebound within twice what the step's smooth
+                // forces add towards the stop (u_n − u_s) is taken as plastic: it could
+                // not leave the stop, and its flight h·u⁺ against those forces would gain
+                // more potential energy than its kinetic energy holds (the event driver
+                // settles such rebounds alike). Activity and target depend on the step's
+                // start and smooth prediction alone, fixed while coupled elements' forces
+                // are solved: the graph stays monotone.
                 let u_n = sigma * state.v;
-                let active = gap + 0.5 * state.h * u_n <= 0.0;
-                let target = -restitution * u_n.min(0.0);
-                if !active || u_free >= target {
+                let u_s = sigma * state.v_smooth;
+                let g_s = gap + state.h * u_s;
+                if gap > 0.0 && g_s >= 0.0 {
                     return Ok(open);
                 }
+                let rebound = -restitution * u_n.max(u_s).min(0.0);
+                let pull = (u_n - u_s).max(0.0);
+                let target = if rebound > 2.0 * pull { rebound } else { 0.0 };
+                if u_free >= target {
+                    return Ok(open);
+                }
+                // Reached inside the step (from a gap): the coordinate travels to the
+                // stop and back at u⁺ for the part of the step its free motion would
+                // have spent beyond it, g_s / u_s, so it never passes the stop and a free
+                // flight's bounce is placed exactly.
+                let dq = (gap > 0.0).then(|| sigma * (target * (g_s / u_s) - gap));
                 let lambda = (target - u_free) / w;
                 Ok(Point {
                     v: sigma * target,
                     f: -sigma * lambda,
                     part: Part::Contact,
+                    dq,
                 })
             }
             StopKind::SpringBacked { stiffness } => {
@@ -183,6 +205,7 @@ impl<S: NonSmooth<N>, const N: usize> Forces<S, N> for Stop {
                     v: sigma * (u_free + w * lambda),
                     f: -sigma * lambda,
                     part: Part::Contact,
+                    dq: None,
                 })
             }
         }

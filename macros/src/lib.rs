@@ -11,8 +11,5 @@ use proc_macro::TokenStream;
     )
 )]
 pub fn derive_mechanism(input: TokenStream) -> TokenStream {
-    match filippov_codegen::expand(input.into()) {
-        Ok(ts) => ts.into(),
-        Err(e) => filippov_codegen::emit::fallback::errors(e).into(),
-    }
+    filippov_codegen::derive(input.into()).into()
 }

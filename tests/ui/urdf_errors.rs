@@ -47,4 +47,10 @@ struct NegativeMass;
 #[mechanism(urdf = "../../../../tests/ui/urdf/unphysical_inertia.urdf")]
 struct UnphysicalInertia;
 
+// A movable joint whose axis has no direction: named as the file names it, with the
+// URDF to write, and nothing after it.
+#[derive(Mechanism)]
+#[mechanism(urdf = "../../../../tests/ui/urdf/zero_axis.urdf")]
+struct ZeroAxis;
+
 fn main() {}

@@ -33,6 +33,17 @@ pub struct Expansion {
     pub functions: Vec<FnStats>,
 }
 
+/// The derive: the expansion, or on a mistake its spanned errors with stand-in impls
+/// that keep the program's uses of the scene from adding follow-on errors
+/// ([`emit::fallback`]).
+pub fn derive(input: TokenStream) -> TokenStream {
+    let parsed = syn::parse2::<syn::DeriveInput>(input.clone()).ok();
+    match expand(input) {
+        Ok(tokens) => tokens,
+        Err(e) => emit::fallback::errors(e, parsed.as_ref()),
+    }
+}
+
 /// Expands `#[derive(Mechanism)]` on `input` (the struct's tokens).
 pub fn expand(input: TokenStream) -> Result<TokenStream, syn::Error> {
     expand_with_stats(input).map(|e| e.tokens)

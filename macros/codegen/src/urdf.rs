@@ -324,6 +324,46 @@ fn respan(tokens: TokenStream, span: Span, params: &[Param]) -> TokenStream {
 
 const PLACEHOLDER: &str = "__urdf_param_";
 
+/// The identifiers one kind of a file's names (its links, or its joints) become: a name
+/// that is an identifier keeps itself; another becomes [`ident`] of it, with `_2`, `_3`,
+/// … appended where that is taken, so two different names never become one identifier
+/// (`j-1` and `j_1` are `j_1_2` and `j_1`).
+#[cfg_attr(not(feature = "urdf"), allow(dead_code))]
+struct Idents(std::collections::HashMap<String, String>);
+
+#[cfg_attr(not(feature = "urdf"), allow(dead_code))]
+impl Idents {
+    fn new<'a>(names: impl Iterator<Item = &'a str> + Clone) -> Self {
+        let mut map = std::collections::HashMap::new();
+        let mut taken = std::collections::HashSet::new();
+        for n in names.clone() {
+            if ident(n) == n && taken.insert(n.to_string()) {
+                map.insert(n.to_string(), n.to_string());
+            }
+        }
+        for n in names {
+            if map.contains_key(n) {
+                continue;
+            }
+            let base = ident(n);
+            let mut candidate = base.clone();
+            let mut k = 2;
+            while taken.contains(&candidate) {
+                candidate = format!("{base}_{k}");
+                k += 1;
+            }
+            taken.insert(candidate.clone());
+            map.insert(n.to_string(), candidate);
+        }
+        Idents(map)
+    }
+
+    /// The identifier of `name` (one of the names it was made from).
+    fn of(&self, name: &str) -> String {
+        self.0.get(name).cloned().unwrap_or_else(|| ident(name))
+    }
+}
+
 /// A URDF name as an identifier: other characters become `_`, a leading digit or a
 /// keyword gets a suffix. The joint's column names use this form.
 pub fn ident(name: &str) -> String {
@@ -441,10 +481,12 @@ fn check_params(
     params: &[Param],
 ) -> Vec<(String, Option<usize>)> {
     let mut errors = Vec::new();
+    let link_ids = Idents::new(robot.links.iter().map(|l| l.name.as_str()));
+    let joint_ids = Idents::new(robot.joints.iter().map(|j| j.name.as_str()));
     for (k, p) in params.iter().enumerate() {
         let (el, prop) = (p.element.to_string(), p.property.to_string());
-        let is_link = robot.links.iter().any(|l| ident(&l.name) == el);
-        let is_joint = robot.joints.iter().any(|j| ident(&j.name) == el);
+        let is_link = robot.links.iter().any(|l| link_ids.of(&l.name) == el);
+        let is_joint = robot.joints.iter().any(|j| joint_ids.of(&j.name) == el);
         let ok = match prop.as_str() {
             "mass" => is_link,
             _ => is_joint,
@@ -456,7 +498,7 @@ fn check_params(
                 Some(k),
             ));
         }
-        let joint = robot.joints.iter().find(|j| ident(&j.name) == el);
+        let joint = robot.joints.iter().find(|j| joint_ids.of(&j.name) == el);
         if let Some(j) = joint
             && prop != "mass"
         {
@@ -506,10 +548,13 @@ fn translate_file(
 ) -> Result<String, Vec<String>> {
     // The placeholder standing for a bound value, replaced by its expression after
     // parsing (see `respan`).
+    let link_ids = Idents::new(robot.links.iter().map(|l| l.name.as_str()));
+    let joint_ids = Idents::new(robot.joints.iter().map(|j| j.name.as_str()));
+    // `el`: the identifier of the link or joint.
     let bound = |el: &str, prop: &str| -> Option<String> {
         params
             .iter()
-            .position(|p| p.element == ident(el) && p.property == prop)
+            .position(|p| p.element == el && p.property == prop)
             .map(|k| format!("{PLACEHOLDER}{k}"))
     };
     let mut errors = Vec::new();
@@ -620,8 +665,8 @@ fn translate_file(
         let rows: Vec<String> = inertia.iter().map(|r| vec3(*r)).collect();
         out.push_str(&format!(
             "#[body({}, mass = {}, com = {}, inertia = [{}])]\n",
-            ident(name),
-            bound(name, "mass").unwrap_or_else(|| num(m)),
+            link_ids.of(name),
+            bound(&link_ids.of(name), "mass").unwrap_or_else(|| num(m)),
             vec3(l.inertial.origin.xyz.0),
             rows.join(", ")
         ));
@@ -631,8 +676,8 @@ fn translate_file(
         body(root, links[root], &mut out, &mut errors);
         out.push_str(&format!(
             "#[joint({}_base: free, parent = world, child = {})]\n",
-            ident(root),
-            ident(root)
+            link_ids.of(root),
+            link_ids.of(root)
         ));
     }
     let mut stops = String::new();
@@ -644,18 +689,18 @@ fn translate_file(
                 let parent = if j.parent.link == world_body && !opts.free_base {
                     "world".to_string()
                 } else {
-                    ident(&j.parent.link)
+                    link_ids.of(&j.parent.link)
                 };
                 out.push_str(&format!(
                     "#[frame({}, parent = {parent}, origin = {}, rpy = {})]\n",
-                    ident(child),
+                    link_ids.of(child),
                     vec3(j.origin.xyz.0),
                     vec3(j.origin.rpy.0)
                 ));
             }
             continue;
         }
-        let jn = ident(&j.name);
+        let jn = joint_ids.of(&j.name);
         // The body first: its own errors are reported whatever is wrong with the joint.
         body(child, links[child], &mut out, &mut errors);
         if j.mimic.is_some() && !locked(j) {
@@ -666,6 +711,22 @@ fn translate_file(
             continue;
         }
         let axis = j.axis.xyz.0;
+        let moves = matches!(
+            j.joint_type,
+            urdf_rs::JointType::Revolute
+                | urdf_rs::JointType::Continuous
+                | urdf_rs::JointType::Prismatic
+        );
+        if moves
+            && !locked(j)
+            && !(axis.iter().all(|x| x.is_finite()) && axis.iter().any(|x| *x != 0.0))
+        {
+            errors.push(format!(
+                "joint `{}` has the axis `<axis xyz=\"{} {} {}\"/>`, which has no direction: give a non-zero vector (for example `<axis xyz=\"0 0 1\"/>`), or lock the joint",
+                j.name, axis[0], axis[1], axis[2]
+            ));
+            continue;
+        }
         let kind = match j.joint_type {
             _ if locked(j) => "fixed".to_string(),
             urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => {
@@ -684,11 +745,11 @@ fn translate_file(
         let parent = if j.parent.link == world_body && !opts.free_base {
             "world".to_string()
         } else {
-            ident(&j.parent.link)
+            link_ids.of(&j.parent.link)
         };
         out.push_str(&format!(
             "#[joint({jn}: {kind}, parent = {parent}, child = {}, origin = {}, rpy = {})]\n",
-            ident(child),
+            link_ids.of(child),
             vec3(j.origin.xyz.0),
             vec3(j.origin.rpy.0)
         ));
@@ -702,7 +763,7 @@ fn translate_file(
             && let Some(law) = stop_law(limits)
         {
             let (lo, hi) = (j.limit.lower, j.limit.upper);
-            let (blo, bhi) = (bound(&j.name, "lower"), bound(&j.name, "upper"));
+            let (blo, bhi) = (bound(&jn, "lower"), bound(&jn, "upper"));
             if (lo.is_finite() && hi.is_finite() && lo < hi) || (blo.is_some() && bhi.is_some()) {
                 stops.push_str(&format!(
                     "#[stop({jn}, min = {}, max = {}, {law})]\n",
@@ -718,14 +779,14 @@ fn translate_file(
             .as_ref()
             .map_or((0.0, 0.0), |d| (d.friction, d.damping));
         if !fixed(j) {
-            match bound(&j.name, "friction") {
+            match bound(&jn, "friction") {
                 Some(b) => stops.push_str(&format!("#[friction({jn}, f_crit = {b})]\n")),
                 None if opts.friction && friction > 0.0 => {
                     stops.push_str(&format!("#[friction({jn}, f_crit = {})]\n", num(friction)))
                 }
                 None => {}
             }
-            match bound(&j.name, "damping") {
+            match bound(&jn, "damping") {
                 Some(b) => stops.push_str(&format!("#[damper({jn}, c = {b})]\n")),
                 None if opts.damping && damping > 0.0 => {
                     stops.push_str(&format!("#[damper({jn}, c = {})]\n", num(damping)))

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Peer measurements for the report: Pinocchio, SciPy and SymPy in peers/.venv.
-# Writes target/report/peers/peers.md and peers.tsv (the report embeds them).
-# Needs the exported models: cargo run --release --example report -- --no-compile
+# Peer measurements for the report: Pinocchio, SciPy and SymPy in a virtual environment
+# cached at target/peers/venv (PEERS_VENV overrides it). Writes target/report/peers/
+# peers.md and peers.tsv (the report embeds them). The report runs this script itself
+# before its sections (unless --no-peers); by hand it needs the exported models first.
 # diffsol is not run here: the report builds and runs peers/diffsol itself (its README).
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -10,7 +11,8 @@ OUT="$ROOT/target/report/peers"
 MODELS="$ROOT/target/report/models"
 BUILD="$OUT/build"
 RES="$OUT/results"
-VENV="$HERE/.venv"
+# The virtual environment is cached under target/ (the report runs this script itself).
+VENV="${PEERS_VENV:-$ROOT/target/peers/venv}"
 PY="$VENV/bin/python"
 
 fail() { echo "peers/run.sh: FAILED: $*" >&2; exit 1; }

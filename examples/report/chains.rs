@@ -239,9 +239,9 @@ pub fn chains(config: &Config) -> Section {
          build, `gcc -O3` without `-march`); the two ns columns are timed in this run, in three interleaved rounds (median of \
          the rounds' medians, min–max over their batches). {}",
         if have_sympy {
-            "SymPy's derivation time and operation count are from the last `bash peers/run.sh` (`target/report/peers/peers.tsv`); its compiled code is timed in this run."
+            "SymPy's derivation time and operation count are from the peer script this report ran (`peers/run.sh`, `target/report/peers/peers.tsv`); its compiled code is timed in this run."
         } else {
-            "SymPy has not been run on this machine (`bash peers/run.sh`), so only our columns are filled."
+            "SymPy did not run (`--no-peers`, or the peer script failed: see the peers' section), so only our columns are filled."
         }
     ));
     page.table(

@@ -282,10 +282,10 @@ pub fn flags(config: &Config) -> Section {
     let (models, missing) = models(config);
     if models.is_empty() {
         page.para(
-            "The peers' binaries or models are missing (`bash peers/run.sh` builds Pinocchio's and SymPy's, baseline and native, \
+            "The peers' binaries or models are missing (the peer script the report runs, `peers/run.sh`, builds Pinocchio's and SymPy's, baseline and native, unless `--no-peers`; \
              after one report run has written the models), so nothing is compared here.",
         );
-        summary.push("CPU flags: not measured (run `bash peers/run.sh`, then the report)".into());
+        summary.push("CPU flags: not measured (the peers' binaries are missing: `--no-peers`, or the peer script failed)".into());
         return Section { page, summary };
     }
     let work = config.out_dir.join("flags");
@@ -395,7 +395,7 @@ pub fn flags(config: &Config) -> Section {
          this run, each a median of 21 batches of about 20 ms after a warm-up, inputs through `black_box` (ours) or a \
          sink (theirs); a cell shows the median of the rounds' medians (min–max over all batches), a ratio peer / ours \
          (> 1: ours faster) with the range pairing the extremes. Ours is a throwaway crate (`target/report/flags/crate`, \
-         built in {base_s:.0} s and {native_s:.0} s); the peers' binaries are those `bash peers/run.sh` builds. \
+         built in {base_s:.0} s and {native_s:.0} s); the peers' binaries are those the peer script (`peers/run.sh`) builds. \
          Parameters: the scenes' are struct fields read at run time (the struct passes through `black_box`), the URDF \
          robots' and the chain's are literals in the declaration, as the derive reads them; Pinocchio reads its model \
          at run time, SymPy's C has the chain's parameters as literals. Scenes at the state `peers/pin_bench.py` times \
@@ -403,7 +403,7 @@ pub fn flags(config: &Config) -> Section {
     ));
     if !missing.is_empty() {
         page.para(&format!(
-            "Not compared (peer binary, model or state missing; `bash peers/run.sh` after a report run writes them): {}.",
+            "Not compared (peer binary, model or state missing: `--no-peers`, or the peer script failed): {}.",
             missing.join(", ")
         ));
     }

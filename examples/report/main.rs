@@ -94,6 +94,28 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
         let _ = peers::diffsol(config);
         log("the diffsol peer built and run", since);
     }
+    // Pinocchio, SciPy and SymPy: the peer script runs here, before the sections that
+    // time the peers' programs beside ours or read their results (URDF robots, planar
+    // chains, CPU flags, the peers' section). It needs the scene models and the URDF
+    // robots' states, written first (the URDF section's export; its page is discarded).
+    let peer_script = if config.peers
+        && ["kernels", "chains", "urdf", "flags"]
+            .iter()
+            .any(|s| config.runs(s))
+    {
+        progress.set_message(
+            "running the peers: Pinocchio, SciPy, SymPy (peers/run.sh; minutes the first time)",
+        );
+        let since = std::time::Instant::now();
+        peers::export_models(config)?;
+        let _ = urdf::urdf(config);
+        markdown::clear_headlines();
+        let status = peers::run_script(config);
+        log("the peer script (Pinocchio, SciPy, SymPy)", since);
+        Some(status)
+    } else {
+        None
+    };
     // A section not asked for by `--only` is left out (empty page, no summary).
     macro_rules! section {
         ($key:literal, $msg:literal, $run:expr) => {{
@@ -157,7 +179,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     );
     let p = if config.runs("kernels") {
         peers::export_models(config)?;
-        peers::peers(config)
+        peers::peers(config, peer_script.as_ref())
     } else {
         Default::default()
     };

@@ -120,6 +120,11 @@ pub fn headline(
 }
 
 /// The headline rows recorded so far, in the order the sections ran.
+/// Forgets the headlines so far (a section run only for what it writes to disk).
+pub fn clear_headlines() {
+    HEADLINES.lock().unwrap_or_else(|e| e.into_inner()).clear();
+}
+
 pub fn headlines() -> Vec<Headline> {
     HEADLINES.lock().unwrap_or_else(|e| e.into_inner()).clone()
 }

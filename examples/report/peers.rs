@@ -42,12 +42,56 @@ pub fn export_models(config: &Config) -> std::io::Result<()> {
     Ok(())
 }
 
-/// The peers section: the peer script's own tables, and diffsol.
-pub fn peers(config: &Config) -> Section {
+/// Runs `peers/run.sh` (Pinocchio, SciPy, SymPy; its virtual environment cached under
+/// `target/peers/venv`), its output in `target/report/peers/run.log`. `Err` says why it
+/// could not run, in the script's own words (its last `FAILED` line).
+pub fn run_script(config: &Config) -> Result<(), String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = config.out_dir.join("peers");
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let log_path = dir.join("run.log");
+    let log = std::fs::File::create(&log_path)
+        .map_err(|e| format!("cannot write {}: {e}", log_path.display()))?;
+    let err = log
+        .try_clone()
+        .map_err(|e| format!("cannot write {}: {e}", log_path.display()))?;
+    let status = Command::new("bash")
+        .arg(root.join("peers/run.sh"))
+        .current_dir(root)
+        .stdin(Stdio::null())
+        .stdout(log)
+        .stderr(err)
+        .status()
+        .map_err(|e| format!("cannot start bash: {e}"))?;
+    let text = std::fs::read_to_string(&log_path).unwrap_or_default();
+    if status.success() {
+        return Ok(());
+    }
+    let why = text
+        .lines()
+        .rev()
+        .find(|l| l.contains("FAILED"))
+        .or_else(|| text.lines().rev().find(|l| !l.trim().is_empty()))
+        .unwrap_or("no output")
+        .trim()
+        .to_string();
+    Err(format!("{why} (full output: {})", log_path.display()))
+}
+
+/// The peers section: the peer script's own tables, and diffsol. `script` is how the
+/// peer script went in this run (`None`: not run, `--no-peers` or `--only`).
+pub fn peers(config: &Config, script: Option<&Result<(), String>>) -> Section {
     let mut page = Page::empty();
     let mut summary = Vec::new();
     page.h2("Peers");
     let dir = config.out_dir.join("peers");
+    if let Some(Err(why)) = script {
+        page.para(&format!(
+            "**Pinocchio, SciPy and SymPy could not run in this run**: {why}. Figures below, if any, are from an \
+             earlier run of the peer script."
+        ));
+        summary.push(format!("Peers: Pinocchio, SciPy and SymPy could not run: {why}"));
+    }
     match std::fs::read_to_string(dir.join("peers.md")) {
         Ok(md) => {
             page.para(
@@ -59,10 +103,11 @@ pub fn peers(config: &Config) -> Section {
         }
         _ => {
             page.para(
-                "The peer script has not been run on this machine, so no peer figures are shown. Run `bash peers/run.sh` \
-                 (it installs Pinocchio, SciPy and SymPy into `peers/.venv`) and then the report again.",
+                "The peer script did not run (`--no-peers`, or none of the sections that use it), so no peer figures are \
+                 shown; the report runs it (`peers/run.sh`, which installs Pinocchio, SciPy and SymPy into \
+                 `target/peers/venv`) unless told not to.",
             );
-            summary.push("Peers: not run (no figures); `bash peers/run.sh` runs them".into());
+            summary.push("Peers: not run in this report (`--no-peers`)".into());
         }
     }
     diffsol_section(config, &mut page, &mut summary);

@@ -445,7 +445,7 @@ pub fn urdf(config: &Config) -> Section {
             robot.file,
             fd_ns.show(0),
             sci(err),
-            peer.map_or(String::from("; Pinocchio not run (bash peers/run.sh)"), |p| format!(
+            peer.map_or(String::from("; Pinocchio not run (`--no-peers`, or the peer script failed)"), |p| format!(
                 "; against Pinocchio M, C v + g {} and FD {}",
                 sci(p[0].max(p[1])),
                 sci(p[2]),
@@ -469,7 +469,7 @@ pub fn urdf(config: &Config) -> Section {
             ),
             "Pinocchio `buildModelFromUrdf` (peers/urdf_pin.py)",
             "—",
-            "largest differences over robots, states and frames; the peers' figures are as recent as the last `bash peers/run.sh`",
+            "largest differences over robots, states and frames; the peers' figures are from the peer script this report ran",
         );
     }
     if !pin_speed.is_empty() {
@@ -498,7 +498,7 @@ pub fn urdf(config: &Config) -> Section {
         "Each file in `robots/` read at compile time by `#[mechanism(urdf = …)]` (default kernels). Expansion: the \
          engine (release build) on the attribute, median. FD ns: generated forward dynamics, median of batches. \
          \"numeric\": the largest relative difference of M, C v + g and FD from `numeric::Model::from_urdf` (a \
-         second reader of the same file) at 20 random states. Pinocchio (columns filled after `bash peers/run.sh`, \
+         second reader of the same file) at 20 random states. Pinocchio (columns filled by the peer script the report runs, \
          which loads the same URDFs with `buildModelFromUrdf`; Panda fingers locked, Solo12 and the humanoid with \
          a free-flyer base, their velocities mapped to ours): the same differences at the same states, and \
          Pinocchio's `aba` in C++ (`peers/pin_bench.cpp`, g++ -O3 for the baseline x86-64 target as this report is built, on the model \

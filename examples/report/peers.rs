@@ -90,7 +90,9 @@ pub fn peers(config: &Config, script: Option<&Result<(), String>>) -> Section {
             "**Pinocchio, SciPy and SymPy could not run in this run**: {why}. Figures below, if any, are from an \
              earlier run of the peer script."
         ));
-        summary.push(format!("Peers: Pinocchio, SciPy and SymPy could not run: {why}"));
+        summary.push(format!(
+            "Peers: Pinocchio, SciPy and SymPy could not run: {why}"
+        ));
     }
     match std::fs::read_to_string(dir.join("peers.md")) {
         Ok(md) => {

@@ -69,7 +69,10 @@
 //! ## Attributes
 //! - `#[mechanism(gravity = [gx, gy, gz], inputs = [joint, …], emit = [kernel, …])]` —
 //!   all optional; no gravity code without gravity; `inputs` names the actuated joints
-//!   and adds `INPUTS` and `input_forces(u)` (the map `τ = B u`); `emit` lists the
+//!   and adds the constant `Scene::INPUTS` and the associated function
+//!   `Scene::input_forces(u: &SVector<f64, INPUTS>) -> SVector<f64, N>` (the map
+//!   `τ = B u`, for the input of a run: `&|t, q, v| Scene::input_forces(&u(t, q, v))`,
+//!   or [`Integrator::set_input`](runtime::nonsmooth::Integrator::set_input)); `emit` lists the
 //!   optional kernels — `christoffel`, `coriolis`, `gravity`, `bias`, `passive_forces`,
 //!   `inverse_dynamics`, `energy`, `delassus`, `dae_residuals`, `switching_functions`,
 //!   `kinematics` (poses and Jacobians of every body and frame) — or says `emit = all`. Each is a trait of [`runtime::kernels`] (in the [`prelude`]);

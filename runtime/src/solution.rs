@@ -147,7 +147,6 @@ pub(crate) enum Keep {
 
 /// How the interval ending at a row is interpolated.
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct Segment {
     /// Start of its coefficients in `Solution::coeffs`.
     offset: usize,
@@ -155,7 +154,6 @@ struct Segment {
     degree: usize,
     /// A one-step method's own extension (no earlier point), to be rewritten as the
     /// two-step quintic when the next step continues smoothly (`refine_previous`).
-    #[cfg_attr(feature = "serde", serde(default))]
     one_step: bool,
 }
 
@@ -185,8 +183,11 @@ const HERMITE: Segment = Segment {
 /// assert!((grid[2][1] + 2.5f64.sin()).abs() < 1e-8);
 /// assert_eq!(sol.column("y0").unwrap().len(), sol.len());
 /// ```
+///
+/// With the `serde` feature it serialises to a stable, versioned schema of named
+/// columns, the switch log and the statistics, exact to the bit with any JSON reader
+/// ([`Solution::SCHEMA`]; the format in `solution/json.rs`).
 #[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Solution {
     dim: usize,
     /// The leading components the dense output covers; later ones (element forces) are
@@ -210,19 +211,16 @@ pub struct Solution {
     pub switches: Vec<Switch>,
     /// The user events located in the run, in time order (see [`crate::events`]); the
     /// state is the row's `[q; v]` (or `y`) at the crossing.
-    #[cfg_attr(feature = "serde", serde(default))]
     pub events: Vec<EventHit>,
     output: Output,
     recorder: Recorder,
     /// `Some(n)`: the first `n` columns are positions whose refined steps are the quintic
     /// in `q, q̇, q̈` (see [`OdeSystem::dense_positions`](crate::OdeSystem::dense_positions)).
-    #[cfg_attr(feature = "serde", serde(default))]
     dense_positions: Option<usize>,
 }
 
 /// What the row filter of [`Output`] remembers between steps.
 #[derive(Clone, Debug, Default, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct Recorder {
     /// Accepted steps since the last kept row (`Every`).
     skipped: usize,
@@ -235,7 +233,15 @@ struct Recorder {
     started: bool,
 }
 
+#[cfg(feature = "serde")]
+mod json;
+
 impl Solution {
+    /// The schema a serialised solution carries and is read with (feature `serde`):
+    /// `filippov.solution/1`.
+    #[cfg(feature = "serde")]
+    pub const SCHEMA: &'static str = json::SCHEMA;
+
     /// An empty solution with these column names, of which the first `dense_dim` are
     /// covered by dense output.
     pub(crate) fn new(names: Vec<String>, dense_dim: usize, output: Output) -> Self {
@@ -754,8 +760,10 @@ mod serde_tests {
     }
 
     /// A non-smooth solution (rows, dense segments, switch log, statistics) and the
-    /// options survive a JSON round trip unchanged, and the restored solution
-    /// interpolates as the original.
+    /// options survive a JSON round trip with plain serde_json unchanged to the bit, and
+    /// the restored solution interpolates as the original. The JSON is the schema's: a
+    /// reader that knows nothing of this crate finds the named columns, the switch log
+    /// and the statistics.
     #[test]
     fn solution_round_trips_through_json() {
         let sys = oscillator(
@@ -771,11 +779,76 @@ mod serde_tests {
         let back: Solution = serde_json::from_str(&json).unwrap();
         assert_eq!(back, sol);
         assert_eq!(back.at(3.3), sol.at(3.3));
+        let value: serde_json::Value = serde_json::from_str(&json).unwrap();
+        assert_eq!(value["schema"], Solution::SCHEMA);
+        assert_eq!(value["columns"][0]["name"], "q0");
+        assert_eq!(value["columns"][2]["name"], "f_friction");
+        let t1: f64 = value["t"][1].as_str().unwrap().parse().unwrap();
+        assert_eq!(t1, sol.times()[1]);
+        assert_eq!(value["switches"][0]["element"], "friction");
+        assert_eq!(value["stats"]["steps"], sol.stats.steps);
+        // Another schema is refused, naming both.
+        let other = json.replace(Solution::SCHEMA, "filippov.solution/0");
+        let err = serde_json::from_str::<Solution>(&other)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("filippov.solution/0") && err.contains(Solution::SCHEMA),
+            "{err}"
+        );
         let stats: Stats =
             serde_json::from_str(&serde_json::to_string(&sol.stats).unwrap()).unwrap();
         assert_eq!(stats, sol.stats);
         let o = Options::tolerances(1e-7, 1e-9);
         let back: Options = serde_json::from_str(&serde_json::to_string(&o).unwrap()).unwrap();
         assert_eq!(back, o);
+    }
+
+    /// Every bit of every double survives, whatever its exponent (serde_json parses JSON
+    /// numbers to within an ulp only without its float_roundtrip feature): random bit
+    /// patterns in a solution's rows, times, switch log and requested output times.
+    #[test]
+    fn every_bit_round_trips_with_plain_serde_json() {
+        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            // Every double but NaN (whose payload is not kept: all NaNs read back as one).
+            let f = f64::from_bits(x);
+            if f.is_nan() { f64::NEG_INFINITY } else { f }
+        };
+        let names: Vec<String> = (0..3).map(|i| format!("c{i}")).collect();
+        let mut sol = Solution::new(names.clone(), 2, crate::Output::Steps);
+        for i in 0..200 {
+            let y: Vec<f64> = (0..3).map(|_| next()).collect();
+            let dy: Vec<f64> = (0..3).map(|_| next()).collect();
+            if i == 0 {
+                sol.push_start(0.0, &y, &dy);
+            } else {
+                sol.push_jump(next(), &y, &dy);
+            }
+        }
+        sol.switches.push(crate::Switch::of_run(
+            next(),
+            crate::SwitchKind::Reset,
+            vec![next(), f64::INFINITY, f64::MIN_POSITIVE],
+            vec![-0.0, next()],
+        ));
+        let json = serde_json::to_string(&sol).unwrap();
+        let back: Solution = serde_json::from_str(&json).unwrap();
+        let bits = |s: &Solution| -> Vec<u64> {
+            s.rows()
+                .flat_map(|(t, y)| std::iter::once(t).chain(y.iter().copied()))
+                .chain(s.switches[0].before.iter().copied())
+                .chain(s.switches[0].after.iter().copied())
+                .map(f64::to_bits)
+                .collect()
+        };
+        assert_eq!(bits(&back), bits(&sol));
+        let times = crate::Output::Times((0..50).map(|_| next()).collect());
+        let empty = Solution::new(names, 2, times);
+        let back: Solution = serde_json::from_str(&serde_json::to_string(&empty).unwrap()).unwrap();
+        assert_eq!(back, empty);
     }
 }

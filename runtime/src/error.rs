@@ -27,6 +27,10 @@ pub enum ErrorKind {
     IllPosedMode { t: f64, detail: String },
     /// The [`Observer`](crate::Observer) asked to stop after the step ending at `t`.
     Cancelled { t: f64 },
+    /// A time-stepping step to `t` could not be solved: `detail` says which part (the
+    /// linearised smooth step, the coupled elements' forces, one element's law) and
+    /// what may help.
+    StepNotSolved { t: f64, detail: String },
     /// Event-driven integration gave up near `t` because `element` kept switching
     /// through the modes in `cycle` (the last ones, in order) faster than events can be
     /// resolved; time-stepping integrates such spans.
@@ -61,6 +65,12 @@ impl fmt::Display for ErrorKind {
                 write!(f, "no unique consistent mode at t = {t}: {detail}")
             }
             ErrorKind::Cancelled { t } => write!(f, "cancelled by the observer at t = {t}"),
+            ErrorKind::StepNotSolved { t, detail } => {
+                write!(
+                    f,
+                    "the time-stepping step to t = {t} could not be solved: {detail}"
+                )
+            }
             ErrorKind::KeepsSwitching { t, element, cycle } => write!(
                 f,
                 "element `{element}` keeps switching near t = {t} ({cycle}); event-driven \

@@ -55,7 +55,7 @@
 //! `1e-13 (|f| + f_scale)`, or the velocity it makes by more than `1e-13` of the terms
 //! its line is computed from; for monotone graphs and
 //! SPD `W` the sweeps converge. Not converging within [`MAX_SWEEPS`] sweeps is a typed
-//! error ([`ErrorKind::NewtonDivergence`]), never a silent answer.
+//! error ([`ErrorKind::StepNotSolved`], naming the elements), never a silent answer.
 //!
 //! Passivity (theory.md §3): no step ends with more energy (kinetic, potential, stored in
 //! spring-backed supports) than it began with plus the input's work over it,
@@ -107,7 +107,7 @@ const SWEEP_TOL_V: f64 = 1e-13;
 /// `forces0` length, element coordinates or parameters (negative `f_crit`, restitution
 /// outside `[0, 1]`, …, the message names the element) → [`ErrorKind::InvalidInput`];
 /// a NaN or infinity anywhere → [`ErrorKind::NonFinite`] with the trajectory so far; the
-/// coupled solve not converging → [`ErrorKind::NewtonDivergence`].
+/// coupled solve not converging → [`ErrorKind::StepNotSolved`].
 pub fn time_stepping<S, F, const N: usize>(
     system: &S,
     input: &F,
@@ -320,7 +320,13 @@ impl<const N: usize> TimeSteps<'_, N> {
             match lhs.try_inverse() {
                 Some(g) => g,
                 None => {
-                    return Err(ErrorKind::NewtonDivergence { t: t_next });
+                    return Err(ErrorKind::StepNotSolved {
+                        t: t_next,
+                        detail:
+                            "the linearised smooth step (I − θh ∂a/∂v − θh² ∂a/∂q) is singular; \
+                                 a smaller step h may help"
+                                .into(),
+                    });
                 }
             }
         } else {
@@ -342,7 +348,15 @@ impl<const N: usize> TimeSteps<'_, N> {
         let mut sweeps = 0;
         while !converged {
             if sweeps == MAX_SWEEPS {
-                return Err(ErrorKind::NewtonDivergence { t: t_next });
+                let names: Vec<&str> = graphs.iter().map(|g| g.element.name).collect();
+                return Err(ErrorKind::StepNotSolved {
+                    t: t_next,
+                    detail: format!(
+                        "the forces of the coupled elements ({}) did not converge in {MAX_SWEEPS} \
+                         Gauss–Seidel sweeps; a smaller step h may help",
+                        names.join(", ")
+                    ),
+                });
             }
             sweeps += 1;
             let f_start = f.clone();
@@ -364,7 +378,13 @@ impl<const N: usize> TimeSteps<'_, N> {
                 let p = match graphs[e].on_line(system, line, &state) {
                     Ok(p) => p,
                     Err(LawError::NoConvergence) => {
-                        return Err(ErrorKind::NewtonDivergence { t: t_next });
+                        return Err(ErrorKind::StepNotSolved {
+                            t: t_next,
+                            detail: format!(
+                                "the law of element `{}` found no force on its step's line",
+                                graphs[e].element.name
+                            ),
+                        });
                     }
                     Err(_) => {
                         return Err(ErrorKind::NonFinite {

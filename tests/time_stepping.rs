@@ -6,34 +6,19 @@
 //! no rigid stop is ever passed.
 
 mod common;
+/// Two links in a vertical plane, a rigid lower limit on the shoulder (restitution `e`),
+/// friction on the elbow.
+#[path = "../examples/support/resting_arm.rs"]
+#[allow(dead_code)]
+mod resting_arm;
 
 use common::Rng;
 use filippov::Mechanism;
 use filippov::prelude::*;
 use filippov::runtime::{NonSmoothMethod, NonSmoothProblem, Solution, solve_nonsmooth};
+use resting_arm::{RestingArm as LimitedArm, V2};
 
-type V2 = SVector<f64, 2>;
 type V3 = SVector<f64, 3>;
-
-/// Two links in a vertical plane, a rigid lower limit on the shoulder, friction on the
-/// elbow.
-#[derive(Mechanism, Clone, Copy)]
-#[mechanism(gravity = [0.0, -9.81, 0.0])]
-#[body(upper, mass = m1, com = [l1 / 2.0, 0.0, 0.0], inertia = rod(m1, l1))]
-#[joint(shoulder: revolute(z), parent = world, child = upper)]
-#[body(lower, mass = m2, com = [l2 / 2.0, 0.0, 0.0], inertia = rod(m2, l2))]
-#[joint(elbow: revolute(z), parent = upper, child = lower, origin = [l1, 0.0, 0.0])]
-#[friction(elbow, f_crit = fc)]
-#[stop(shoulder, min = lim, restitution = e)]
-struct LimitedArm {
-    m1: f64,
-    l1: f64,
-    m2: f64,
-    l2: f64,
-    fc: f64,
-    lim: f64,
-    e: f64,
-}
 
 /// Three links, a spring-backed lower limit on the shoulder, static/kinetic friction on
 /// the elbow, a spring on the wrist, both limits rigid on the wrist.

@@ -597,26 +597,35 @@ where
         let none = vec![None; self.elements.len()];
         self.select_modes(t, &mut q, &mut v, &none, false)?;
         if old != self.modes {
-            let before = self.state();
-            (self.q, self.v) = (q, v);
-            let forces_after = self.push_row(t, &q, &v, Row::Jump)?;
-            let after = self.state();
-            self.out.stats.events += 1;
-            for e in 0..self.elements.len() {
-                if old[e] != self.modes[e] {
-                    self.out.stats.mode_changes += 1;
-                    self.log(
-                        t,
-                        SwitchKind::Mode,
-                        e,
-                        old[e],
-                        forces_after[e] - forces_before[e],
-                        (&before, &after),
-                    );
-                }
-            }
+            self.jump_to(q, v, &old, &forces_before)?;
         }
         self.restart(stepper)
+    }
+
+    /// The modes changed at the current time from `old` (the row before written, its
+    /// element forces `forces_before`): the state `(q, v)` taken, its second row written,
+    /// the event counted and each element whose mode changed logged.
+    fn jump_to(
+        &mut self,
+        q: SVector<f64, N>,
+        v: SVector<f64, N>,
+        old: &[Mode],
+        forces_before: &[f64],
+    ) -> Result<(), ErrorKind> {
+        let t = self.t;
+        let before = self.state();
+        (self.q, self.v) = (q, v);
+        let forces_after = self.push_row(t, &q, &v, Row::Jump)?;
+        let after = self.state();
+        self.out.stats.events += 1;
+        for e in 0..self.elements.len() {
+            if old[e] != self.modes[e] {
+                self.out.stats.mode_changes += 1;
+                let jump = forces_after[e] - forces_before[e];
+                self.log(t, SwitchKind::Mode, e, old[e], jump, (&before, &after));
+            }
+        }
+        Ok(())
     }
 
     /// The user events of the arc from the current point to `(t1, y1)` on `dense`,
@@ -1481,18 +1490,9 @@ where
         if modes == old {
             return Ok(false);
         }
-        let (before, forces_before) = (self.state(), self.last_forces.clone());
-        (self.q, self.v, self.modes) = (q, v, modes);
-        let forces_after = self.push_row(t, &q, &v, Row::Jump)?;
-        let after = self.state();
-        self.out.stats.events += 1;
-        for e in 0..self.elements.len() {
-            if old[e] != self.modes[e] {
-                self.out.stats.mode_changes += 1;
-                let jump = forces_after[e] - forces_before[e];
-                self.log(t, SwitchKind::Mode, e, old[e], jump, (&before, &after));
-            }
-        }
+        let forces_before = self.last_forces.clone();
+        self.modes = modes;
+        self.jump_to(q, v, &old, &forces_before)?;
         Ok(true)
     }
 

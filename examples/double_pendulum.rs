@@ -11,36 +11,8 @@ use std::time::Instant;
 use filippov::nalgebra::SVector;
 use filippov::prelude::*;
 use filippov::runtime::{MechanicalSystem, Method, Options, Problem, Solution, solve};
+use filippov_scenes::DoublePendulum;
 use support::{Scale, Series, line_plot, plot_over_time, plot_path, time_series};
-
-/// Theory S8: two uniform rods hinged at their ends, swinging in the x–y plane under
-/// gravity along −y. Angles are measured from the x axis.
-#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(emit = all, gravity = [0.0, -g, 0.0])]
-#[body(upper, mass = m1, com = [l1 / 2.0, 0.0, 0.0], inertia = rod(m1, l1))]
-#[joint(shoulder: revolute(z), parent = world, child = upper)]
-#[body(lower, mass = m2, com = [l2 / 2.0, 0.0, 0.0], inertia = rod(m2, l2))]
-#[joint(elbow: revolute(z), parent = upper, child = lower, origin = [l1, 0.0, 0.0])]
-struct DoublePendulum {
-    m1: f64,
-    l1: f64,
-    m2: f64,
-    l2: f64,
-    g: f64,
-}
-
-impl Default for DoublePendulum {
-    /// The parameters of theory S8.
-    fn default() -> Self {
-        DoublePendulum {
-            m1: 1.0,
-            l1: 1.0,
-            m2: 0.5,
-            l2: 0.7,
-            g: 9.81,
-        }
-    }
-}
 
 fn energy(p: &DoublePendulum, y: &[f64]) -> f64 {
     let q = SVector::<f64, 2>::from_column_slice(&y[..2]);

@@ -23,54 +23,8 @@ use filippov::runtime::liegroup::{LieMechanical, LieMechanism, so3};
 use filippov::runtime::{
     LieProblem, LieTrajectory, MechanicalSystem, Method, Options, Problem, Rkmk5, Solution, solve,
 };
+use filippov_scenes::{EulerBody, SphericalBody};
 use support::{Scale, Series, line_plot, plot_path};
-
-#[allow(clippy::duplicated_attributes)]
-#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(emit = all)]
-#[body(yaw_frame, mass = 0.0)]
-#[joint(yaw: revolute(z), parent = world, child = yaw_frame)]
-#[body(pitch_frame, mass = 0.0)]
-#[joint(pitch: revolute(y), parent = yaw_frame, child = pitch_frame)]
-#[body(body, mass = 1.0, inertia = diag(i1, i2, i3))]
-#[joint(roll: revolute(x), parent = pitch_frame, child = body)]
-struct EulerBody {
-    i1: f64,
-    i2: f64,
-    i3: f64,
-}
-
-impl Default for EulerBody {
-    fn default() -> Self {
-        EulerBody {
-            i1: 1.0,
-            i2: 2.0,
-            i3: 3.0,
-        }
-    }
-}
-
-/// The rotational part of S10 on a spherical joint (a body turning about a fixed
-/// point at its centre of mass): `I ω̇ + ω × I ω = τ`.
-#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(emit = all)]
-#[body(body, mass = 1.0, inertia = diag(i1, i2, i3))]
-#[joint(ball: spherical, parent = world, child = body)]
-struct SphericalBody {
-    i1: f64,
-    i2: f64,
-    i3: f64,
-}
-
-impl Default for SphericalBody {
-    fn default() -> Self {
-        SphericalBody {
-            i1: 1.0,
-            i2: 2.0,
-            i3: 3.0,
-        }
-    }
-}
 
 const T_END: f64 = 10.0;
 const GRID: usize = 400;

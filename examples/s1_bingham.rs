@@ -11,23 +11,9 @@ mod support;
 
 use std::f64::consts::PI;
 
-use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{NonSmoothMethod, NonSmoothProblem, solve_nonsmooth};
-
-/// S1: linear Bingham dash-pot (`v = (f − sgn(f) f_crit)/η` outside the dead zone).
-#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(emit = all)]
-#[body(block, mass = m)]
-#[joint(x: prismatic(x), parent = world, child = block)]
-#[spring(x, k = k)]
-#[bingham(x, f_crit = f_crit, eta = eta)]
-struct BinghamOscillator {
-    m: f64,
-    k: f64,
-    f_crit: f64,
-    eta: f64,
-}
+use filippov_scenes::BinghamOscillator;
 
 type V1 = SVector<f64, 1>;
 

@@ -11,26 +11,11 @@ mod ns;
 #[path = "support/mod.rs"]
 mod support;
 
-use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
     Method, NonSmooth, NonSmoothMethod, NonSmoothProblem, Options, solve_nonsmooth,
 };
-
-/// S2, S3: Bingham dash-pot with the cubic law of thesis eq. 4.7b,
-/// `v = γ f² (f − sgn(f) f_crit)`.
-#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(emit = all)]
-#[body(block, mass = m)]
-#[joint(x: prismatic(x), parent = world, child = block)]
-#[spring(x, k = k)]
-#[bingham(x, f_crit = f_crit, law = gamma * f * f * (f - f_crit))]
-struct CubicBingham {
-    m: f64,
-    k: f64,
-    f_crit: f64,
-    gamma: f64,
-}
+use filippov_scenes::CubicBingham;
 
 type V1 = SVector<f64, 1>;
 

@@ -13,37 +13,10 @@ mod ns;
 #[path = "support/mod.rs"]
 mod support;
 
-use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{NonSmooth, NonSmoothMethod, NonSmoothProblem, Solution, solve_nonsmooth};
+use filippov_scenes::{NonMonotoneMaxDissipation, NonMonotoneNoJumps};
 use support::{Scale, Series, line_plot, plot_path};
-
-/// S4, approach 2: the same law with maximal dissipation.
-#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(emit = all)]
-#[body(block, mass = m)]
-#[joint(x: prismatic(x), parent = world, child = block)]
-#[spring(x, k = k)]
-#[bingham(x, f_crit = f_crit, law = (1.0 + 0.1 * (f * f - 4.0) * (f * f - 9.0)) * (f - f_crit), select = max_dissipation)]
-struct NonMonotoneMaxDissipation {
-    m: f64,
-    k: f64,
-    f_crit: f64,
-}
-
-/// S4, approach 1: the non-monotone law of thesis eq. 4.9b,
-/// `v = (1 + 0.1 (f² − 4)(f² − 9)) (f − sgn(f) f_crit)`, without velocity jumps.
-#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(emit = all)]
-#[body(block, mass = m)]
-#[joint(x: prismatic(x), parent = world, child = block)]
-#[spring(x, k = k)]
-#[bingham(x, f_crit = f_crit, law = (1.0 + 0.1 * (f * f - 4.0) * (f * f - 9.0)) * (f - f_crit), select = no_jumps)]
-struct NonMonotoneNoJumps {
-    m: f64,
-    k: f64,
-    f_crit: f64,
-}
 
 type V1 = SVector<f64, 1>;
 

@@ -13,24 +13,11 @@ mod support;
 
 use std::f64::consts::PI;
 
-use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
     Method, NonSmoothMethod, NonSmoothProblem, Options, Solution, solve_nonsmooth,
 };
-
-/// S5, S6: Coulomb friction.
-#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(emit = all)]
-#[body(block, mass = m)]
-#[joint(x: prismatic(x), parent = world, child = block)]
-#[spring(x, k = k)]
-#[friction(x, f_crit = f_crit)]
-struct CoulombOscillator {
-    m: f64,
-    k: f64,
-    f_crit: f64,
-}
+use filippov_scenes::CoulombOscillator;
 
 type V1 = SVector<f64, 1>;
 const H: f64 = 1e-3;

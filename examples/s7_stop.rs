@@ -13,43 +13,10 @@ mod support;
 
 use std::f64::consts::PI;
 
-use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{Method, NonSmoothMethod, NonSmoothProblem, Options, solve_nonsmooth};
+use filippov_scenes::{BilinearOscillator, SupportedStop};
 use support::{Scale, Series, line_plot, plot_path};
-
-/// S7's elastic case: spring and spring-backed stop, no dash-pot (a bilinear
-/// oscillator with a closed-form period, theory §5).
-#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(emit = all)]
-#[body(block, mass = m)]
-#[joint(x: prismatic(x), parent = world, child = block)]
-#[spring(x, k = k)]
-#[stop(x, max = l, k_support = k_support)]
-struct BilinearOscillator {
-    m: f64,
-    k: f64,
-    l: f64,
-    k_support: f64,
-}
-
-/// S7: linear Bingham dash-pot and a stop at `x = l` backed by a massless support on a
-/// spring `k_support`.
-#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
-#[mechanism(emit = all)]
-#[body(block, mass = m)]
-#[joint(x: prismatic(x), parent = world, child = block)]
-#[spring(x, k = k)]
-#[bingham(x, f_crit = f_crit, eta = eta)]
-#[stop(x, max = l, k_support = k_support)]
-struct SupportedStop {
-    m: f64,
-    k: f64,
-    f_crit: f64,
-    eta: f64,
-    l: f64,
-    k_support: f64,
-}
 
 type V1 = SVector<f64, 1>;
 

@@ -11,7 +11,7 @@ use std::time::Instant;
 use filippov::nalgebra::SVector;
 use filippov::prelude::*;
 use filippov::runtime::{MechanicalSystem, Method, Options, Problem, Solution, solve};
-use filippov_scenes::DoublePendulum;
+use filippov::scenes::DoublePendulum;
 use support::{Scale, Series, line_plot, plot_over_time, plot_path, time_series};
 
 fn energy(p: &DoublePendulum, y: &[f64]) -> f64 {

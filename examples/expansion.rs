@@ -19,7 +19,7 @@ use proc_macro2::TokenStream;
 
 fn scene(file: &str) -> Vec<(String, TokenStream)> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes/src")
+        .join("src/scenes")
         .join(file);
     let src = std::fs::read_to_string(path).expect("scene source");
     syn::parse_file(&src)

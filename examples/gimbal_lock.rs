@@ -23,7 +23,7 @@ use filippov::runtime::liegroup::{LieMechanical, LieMechanism, so3};
 use filippov::runtime::{
     LieProblem, LieTrajectory, MechanicalSystem, Method, Options, Problem, Rkmk5, Solution, solve,
 };
-use filippov_scenes::{EulerBody, SphericalBody};
+use filippov::scenes::{EulerBody, SphericalBody};
 use support::{Scale, Series, line_plot, plot_path};
 
 const T_END: f64 = 10.0;

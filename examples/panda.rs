@@ -14,7 +14,7 @@ use filippov::prelude::*;
 use filippov::runtime::{
     MechanicalSystem, Method, NumericSystem, Options, Problem, numeric, solve,
 };
-use filippov_scenes::Panda;
+use filippov::scenes::Panda;
 use support::{plot_over_time, time_series};
 
 type V7 = SVector<f64, 7>;

@@ -9,7 +9,7 @@ mod support;
 use filippov::nalgebra::SVector;
 use filippov::prelude::*;
 use filippov::runtime::{MechanicalSystem, Method, Options, Problem, solve};
-use filippov_scenes::PlanarArm3;
+use filippov::scenes::PlanarArm3;
 use support::{Scale, Series, line_plot, plot_over_time, plot_path, time_series};
 
 fn main() {

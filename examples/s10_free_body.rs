@@ -15,7 +15,7 @@ mod support;
 
 use filippov::runtime::liegroup::LieMechanical;
 use filippov::runtime::{LieProblem, Options, Rkmk5};
-use filippov_scenes::FreeBody;
+use filippov::scenes::FreeBody;
 use lie::{flip_period, s10_initial, s10_run};
 use support::{Scale, Series, line_plot, plot_over_time, plot_path};
 

@@ -13,7 +13,7 @@ use std::f64::consts::PI;
 
 use filippov::nalgebra::SVector;
 use filippov::runtime::{NonSmoothMethod, NonSmoothProblem, solve_nonsmooth};
-use filippov_scenes::BinghamOscillator;
+use filippov::scenes::BinghamOscillator;
 
 type V1 = SVector<f64, 1>;
 

@@ -15,7 +15,7 @@ use filippov::nalgebra::SVector;
 use filippov::runtime::{
     Method, NonSmooth, NonSmoothMethod, NonSmoothProblem, Options, solve_nonsmooth,
 };
-use filippov_scenes::CubicBingham;
+use filippov::scenes::CubicBingham;
 
 type V1 = SVector<f64, 1>;
 

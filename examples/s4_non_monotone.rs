@@ -15,7 +15,7 @@ mod support;
 
 use filippov::nalgebra::SVector;
 use filippov::runtime::{NonSmooth, NonSmoothMethod, NonSmoothProblem, Solution, solve_nonsmooth};
-use filippov_scenes::{NonMonotoneMaxDissipation, NonMonotoneNoJumps};
+use filippov::scenes::{NonMonotoneMaxDissipation, NonMonotoneNoJumps};
 use support::{Scale, Series, line_plot, plot_path};
 
 type V1 = SVector<f64, 1>;

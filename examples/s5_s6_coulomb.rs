@@ -17,7 +17,7 @@ use filippov::nalgebra::SVector;
 use filippov::runtime::{
     Method, NonSmoothMethod, NonSmoothProblem, Options, Solution, solve_nonsmooth,
 };
-use filippov_scenes::CoulombOscillator;
+use filippov::scenes::CoulombOscillator;
 
 type V1 = SVector<f64, 1>;
 const H: f64 = 1e-3;

@@ -15,7 +15,7 @@ use std::f64::consts::PI;
 
 use filippov::nalgebra::SVector;
 use filippov::runtime::{Method, NonSmoothMethod, NonSmoothProblem, Options, solve_nonsmooth};
-use filippov_scenes::{BilinearOscillator, SupportedStop};
+use filippov::scenes::{BilinearOscillator, SupportedStop};
 use support::{Scale, Series, line_plot, plot_path};
 
 type V1 = SVector<f64, 1>;

@@ -16,7 +16,7 @@ use std::time::Instant;
 
 use filippov::prelude::*;
 use filippov::runtime::{Method, NonSmoothMethod, Options};
-use filippov_scenes::PandaS9;
+use filippov::scenes::PandaS9;
 use s9::{V7, s9_balance, s9_run, s9_torque};
 use support::{Series, plot_over_time, time_series};
 

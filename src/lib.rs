@@ -131,6 +131,12 @@
 
 // The derive and the trait share a name, as serde's do: one lives in the macro
 // namespace, the other in the type namespace.
+// The derive's output names the crate `::filippov`; so may the scenes module inside it.
+extern crate self as filippov;
+
+#[cfg(feature = "scenes")]
+pub mod scenes;
+
 pub use filippov_macros::Mechanism;
 pub use filippov_runtime as runtime;
 pub use filippov_runtime::kernels::{

@@ -1,12 +1,12 @@
 //! Snapshots of what the derive emits for every canonical scene, pretty-printed, so a
 //! reader sees exactly the generated code and a change to it shows in review. The scene
-//! sources are read from `scenes/src/`, the same declarations the `filippov-scenes` crate compiles.
+//! sources are read from `src/scenes/`, the same declarations `filippov::scenes` compiles.
 
 use std::path::Path;
 
 fn scene_structs(file: &str) -> Vec<(String, proc_macro2::TokenStream)> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes/src")
+        .join("src/scenes")
         .join(file);
     let src = std::fs::read_to_string(&path).expect("scene source");
     structs_of(&src)
@@ -103,7 +103,7 @@ fn default_kernels() {
         "s9.rs",
     ] {
         let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("scenes/src")
+            .join("src/scenes")
             .join(file);
         let src = std::fs::read_to_string(&path).expect("scene source");
         assert!(

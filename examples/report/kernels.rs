@@ -118,7 +118,7 @@ pub fn kernels(config: &Config) -> Section {
 }
 
 fn scene_sources() -> Vec<(String, String)> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/src");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/scenes");
     [
         "double_pendulum.rs",
         "arm3.rs",
@@ -202,7 +202,7 @@ pub fn expansion(config: &Config) -> Section {
     // tests compare every kernel); here the same sources without it.
     let mut kept = Vec::new();
     let lumped =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/src/lumped.rs"))
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("src/scenes/lumped.rs"))
             .expect("scene source");
     for (_, src) in scene_sources().into_iter().chain([(String::new(), lumped)]) {
         let plain = src

@@ -8,7 +8,7 @@ use filippov::nalgebra::{SVector, Vector3};
 use filippov::prelude::*;
 use filippov::runtime::liegroup::{LieMechanical, LieMechanism};
 use filippov::runtime::{LieProblem, LieState, Options, Rkmk5, SolveError, UnitQuat};
-use filippov_scenes::FreeBody;
+use filippov::scenes::FreeBody;
 
 /// Theory S10: `ω0 = (0.01, 1, 0)` in the body frame, at rest otherwise.
 pub fn s10_initial() -> LieState {

@@ -8,7 +8,7 @@ use filippov::prelude::*;
 use filippov::runtime::{
     NonSmooth, NonSmoothMethod, NonSmoothProblem, Solution, SolveError, solve_nonsmooth,
 };
-use filippov_scenes::PandaS9;
+use filippov::scenes::PandaS9;
 
 pub type V7 = SVector<f64, 7>;
 

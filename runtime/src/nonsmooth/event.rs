@@ -2107,7 +2107,7 @@ impl Act {
     }
 }
 
-mod resting;
+pub(super) mod resting;
 #[cfg(test)]
 mod tests;
 

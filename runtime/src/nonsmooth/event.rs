@@ -22,7 +22,8 @@
 //! * **Transitions.** At the event the switching elements are updated (a slipping
 //!   velocity that reached zero is set to `0.0`; a rigid stop applies Newton's impact law
 //!   `v⁺_c = −e v⁻_c` through the generalised impulse `−M⁻¹ e_c P`; a spring-backed stop
-//!   toggles free/compressed) and the modes of all elements at rest on a switching
+//!   toggles free/compressed, or, resting on a stiff support (`resting`), is re-anchored
+//!   at its static compression or lifts off) and the modes of all elements at rest on a switching
 //!   surface (dash-pots with `v_c = 0`, rigid stops closed at rest) are *selected*:
 //!   every combination of their candidate modes is evaluated and the unique consistent
 //!   one is taken ([`mode::select`](super::mode)), otherwise

@@ -441,7 +441,10 @@ impl<const N: usize> TimeSteps<'_, N> {
         // Positions move by the θ-weighted velocity; a coordinate an element holds
         // (stuck, on a plateau, against a rigid stop) by the velocity it is held at.
         let mut q_next = q + hn * (v + theta_q.component_mul(&(v_new - v)));
-        let mut held = SVector::<bool, N>::repeat(false);
+        // Coordinates held at a plateau speed (kept exactly when velocities are scaled
+        // for passivity), and coordinates any element sets exactly (kept when
+        // displacements are shortened).
+        let mut plateau = SVector::<bool, N>::repeat(false);
         let mut exact = SVector::<bool, N>::repeat(false);
         for e in 0..ne {
             if self.exact[e] {
@@ -451,7 +454,7 @@ impl<const N: usize> TimeSteps<'_, N> {
                 exact[c] = true;
                 // A plateau's speed is exact; zero (stuck, resting) stays zero when
                 // scaled, and a rebound may lose a little more.
-                held[c] |= self.point_mode[e] == Part::Plateau;
+                plateau[c] |= self.point_mode[e] == Part::Plateau;
             }
         }
         // A rigid stop reached inside the step moves its coordinate to the stop and back
@@ -475,14 +478,15 @@ impl<const N: usize> TimeSteps<'_, N> {
         // O(h²) of either sign (the linearly implicit smooth step on a configuration-
         // dependent mass matrix, an impact placed in a step, friction that stops a
         // coordinate moved by the mean velocity at θ = ½); where it would gain, the
-        // velocities of the coordinates no element holds are scaled down until it does
-        // not, and where they carry too little, the displacement of the coordinates no
-        // element holds is shortened (theory.md §3).
+        // velocities are scaled down until it does
+        // not (a plateau's speed kept), and where they carry too little, the
+        // displacement of the coordinates no element sets exactly is shortened
+        // (theory.md §3).
         let work = tau.dot(&(q_next - q));
         let allowed = self.energy + work;
         let mut e_next = energy(system, graphs, &q_next, &v_next);
         if e_next > allowed {
-            v_next = dissipate(system, &q_next, &v_next, &held, e_next - allowed);
+            v_next = dissipate(system, &q_next, &v_next, &plateau, e_next - allowed);
             e_next = energy(system, graphs, &q_next, &v_next);
         }
         if e_next > allowed {
@@ -655,18 +659,18 @@ fn energy<S: NonSmooth<N>, const N: usize>(
     system.total_energy(q, v) + stored
 }
 
-/// `v` with the velocities of the coordinates not `held` scaled by the `α ∈ [0, 1]`
+/// `v` with the velocities of the coordinates not `kept` scaled by the `α ∈ [0, 1]`
 /// closest to 1 that lowers the kinetic energy `½ vᵀ M(q) v` by `excess` (by as much as
 /// it can where that is more than they carry).
 fn dissipate<S: NonSmooth<N>, const N: usize>(
     system: &S,
     q: &SVector<f64, N>,
     v: &SVector<f64, N>,
-    held: &SVector<bool, N>,
+    kept: &SVector<bool, N>,
     excess: f64,
 ) -> SVector<f64, N> {
     let m = system.mass_matrix(q);
-    let vx = SVector::<f64, N>::from_fn(|c, _| if held[c] { v[c] } else { 0.0 });
+    let vx = SVector::<f64, N>::from_fn(|c, _| if kept[c] { v[c] } else { 0.0 });
     let vf = v - vx;
     // T(α) = a α² + b α + c; T(1) − excess wanted.
     let a = 0.5 * vf.dot(&(m * vf));

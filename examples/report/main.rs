@@ -49,6 +49,8 @@ mod s9;
 mod s9_support;
 #[path = "scaling.rs"]
 mod scaling;
+#[path = "../support/supported_arm.rs"]
+mod supported_arm;
 #[path = "timing.rs"]
 mod timing;
 #[path = "urdf.rs"]

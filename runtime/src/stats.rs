@@ -3,7 +3,7 @@
 use std::fmt;
 
 /// What an integration cost. Compared across methods and versions instead of timings.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Stats {
     /// Accepted steps.
@@ -29,6 +29,13 @@ pub struct Stats {
     pub zeno_detected: usize,
     /// Of those, spans handed to time-stepping (then back to event-driven).
     pub zeno_handovers: usize,
+    /// Event-driven non-smooth integration: the mechanical energy (kinetic, potential
+    /// and the supports' springs) removed where spring-backed stops were taken as
+    /// resting on their supports — each support vibration dropped on coming to rest,
+    /// and what re-anchoring a held coordinate gave up (see the guide, "Resting on a
+    /// stiff support"). Zero where no stop rested.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub resting_energy_dropped: f64,
 }
 
 impl fmt::Display for Stats {
@@ -49,6 +56,13 @@ impl fmt::Display for Stats {
                 f,
                 ", events {}, mode changes {}, Zeno spans {} (handed over {})",
                 self.events, self.mode_changes, self.zeno_detected, self.zeno_handovers
+            )?;
+        }
+        if self.resting_energy_dropped != 0.0 {
+            write!(
+                f,
+                ", energy dropped resting {:.3e}",
+                self.resting_energy_dropped
             )?;
         }
         Ok(())

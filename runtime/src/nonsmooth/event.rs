@@ -1327,12 +1327,14 @@ where
                         continue;
                     };
                     let lambda = support.s * forces_before[e];
+                    let held = self.stored_energy(&q, &v);
                     if lambda > support.drift_margin(q[c], lambda, self.tol(q[c])) {
-                        q[c] = support.anchor(lambda);
+                        q[c] = support.reanchor(q[c], lambda, self.tol(q[c]));
                     } else {
                         q[c] = support.position;
                         self.modes[e] = Mode::Free;
                     }
+                    self.out.stats.resting_energy_dropped += held - self.stored_energy(&q, &v);
                 }
                 (
                     ElementKind::Stop {
@@ -1420,6 +1422,22 @@ where
         });
     }
 
+    /// The mechanical energy at `(q, v)`: kinetic, potential and the spring energy of
+    /// every spring-backed stop pressed into its support (what resting changes, for
+    /// [`Stats::resting_energy_dropped`]).
+    fn stored_energy(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64 {
+        let springs: f64 = self
+            .elements
+            .iter()
+            .filter_map(|el| {
+                let s = Support::of(el)?;
+                let pen = s.penetration(q[el.coordinate]).max(0.0);
+                Some(0.5 * s.k * pen * pen)
+            })
+            .sum();
+        self.system.kinetic_energy(q, v) + self.system.potential_energy(q) + springs
+    }
+
     /// Spring-backed stops pressed onto their support that now rest on it (see
     /// [`resting`]): each one's vibration is removed by an impulse along its coordinate
     /// (`v⁺ = v − W e_c v_c / W_cc`, so `v_c = 0`), its coordinate set to the static
@@ -1479,7 +1497,7 @@ where
                 wcc: w[(c, c)],
             };
             let tol = (self.tol(q[c]), self.tol(v[c]));
-            if !support.rests(at, tol, self.tf - t) {
+            if !support.rests(at, tol, self.options.rtol, self.tf - t) {
                 continue;
             }
             v -= w.column(c) * (v[c] / w[(c, c)]);
@@ -1491,6 +1509,8 @@ where
         if modes == old {
             return Ok(false);
         }
+        self.out.stats.resting_energy_dropped +=
+            self.stored_energy(&self.q, &self.v) - self.stored_energy(&q, &v);
         let forces_before = self.last_forces.clone();
         self.modes = modes;
         self.jump_to(q, v, &old, &forces_before)?;

@@ -24,7 +24,7 @@ pub use crate::element::{
     Element, ElementKind, Law, Mode, NonSmooth, Relation, Selection, Side, StopKind,
 };
 pub use event::event_driven;
-pub use event::resting::{RESTING_DRIFT, RESTING_PERIODS};
+pub use event::resting::{RESTING_DRIFT, RESTING_PERIODS, resting_periods};
 pub use integrator::{Integrator, NoInput, Stepped};
 pub use problem::*;
 pub use solve::{solve_nonsmooth, solve_nonsmooth_with};

@@ -15,16 +15,27 @@
 //! the states before and after it, and the energy dropped is below `λ²/2k`.
 //!
 //! While resting, the coordinate is re-anchored whenever the static compression `λ/k`
-//! has moved from it by more than the position tolerance (an event with a second row),
-//! and the stop lifts off (mode `Free`, at its position) when `λ` falls to zero.
+//! has moved from it by more than [`RESTING_DRIFT`] of itself or the position
+//! tolerance (an event with a second row), put as far past the compression as it lagged
+//! behind so that the energy the lag took is given back, and the stop lifts off (mode
+//! `Free`, at its position) when `λ` falls to zero.
 
 use crate::element::{Element, ElementKind, StopKind};
 use crate::nonsmooth::kind::stop::side_sign;
 
 /// A support vibration is not followed when more than this many of its periods are
-/// left in the run (and it would not let go of the support): resolving it would cost
-/// tens of thousands of steps that show nothing but the vibration.
-pub const RESTING_PERIODS: f64 = 1000.0;
+/// left in the run at `rtol ≥ 1e-8` (and it would not let go of the support), more at
+/// tighter tolerances ([`resting_periods`]): resolving it costs ten to twenty steps a
+/// period, and a hundred periods already cost more than time-stepping's whole run of a
+/// typical scene.
+pub const RESTING_PERIODS: f64 = 100.0;
+
+/// How many periods of a support vibration, left in the run, are followed at `rtol`:
+/// [`RESTING_PERIODS`] at `rtol ≥ 1e-8`, growing as `1/√rtol` below, so that a tight
+/// tolerance follows a vibration it would notice for longer (1000 periods at 1e-10).
+pub fn resting_periods(rtol: f64) -> f64 {
+    RESTING_PERIODS * (1e-8 / rtol).sqrt().max(1.0)
+}
 
 /// While resting, the held coordinate is re-anchored when the static compression `λ/k`
 /// has moved from it by more than this fraction of itself (or the position tolerance,
@@ -34,6 +45,12 @@ pub const RESTING_PERIODS: f64 = 1000.0;
 /// whatever the stiffness (at the position tolerance alone, a support of 1e6 under a
 /// load changing by 60 N/s needed a million per second at rtol 1e-10).
 pub const RESTING_DRIFT: f64 = 0.05;
+
+/// The fraction of its lag by which a re-anchored coordinate is put past the static
+/// compression ([`Support::reanchor`]): just under one, so that the drift margin starts
+/// positive, and the spring energy the lag took is given back but for `1 − MIRROR²`
+/// of it.
+const MIRROR: f64 = 0.999;
 
 /// The support of a spring-backed stop: stiffness `k`, side sign `s`, position.
 #[derive(Clone, Copy, Debug)]
@@ -81,8 +98,8 @@ impl Support {
     /// Whether the stop, pressed with the hold force `λ`, is taken as resting: the
     /// vibration's amplitude is below the static compression (it never lets go), and it
     /// is within the tolerance `(tol_q, tol_v)` of the coordinate or would last more
-    /// than [`RESTING_PERIODS`] periods in the `remaining` time.
-    pub fn rests(&self, at: Pressed, tol: (f64, f64), remaining: f64) -> bool {
+    /// than [`resting_periods`]`(rtol)` periods in the `remaining` time.
+    pub fn rests(&self, at: Pressed, tol: (f64, f64), rtol: f64, remaining: f64) -> bool {
         let Pressed {
             qc,
             vc,
@@ -99,9 +116,33 @@ impl Support {
             return false;
         }
         let (tol_q, tol_v) = tol;
-        let within = e <= 0.5 * self.k * tol_q * tol_q + 0.5 * tol_v * tol_v / wcc;
+        // Within the tolerance: the vibration's amplitude and speed are, or its energy
+        // is below the load's work over the position tolerance, `λ tol_q` (what a
+        // position error of the tolerance makes in the energy).
+        let within =
+            e <= (0.5 * self.k * tol_q * tol_q + 0.5 * tol_v * tol_v / wcc).max(lambda * tol_q);
         let omega = (self.k * wcc).sqrt();
-        within || remaining * omega / std::f64::consts::TAU > RESTING_PERIODS
+        within || remaining * omega / std::f64::consts::TAU > resting_periods(rtol)
+    }
+
+    /// Where a held coordinate `qc` is re-anchored under the hold force `λ`, having
+    /// drifted to the edge of its margin ([`Support::drift_margin`]): past the static
+    /// compression by [`MIRROR`] of its lag, so that the jump gives back the spring
+    /// energy the lag took (a jump of `Δ` from a lag `δ` changes the energy by
+    /// `k δ Δ − k Δ²/2`: zero at `Δ = 2δ`, `−k δ²/2` at the static compression). A lag
+    /// beyond the margin (the load changed at once, at another element's switch) is
+    /// mirrored only as far as the margin, and the mirror is not taken where it would
+    /// leave the support.
+    pub fn reanchor(&self, qc: f64, lambda: f64, tol_q: f64) -> f64 {
+        let anchor = self.anchor(lambda);
+        let bound = (tol_q).max(RESTING_DRIFT * lambda / self.k);
+        let lag = anchor - qc;
+        let mirror = anchor + MIRROR * lag.clamp(-bound, bound);
+        if self.penetration(mirror) >= 0.0 {
+            mirror
+        } else {
+            anchor
+        }
     }
 
     /// How far the spring force at the held compression `k · penetration` may still
@@ -159,13 +200,16 @@ mod tests {
         };
         // Vibration above the static compression (it would let go): not resting.
         let big = (lambda / 1e9) * (1e9f64).sqrt() * 1.01;
-        assert!(!s.rests(at(q, big), (1e-12, 1e-12), 10.0));
+        assert!(!s.rests(at(q, big), (1e-12, 1e-12), 1e-10, 10.0));
         // Below it with ~5000 periods left: resting; with 1 period left, only within
-        // the tolerance.
+        // the tolerance; with 500 left, at rtol 1e-8 but not at 1e-10.
         let small = 0.5 * big;
-        assert!(s.rests(at(q, small), (1e-12, 1e-12), 1.0));
-        assert!(!s.rests(at(q, small), (1e-12, 1e-12), 2e-4));
-        assert!(s.rests(at(q, 1e-13), (1e-12, 1e-12), 2e-4));
+        assert!(s.rests(at(q, small), (1e-12, 1e-12), 1e-10, 1.0));
+        assert!(!s.rests(at(q, small), (1e-12, 1e-12), 1e-10, 2e-4));
+        assert!(s.rests(at(q, 1e-13), (1e-12, 1e-12), 1e-10, 2e-4));
+        let five_hundred = 500.0 * std::f64::consts::TAU / 1e9f64.sqrt();
+        assert!(s.rests(at(q, small), (1e-12, 1e-12), 1e-8, five_hundred));
+        assert!(!s.rests(at(q, small), (1e-12, 1e-12), 1e-10, five_hundred));
         // Pulling (λ ≤ 0) never rests.
         assert!(!s.rests(
             Pressed {
@@ -173,6 +217,7 @@ mod tests {
                 ..at(q, 0.0)
             },
             (1.0, 1.0),
+            1e-8,
             10.0
         ));
     }

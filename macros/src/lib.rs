@@ -2,12 +2,14 @@
 
 use proc_macro::TokenStream;
 
-/// Generates a specialised, fully unrolled simulator for a rigid multibody tree. See the
+/// Generates a specialised, fully unrolled simulator for a rigid multibody tree (closed
+/// by loop joints where the mechanism has kinematic loops). See the
 /// `filippov` crate documentation for the attributes.
 #[proc_macro_derive(
     Mechanism,
     attributes(
-        mechanism, body, joint, spring, damper, friction, bingham, stop, frame, urdf_param
+        mechanism, body, joint, loop_joint, spring, damper, friction, bingham, stop, frame,
+        urdf_param
     )
 )]
 pub fn derive_mechanism(input: TokenStream) -> TokenStream {

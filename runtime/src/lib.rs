@@ -84,6 +84,7 @@ pub mod geometry;
 mod input;
 pub mod kernels;
 pub mod liegroup;
+pub mod loops;
 mod mechanical;
 pub mod method;
 mod model;

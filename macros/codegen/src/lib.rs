@@ -11,6 +11,7 @@
 pub mod coordinate;
 pub mod diag;
 pub mod emit;
+pub mod loops;
 pub mod mech;
 pub mod model;
 pub mod nonsmooth;

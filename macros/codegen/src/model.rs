@@ -255,6 +255,8 @@ pub struct Model {
     /// How forward dynamics, its Jacobian and `M⁻¹` solve with the mass matrix
     /// (`#[mechanism(forward_dynamics = …)]`).
     pub algorithm: Algorithm,
+    /// Joints that close kinematic loops (`#[loop_joint(…)]`), in declaration order.
+    pub loops: Vec<LoopJoint>,
 }
 
 /// The linear solve behind forward dynamics, its Jacobian and `M⁻¹`.
@@ -289,6 +291,27 @@ pub struct Frame {
     /// Offsets from the link frame outwards, applied in order (one per frame in the
     /// chain from the link to this frame).
     pub offsets: Vec<(Vec3, Vec3)>,
+}
+
+/// A joint that closes a kinematic loop between two links already connected through
+/// the tree (the spanning tree's cut joint): it adds constraints, not coordinates. Its
+/// frame on the parent side is `parent · Trans(origin) · Rot(rpy)`, on the child side
+/// `child · Trans(child_origin) · Rot(child_rpy)`; the joint holds the two frames
+/// together as its kind allows (a revolute one lets them turn about its axis, given in
+/// the parent-side frame).
+#[derive(Clone, Debug)]
+pub struct LoopJoint {
+    pub name: String,
+    /// [`JointKind::Revolute`], [`JointKind::Prismatic`], [`JointKind::Spherical`] or
+    /// [`JointKind::Fixed`].
+    pub kind: JointKind,
+    /// The parent-side link; `None`: the world.
+    pub parent: Option<usize>,
+    pub child: usize,
+    pub origin: Vec3,
+    pub rpy: Vec3,
+    pub child_origin: Vec3,
+    pub child_rpy: Vec3,
 }
 
 /// Kernels the integrators do not call, emitted only when the scene asks for them by

@@ -80,6 +80,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let mut element_attrs = Vec::new();
     let mut nonsmooth_attrs = Vec::new();
     let mut frame_attrs = Vec::new();
+    let mut loop_attrs = Vec::new();
     let mut claimed: Vec<Ident> = Vec::new();
     for mut raw in raws {
         match raw.family {
@@ -166,6 +167,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
             Family::Spring | Family::Damper => element_attrs.push(raw),
             Family::Friction | Family::Bingham | Family::Stop => nonsmooth_attrs.push(raw),
             Family::Frame => frame_attrs.push(raw),
+            Family::LoopJoint => loop_attrs.push(raw),
         }
     }
     check_unique(bodies.iter().map(|b| &b.name), "body", diag);
@@ -192,6 +194,8 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     }
     let elements = crate::nonsmooth::read(nonsmooth_attrs, &links, &names, diag);
     let frames = read_frames(frame_attrs, &links, &names, diag);
+    let tree_joints: Vec<&Ident> = joints.iter().map(|j| &j.name).collect();
+    let loops = crate::loops::read(loop_attrs, &links, &tree_joints, &names, diag);
     // Declaring a frame is asking for its pose.
     emit.kinematics |= !frames.is_empty();
     // Scenes with non-smooth elements always carry their energies: time-stepping keeps
@@ -241,6 +245,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         urdf_file,
         frames,
         algorithm,
+        loops,
     })
 }
 
@@ -571,13 +576,28 @@ fn vec3(e: &Expr, what: &str, names: &[String], diag: &mut Diagnostics) -> Optio
 }
 
 /// `origin = [x, y, z]` and `rpy = [r, p, y]` of a joint or frame (zero when absent).
-fn placement(raw: &mut RawAttr, names: &[String], diag: &mut Diagnostics) -> (Vec3, Vec3) {
+pub(crate) fn placement(
+    raw: &mut RawAttr,
+    names: &[String],
+    diag: &mut Diagnostics,
+) -> (Vec3, Vec3) {
+    placement_at(raw, ["origin", "rpy"], names, diag)
+}
+
+/// The translation and roll-pitch-yaw under the keys `[origin, rpy]` (zero where
+/// absent).
+pub(crate) fn placement_at(
+    raw: &mut RawAttr,
+    keys: [&str; 2],
+    names: &[String],
+    diag: &mut Diagnostics,
+) -> (Vec3, Vec3) {
     let mut take = |key: &str| {
         raw.take(key, diag)
             .and_then(|(_, e)| vec3(&e, key, names, diag))
             .unwrap_or_else(zero3)
     };
-    (take("origin"), take("rpy"))
+    (take(keys[0]), take(keys[1]))
 }
 
 fn zero3() -> Vec3 {
@@ -880,7 +900,7 @@ fn read_joint(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opt
     })
 }
 
-fn joint_kind(h: &Expr, diag: &mut Diagnostics) -> Option<JointKind> {
+pub(crate) fn joint_kind(h: &Expr, diag: &mut Diagnostics) -> Option<JointKind> {
     const KINDS: &str = "`revolute(<axis>)`, `prismatic(<axis>)`, `spherical`, `free` or `fixed`";
     match ident_of(h).map(|i| i.to_string()).as_deref() {
         Some("fixed") => return Some(JointKind::Fixed),
@@ -1019,7 +1039,7 @@ fn build_tree(
                 } else if let Some(prev) = joint_of[b] {
                     diag.error_at(
                         &j.child,
-                        format_args!("body `{}` already hangs from joint `{}`; a body in a tree has exactly one parent joint", j.child, joints[prev].name),
+                        format_args!("body `{}` already hangs from joint `{}`; a body in a tree has exactly one parent joint (a joint that closes a kinematic loop is declared with `#[loop_joint(…)]`)", j.child, joints[prev].name),
                     );
                     ok = false;
                 } else {

@@ -5,6 +5,7 @@
 pub mod describe;
 pub mod fallback;
 pub mod function;
+pub mod loops;
 pub mod nonsmooth;
 pub mod validate;
 
@@ -258,6 +259,8 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
     let inputs = inputs_items(model, n);
     let (nonsmooth, ns_helpers) = nonsmooth::nonsmooth_impl(model, k, &mut stats);
     helpers.extend(ns_helpers);
+    let (loop_constraints, loop_helpers) = loops::loops_impl(model, k, &mut stats);
+    helpers.extend(loop_helpers);
     let head = if lie {
         let rot: Vec<TokenStream> = model
             .links
@@ -314,6 +317,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         #head
         #optional
         #nonsmooth
+        #loop_constraints
         impl #ident {
             /// Number of degrees of freedom.
             pub const DOF: usize = #n;

@@ -36,9 +36,8 @@ pub fn frame_names(model: &Model) -> Vec<String> {
         .collect()
 }
 
-pub fn frames(g: &mut Graph, model: &Model, kin: &Kinematics) -> Vec<FrameKernel> {
-    let n = model.dof();
-    // World rotation and origin of every link.
+/// The world rotation (link axes → world axes) and origin of every link.
+pub fn world_poses(g: &mut Graph, model: &Model, kin: &Kinematics) -> (Vec<M3>, Vec<V3>) {
     let mut rot: Vec<M3> = Vec::with_capacity(model.links.len());
     let mut pos: Vec<V3> = Vec::with_capacity(model.links.len());
     for (i, link) in model.links.iter().enumerate() {
@@ -54,6 +53,33 @@ pub fn frames(g: &mut Graph, model: &Model, kin: &Kinematics) -> Vec<FrameKernel
         rot.push(r);
         pos.push(p);
     }
+    (rot, pos)
+}
+
+/// `link · Trans(origin) · Rot(rpy)` in world axes, from the link's world pose (the
+/// world's, `link = None`).
+pub fn offset_pose(
+    g: &mut Graph,
+    at: Option<(&M3, V3)>,
+    offsets: &[(crate::model::Vec3, crate::model::Vec3)],
+) -> (M3, V3) {
+    let (mut r, mut p) = match at {
+        Some((r, p)) => (*r, p),
+        None => (identity(g), v3_zero(g)),
+    };
+    for (origin, rpy) in offsets {
+        let o = lower3(g, origin);
+        let shift = mat_vec(g, &r, o);
+        p = add3(g, p, shift);
+        let e = rpy_rotation(g, rpy);
+        r = mat_mul(g, &r, &e);
+    }
+    (r, p)
+}
+
+pub fn frames(g: &mut Graph, model: &Model, kin: &Kinematics) -> Vec<FrameKernel> {
+    let n = model.dof();
+    let (rot, pos) = world_poses(g, model, kin);
     let zero = g.zero();
     let jacobian_at = |g: &mut Graph, link: Option<usize>, p_f: V3| -> Vec<Id> {
         let mut jac = vec![zero; 6 * n];
@@ -90,17 +116,7 @@ pub fn frames(g: &mut Graph, model: &Model, kin: &Kinematics) -> Vec<FrameKernel
         });
     }
     for f in &model.frames {
-        let (mut r, mut p) = match f.link {
-            Some(l) => (rot[l], pos[l]),
-            None => (identity(g), v3_zero(g)),
-        };
-        for (origin, rpy) in &f.offsets {
-            let o = lower3(g, origin);
-            let shift = mat_vec(g, &r, o);
-            p = add3(g, p, shift);
-            let e = rpy_rotation(g, rpy);
-            r = mat_mul(g, &r, &e);
-        }
+        let (r, p) = offset_pose(g, f.link.map(|l| (&rot[l], pos[l])), &f.offsets);
         let jacobian = jacobian_at(g, f.link, p);
         out.push(FrameKernel {
             name: f.name.clone(),

@@ -12,7 +12,8 @@
 //!   (sparse `LᵀDL` of the CRBA mass matrix) or by [`aba`] (the articulated-body
 //!   algorithm, unrolled per link), whichever emits fewer operations for the scene
 //!   (`#[mechanism(forward_dynamics = auto | crba | aba)]`, see `Solver`);
-//! - world poses and Jacobians of bodies and `#[frame]`s: [`frames`].
+//! - world poses and Jacobians of bodies and `#[frame]`s: [`frames`];
+//! - the constraints of loop joints, `Φ`, `G = ∂Φ/∂q` and `γ = −Ġ v`: [`loops`].
 
 pub mod aba;
 pub mod chart;
@@ -21,6 +22,7 @@ pub mod crba;
 pub mod frames;
 pub mod gravity;
 pub mod kinematics;
+pub mod loops;
 pub mod ltdl;
 pub mod rnea;
 pub mod spatial;
@@ -61,6 +63,8 @@ pub struct Kernels {
     /// Poses and Jacobians of every body and declared frame; built only when the
     /// scene asks for `kinematics` (or declares a frame).
     pub frames: Vec<frames::FrameKernel>,
+    /// The constraints of the loop joints; only for scenes that declare some.
+    pub loops: Option<loops::LoopKernels>,
 }
 
 /// What the derive emits for non-smooth elements besides their parameters.
@@ -299,6 +303,8 @@ impl Kernels {
         } else {
             Vec::new()
         };
+        // After the frames, so that scenes without loops read the same.
+        let loops = (!model.loops.is_empty()).then(|| loops::loop_constraints(&mut g, model, &kin));
 
         Kernels {
             graph: g,
@@ -319,6 +325,7 @@ impl Kernels {
             inverse_mass,
             elements,
             frames,
+            loops,
         }
     }
 }

@@ -26,10 +26,11 @@ pub enum Family {
     Bingham,
     Stop,
     Frame,
+    LoopJoint,
 }
 
 impl Family {
-    pub const ALL: [(&'static str, Family); 9] = [
+    pub const ALL: [(&'static str, Family); 10] = [
         ("mechanism", Family::Mechanism),
         ("body", Family::Body),
         ("joint", Family::Joint),
@@ -39,6 +40,7 @@ impl Family {
         ("bingham", Family::Bingham),
         ("stop", Family::Stop),
         ("frame", Family::Frame),
+        ("loop_joint", Family::LoopJoint),
     ];
 
     fn of(path: &syn::Path) -> Option<Family> {

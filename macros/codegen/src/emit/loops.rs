@@ -1,0 +1,93 @@
+//! The `LoopConstraints` impl of a scene with loop joints: `Φ`, `G` and `γ`
+//! ([`crate::mech::loops`]), each one straight-line method.
+
+use proc_macro2::{Literal, TokenStream};
+use quote::{format_ident, quote};
+
+use super::FnStats;
+use super::function::{Signature, emit};
+use crate::mech::Kernels;
+use crate::model::Model;
+use crate::sym::InputKind;
+
+/// `impl LoopConstraints<N, M>`, or nothing for a scene without loop joints.
+pub fn loops_impl(
+    model: &Model,
+    k: &Kernels,
+    stats: &mut Vec<FnStats>,
+) -> (TokenStream, TokenStream) {
+    let Some(lk) = &k.loops else {
+        return (TokenStream::new(), TokenStream::new());
+    };
+    let (n, m) = (k.dof, lk.rows());
+    let g = &k.graph;
+    let ident = &model.ident;
+    let mut helpers = TokenStream::new();
+    let mut methods = TokenStream::new();
+    let mut add = |name: &'static str,
+                   inputs: Vec<InputKind>,
+                   ret: TokenStream,
+                   outs: &[crate::sym::Id],
+                   asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
+                   doc: &str| {
+        let sig = Signature {
+            vis: quote!(),
+            elements: 0,
+            name: format_ident!("{}", name),
+            inputs,
+            ret,
+            doc: doc.to_string(),
+        };
+        let e = emit(g, &model.params, (n, n), &sig, outs, asm);
+        stats.push(FnStats {
+            name,
+            ops: g.count_ops(outs),
+            lets: e.lets,
+        });
+        helpers.extend(e.helpers);
+        methods.extend(e.method);
+    };
+    let vec_m =
+        |o: Vec<TokenStream>| quote!(::filippov::nalgebra::SVector::<f64, #m>::from([#(#o),*]));
+    add(
+        "constraint_residual",
+        vec![InputKind::Q],
+        quote!(::filippov::nalgebra::SVector<f64, #m>),
+        &lk.residual,
+        &vec_m,
+        " The loop joints' constraint residual `Φ(q)`.",
+    );
+    add(
+        "constraint_jacobian",
+        vec![InputKind::Q],
+        quote!(::filippov::nalgebra::SMatrix<f64, #m, #n>),
+        &lk.jacobian,
+        &|o: Vec<TokenStream>| {
+            // Row-major entries, column-major arrays.
+            let cols: Vec<TokenStream> = (0..n)
+                .map(|j| {
+                    let col: Vec<&TokenStream> = (0..m).map(|i| &o[i * n + j]).collect();
+                    quote!([#(#col),*])
+                })
+                .collect();
+            quote!(::filippov::nalgebra::SMatrix::<f64, #m, #n>::from([#(#cols),*]))
+        },
+        " The constraint Jacobian `G(q) = ∂Φ/∂q`.",
+    );
+    add(
+        "constraint_gamma",
+        vec![InputKind::Q, InputKind::V],
+        quote!(::filippov::nalgebra::SVector<f64, #m>),
+        &lk.gamma,
+        &vec_m,
+        " The constraint acceleration term `γ = −Ġ v` (`G v̇ = γ`).",
+    );
+    let names: Vec<Literal> = lk.names.iter().map(|s| Literal::string(s)).collect();
+    let code = quote! {
+        impl ::filippov::runtime::loops::LoopConstraints<#n, #m> for #ident {
+            const CONSTRAINTS: [&'static str; #m] = [#(#names),*];
+            #methods
+        }
+    };
+    (code, helpers)
+}

@@ -1,0 +1,194 @@
+//! `#[loop_joint(…)]`: joints that close kinematic loops.
+//!
+//! The bodies and `#[joint]`s form the spanning tree; a loop joint connects two bodies
+//! the tree already connects (or a body and the world) and becomes constraints on the
+//! tree's coordinates instead of coordinates of its own (theory §5). It is written like
+//! a tree joint, with the frame on the child side given too:
+//!
+//! ```text
+//! #[loop_joint(close: revolute(z), parent = crank, child = rocker,
+//!              origin = [l1, 0.0, 0.0], child_origin = [l3, 0.0, 0.0])]
+//! ```
+//!
+//! The parent-side frame is `parent · Trans(origin) · Rot(rpy)`, the child-side frame
+//! `child · Trans(child_origin) · Rot(child_rpy)`; the joint's axis is in the
+//! parent-side frame. Revolute, prismatic, spherical and fixed loop joints.
+
+use syn::Ident;
+
+use crate::diag::Diagnostics;
+use crate::model::{JointKind, Link, LoopJoint};
+use crate::parse::{RawAttr, ident_of};
+use crate::validate::{joint_kind, placement, placement_at};
+
+/// The keys a loop joint takes.
+const KEYS: [&str; 6] = [
+    "parent",
+    "child",
+    "origin",
+    "rpy",
+    "child_origin",
+    "child_rpy",
+];
+
+/// Reads the loop joints against the tree's `links` (named by their bodies) and the
+/// tree joints' names (a loop joint's name must differ from them).
+pub fn read(
+    raws: Vec<RawAttr>,
+    links: &[Link],
+    tree_joints: &[&Ident],
+    names: &[String],
+    diag: &mut Diagnostics,
+) -> Vec<LoopJoint> {
+    let mut out: Vec<LoopJoint> = Vec::new();
+    if !raws.is_empty()
+        && let Some(l) = links.iter().find(|l| l.kind.is_lie())
+    {
+        for raw in &raws {
+            if let Some(name) = &raw.name {
+                diag.error_at(
+                    name,
+                    format_args!(
+                        "loop joints are not supported yet in scenes with spherical or free tree joints (joint `{}`); \
+                         build the tree from revolute and prismatic joints (a ball joint that closes the loop is fine: \
+                         `{name}: spherical`)",
+                        l.joint_name
+                    ),
+                );
+            }
+        }
+        return out;
+    }
+    // Bodies by link index (the translation half of a free joint is internal).
+    let body = |name: &Ident| links.iter().position(|l| name == &l.name);
+    let bodies = || {
+        links
+            .iter()
+            .map(|l| format!("`{}`", l.name))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    for mut raw in raws {
+        let Some(name) = raw.name.clone() else {
+            continue;
+        };
+        let mut ok = true;
+        if tree_joints.iter().any(|j| **j == name) || out.iter().any(|l| name == l.name) {
+            diag.error_at(
+                &name,
+                format_args!(
+                    "a joint named `{name}` is already declared; give each joint its own name"
+                ),
+            );
+            ok = false;
+        }
+        let kind = match &raw.head {
+            Some(h) => match joint_kind(h, diag) {
+                Some(JointKind::Free) => {
+                    diag.error_at(
+                        h,
+                        "a free loop joint would constrain nothing; drop it, or choose `revolute(<axis>)`, `prismatic(<axis>)`, `spherical` or `fixed`",
+                    );
+                    None
+                }
+                k => k,
+            },
+            None => {
+                diag.error_at(
+                    &name,
+                    format_args!("loop joint `{name}` needs a kind: `{name}: revolute(z)`, `{name}: prismatic(x)`, `{name}: spherical` or `{name}: fixed`"),
+                );
+                None
+            }
+        };
+        let parent = match raw.take("parent", diag) {
+            Some((_, e)) => match ident_of(&e) {
+                Some(i) if i == "world" => Some(None),
+                Some(i) => match body(i) {
+                    Some(l) => Some(Some(l)),
+                    None => {
+                        diag.error_at(
+                            i,
+                            format_args!("no body named `{i}`; the parent must be `world` or a declared body ({})", bodies()),
+                        );
+                        None
+                    }
+                },
+                None => {
+                    diag.error_at(&e, "`parent` must be a body name or `world`");
+                    None
+                }
+            },
+            None => {
+                diag.error_at(
+                    &name,
+                    format_args!(
+                        "loop joint `{name}` has no parent; add `parent = <body>` (or `world`)"
+                    ),
+                );
+                None
+            }
+        };
+        let child = match raw.take("child", diag) {
+            Some((_, e)) => match ident_of(&e) {
+                Some(i) if i == "world" => {
+                    diag.error_at(
+                        &e,
+                        "`world` cannot be a child; put it on the parent side (`parent = world`) and the body on the child side",
+                    );
+                    None
+                }
+                Some(i) => match body(i) {
+                    Some(l) => Some((l, i.clone())),
+                    None => {
+                        diag.error_at(
+                            i,
+                            format_args!(
+                                "no body named `{i}`; the child must be a declared body ({})",
+                                bodies()
+                            ),
+                        );
+                        None
+                    }
+                },
+                None => {
+                    diag.error_at(&e, "`child` must be a body name");
+                    None
+                }
+            },
+            None => {
+                diag.error_at(
+                    &name,
+                    format_args!("loop joint `{name}` has no child; add `child = <body>`"),
+                );
+                None
+            }
+        };
+        let (origin, rpy) = placement(&mut raw, names, diag);
+        let (child_origin, child_rpy) =
+            placement_at(&mut raw, ["child_origin", "child_rpy"], names, diag);
+        raw.reject_rest(&KEYS, diag);
+        let (Some(kind), Some(parent), Some((child, child_name)), true) = (kind, parent, child, ok)
+        else {
+            continue;
+        };
+        if parent == Some(child) {
+            diag.error_at(
+                &child_name,
+                "a loop joint cannot connect a body to itself; its parent and child must differ",
+            );
+            continue;
+        }
+        out.push(LoopJoint {
+            name: name.to_string(),
+            kind,
+            parent,
+            child,
+            origin,
+            rpy,
+            child_origin,
+            child_rpy,
+        });
+    }
+    out
+}

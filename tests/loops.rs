@@ -1,0 +1,198 @@
+//! Loop joints (`#[loop_joint]`): the generated constraint residual `Φ`, Jacobian
+//! `G = ∂Φ/∂q` and acceleration term `γ = −Ġ v`, against the closed form of a planar
+//! four-bar, against `Φ` composed here from the numeric model's link poses (a reference
+//! that does not use the generator) for every loop joint kind on an oblique spatial tree,
+//! and `G`, `γ` against central differences, at random states.
+
+mod common;
+
+use filippov::nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use filippov::prelude::*;
+use filippov::runtime::loops::LoopConstraints;
+use filippov::runtime::numeric;
+
+/// A four-bar linkage in the plane: crank `a` from the origin, coupler `b`, rocker `c`
+/// from `(d, 0)`, the coupler's end pinned to the rocker's by a loop joint.
+#[derive(Mechanism)]
+#[body(crank, mass = 1.0, com = [a / 2.0, 0.0, 0.0], inertia = rod(1.0, a))]
+#[joint(crank_pivot: revolute(z), parent = world, child = crank)]
+#[body(coupler, mass = 1.0, com = [b / 2.0, 0.0, 0.0], inertia = rod(1.0, b))]
+#[joint(crank_pin: revolute(z), parent = crank, child = coupler, origin = [a, 0.0, 0.0])]
+#[body(rocker, mass = 1.0, com = [c / 2.0, 0.0, 0.0], inertia = rod(1.0, c))]
+#[joint(rocker_pivot: revolute(z), parent = world, child = rocker, origin = [d, 0.0, 0.0])]
+#[loop_joint(rocker_pin: revolute(z), parent = coupler, child = rocker, origin = [b, 0.0, 0.0], child_origin = [c, 0.0, 0.0])]
+struct FourBar {
+    a: f64,
+    b: f64,
+    c: f64,
+    d: f64,
+}
+
+/// An oblique spatial tree (nothing axis-aligned to fold) closed by one loop joint of
+/// each kind, so that every row of every kind is present.
+#[derive(Mechanism)]
+#[body(b1, mass = 1.0, com = [0.1, 0.2, 0.0], inertia = sphere(1.0, 0.1))]
+#[joint(j1: revolute([0.3, 0.5, 0.8]), parent = world, child = b1, origin = [0.1, -0.2, 0.3], rpy = [0.2, 0.1, -0.3])]
+#[body(b2, mass = 1.0, com = [0.2, 0.0, 0.1], inertia = sphere(1.0, 0.1))]
+#[joint(j2: revolute(x), parent = b1, child = b2, origin = [0.4, 0.1, -0.2], rpy = [0.1, 0.2, 0.3])]
+#[body(b3, mass = 1.0, com = [0.0, 0.1, 0.1], inertia = sphere(1.0, 0.1))]
+#[joint(j3: prismatic([0.0, 0.6, 0.8]), parent = world, child = b3, origin = [1.0, 0.2, 0.0], rpy = [0.0, 0.4, 0.0])]
+#[body(b4, mass = 1.0, com = [0.1, 0.1, 0.1], inertia = sphere(1.0, 0.1))]
+#[joint(j4: revolute([1.0, 1.0, 0.0]), parent = b3, child = b4, origin = [0.0, 0.3, 0.2], rpy = [-0.2, 0.3, 0.5])]
+#[loop_joint(ball: spherical, parent = b2, child = b4, origin = [0.3, 0.1, 0.0], child_origin = [0.0, 0.2, 0.1])]
+#[loop_joint(hinge: revolute([0.0, 0.6, 0.8]), parent = b1, child = b4, origin = [0.2, 0.0, 0.1], rpy = [0.1, 0.0, 0.2], child_origin = [0.1, 0.0, 0.3], child_rpy = [0.3, 0.2, 0.1])]
+#[loop_joint(slide: prismatic(y), parent = world, child = b2, origin = [0.5, 0.5, 0.5], rpy = [0.4, 0.3, 0.2], child_origin = [0.1, 0.1, 0.1], child_rpy = [0.0, 0.1, 0.0])]
+#[loop_joint(weld: fixed, parent = b3, child = b1, origin = [0.2, 0.2, 0.0], rpy = [0.0, 0.0, 0.5], child_origin = [0.0, 0.0, 0.2], child_rpy = [0.5, 0.0, 0.0])]
+struct Spatial {}
+
+fn offset(xyz: [f64; 3], rpy: [f64; 3]) -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::new(xyz[0], xyz[1], xyz[2]),
+        UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]),
+    )
+}
+
+/// `G` against central differences of `Φ`, and `γ = −Ġ v` against central differences
+/// of `G v` along `v`, relative to the entries' scale.
+fn check_derivatives<S, const N: usize, const M: usize>(
+    s: &S,
+    q: &SVector<f64, N>,
+    v: &SVector<f64, N>,
+) where
+    S: LoopConstraints<N, M>,
+{
+    let h = 1e-6;
+    let g = s.constraint_jacobian(q);
+    for k in 0..N {
+        let mut e = SVector::<f64, N>::zeros();
+        e[k] = h;
+        let fd = (s.constraint_residual(&(q + e)) - s.constraint_residual(&(q - e))) / (2.0 * h);
+        let err = (fd - g.column(k)).amax();
+        assert!(err < 1e-8 * (1.0 + g.amax()), "G column {k}: {err:e}");
+    }
+    let gdot_v = (s.constraint_jacobian(&(q + v * h)) * v
+        - s.constraint_jacobian(&(q - v * h)) * v)
+        / (2.0 * h);
+    let gamma = s.constraint_gamma(q, v);
+    let err = (gamma + gdot_v).amax();
+    assert!(err < 1e-7 * (1.0 + gamma.amax()), "γ: {err:e}");
+}
+
+#[test]
+fn four_bar_has_two_rows_that_match_its_closed_form() {
+    let fb = FourBar {
+        a: 0.3,
+        b: 1.1,
+        c: 0.8,
+        d: 1.0,
+    };
+    assert_eq!(FourBar::CONSTRAINTS, ["rocker_pin.x", "rocker_pin.y"]);
+    let mut rng = common::Rng::new(30);
+    for _ in 0..50 {
+        let q: SVector<f64, 3> = rng.vector(3.0);
+        let v: SVector<f64, 3> = rng.vector(2.0);
+        let (t1, t12) = (q[0], q[0] + q[1]);
+        let pin = [
+            fb.a * t1.cos() + fb.b * t12.cos(),
+            fb.a * t1.sin() + fb.b * t12.sin(),
+        ];
+        let rocker = [fb.d + fb.c * q[2].cos(), fb.c * q[2].sin()];
+        let phi = fb.constraint_residual(&q);
+        for k in 0..2 {
+            assert!(
+                (phi[k] - (rocker[k] - pin[k])).abs() < 1e-14,
+                "{phi} at {q}"
+            );
+        }
+        check_derivatives(&fb, &q, &v);
+    }
+}
+
+#[test]
+fn every_loop_joint_kind_matches_the_numeric_model() {
+    let s = Spatial {};
+    assert_eq!(
+        Spatial::CONSTRAINTS.len(),
+        3 + 5 + 5 + 6,
+        "{:?}",
+        Spatial::CONSTRAINTS
+    );
+    let model = s.model();
+    let mut rng = common::Rng::new(31);
+    for _ in 0..30 {
+        let q: SVector<f64, 4> = rng.vector(2.0);
+        let v: SVector<f64, 4> = rng.vector(2.0);
+        let poses: Vec<Isometry3<f64>> = numeric::link_poses(&model, &common::dvec(&q))
+            .into_iter()
+            .map(Into::into)
+            .collect();
+        let world = Isometry3::identity();
+        let frames = |parent: &Isometry3<f64>,
+                      a: ([f64; 3], [f64; 3]),
+                      child: &Isometry3<f64>,
+                      b: ([f64; 3], [f64; 3])| {
+            (parent * offset(a.0, a.1), child * offset(b.0, b.1))
+        };
+        let axis = |p: &Isometry3<f64>, v: [f64; 3]| p.rotation * Vector3::from(v).normalize();
+        let d =
+            |a: &Isometry3<f64>, b: &Isometry3<f64>| b.translation.vector - a.translation.vector;
+        let mut expected: Vec<f64> = Vec::new();
+        // ball: the distance.
+        let (a, b) = frames(
+            &poses[1],
+            ([0.3, 0.1, 0.0], [0.0; 3]),
+            &poses[3],
+            ([0.0, 0.2, 0.1], [0.0; 3]),
+        );
+        expected.extend(d(&a, &b).iter());
+        // hinge: the distance, and the axis normal to the two normals of the axis.
+        let (a, b) = frames(
+            &poses[0],
+            ([0.2, 0.0, 0.1], [0.1, 0.0, 0.2]),
+            &poses[3],
+            ([0.1, 0.0, 0.3], [0.3, 0.2, 0.1]),
+        );
+        expected.extend(d(&a, &b).iter());
+        let n = Vector3::new(0.0, 0.6, 0.8);
+        let u1 = n.cross(&Vector3::x()).normalize();
+        let u2 = n.cross(&u1);
+        for u in [u1, u2] {
+            expected.push((a.rotation * u).dot(&axis(&b, [0.0, 0.6, 0.8])));
+        }
+        // slide: no motion across y (along the parent-side z and x), no rotation.
+        let (a, b) = frames(
+            &world,
+            ([0.5, 0.5, 0.5], [0.4, 0.3, 0.2]),
+            &poses[1],
+            ([0.1, 0.1, 0.1], [0.0, 0.1, 0.0]),
+        );
+        let weld_rows = |a: &Isometry3<f64>, b: &Isometry3<f64>| {
+            [
+                axis(a, [1.0, 0.0, 0.0]).dot(&axis(b, [0.0, 1.0, 0.0])),
+                axis(a, [0.0, 1.0, 0.0]).dot(&axis(b, [0.0, 0.0, 1.0])),
+                axis(a, [0.0, 0.0, 1.0]).dot(&axis(b, [1.0, 0.0, 0.0])),
+            ]
+        };
+        expected.push(d(&a, &b).dot(&axis(&a, [0.0, 0.0, 1.0])));
+        expected.push(d(&a, &b).dot(&axis(&a, [1.0, 0.0, 0.0])));
+        expected.extend(weld_rows(&a, &b));
+        // weld: the distance and no rotation.
+        let (a, b) = frames(
+            &poses[2],
+            ([0.2, 0.2, 0.0], [0.0, 0.0, 0.5]),
+            &poses[0],
+            ([0.0, 0.0, 0.2], [0.5, 0.0, 0.0]),
+        );
+        expected.extend(d(&a, &b).iter());
+        expected.extend(weld_rows(&a, &b));
+        let phi = s.constraint_residual(&q);
+        for (k, (&got, want)) in phi.iter().zip(&expected).enumerate() {
+            assert!(
+                (got - want).abs() < 1e-13,
+                "row {k} ({}): {got} against {want}",
+                Spatial::CONSTRAINTS[k]
+            );
+        }
+        check_derivatives(&s, &q, &v);
+    }
+}

@@ -32,4 +32,14 @@ pub trait LoopConstraints<const N: usize, const M: usize>: Mechanism<N> {
 
     /// `γ(q, v) = −Ġ v`: the constraint accelerations satisfy `G v̇ = γ`.
     fn constraint_gamma(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> SVector<f64, M>;
+
+    /// The accelerations of the closed mechanism and its constraint forces `λ`:
+    /// `M v̇ = τ + τ_p − C v − g + Gᵀ λ` with `G v̇ = γ`. The accelerations are
+    /// [`Mechanism::forward_dynamics`]'s.
+    fn constrained_forward_dynamics(
+        &self,
+        q: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        tau: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SVector<f64, M>);
 }

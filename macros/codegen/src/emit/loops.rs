@@ -16,9 +16,10 @@ pub fn loops_impl(
     k: &Kernels,
     stats: &mut Vec<FnStats>,
 ) -> (TokenStream, TokenStream) {
-    let Some(lk) = &k.loops else {
+    let Some(lo) = &k.loops else {
         return (TokenStream::new(), TokenStream::new());
     };
+    let lk = &lo.constraints;
     let (n, m) = (k.dof, lk.rows());
     let g = &k.graph;
     let ident = &model.ident;
@@ -81,6 +82,23 @@ pub fn loops_impl(
         &lk.gamma,
         &vec_m,
         " The constraint acceleration term `γ = −Ġ v` (`G v̇ = γ`).",
+    );
+    let mut outs = k.forward.clone();
+    outs.extend(lo.lambda.iter().copied());
+    add(
+        "constrained_forward_dynamics",
+        vec![InputKind::Q, InputKind::V, InputKind::Tau],
+        quote!((::filippov::nalgebra::SVector<f64, #n>, ::filippov::nalgebra::SVector<f64, #m>)),
+        &outs,
+        &|o: Vec<TokenStream>| {
+            let (a, l) = o.split_at(n);
+            quote!((
+                ::filippov::nalgebra::SVector::<f64, #n>::from([#(#a),*]),
+                ::filippov::nalgebra::SVector::<f64, #m>::from([#(#l),*])
+            ))
+        },
+        " Forward dynamics of the closed mechanism and its constraint forces `λ`: \
+         `M v̇ = τ + τ_p − C v − g + Gᵀ λ` with `G v̇ = γ`.",
     );
     let names: Vec<Literal> = lk.names.iter().map(|s| Literal::string(s)).collect();
     let code = quote! {

@@ -187,3 +187,141 @@ pub fn loop_constraints(g: &mut Graph, model: &Model, kin: &Kinematics) -> LoopK
         gamma,
     }
 }
+
+/// The `LᵀDL`-free dense factor `A = L D Lᵀ` (`L` unit lower triangular) of the
+/// symmetric `m × m` matrix `A = G M⁻¹ Gᵀ`, unrolled without pivoting: `A` is positive
+/// definite wherever `G` has full rank, and where it has not the pivots vanish (the
+/// runtime checks the rank before it integrates, see `runtime::loops`).
+pub struct Ldl {
+    /// `l[i][j]`, `j < i`.
+    l: Vec<Vec<Id>>,
+    d: Vec<Id>,
+}
+
+impl Ldl {
+    pub fn factor(g: &mut Graph, a: &[Vec<Id>]) -> Ldl {
+        let m = a.len();
+        let mut l: Vec<Vec<Id>> = vec![Vec::new(); m];
+        let mut d: Vec<Id> = Vec::with_capacity(m);
+        for j in 0..m {
+            let mut djj = a[j][j];
+            for k in 0..j {
+                let t = g.mul(l[j][k], l[j][k]);
+                let t = g.mul(t, d[k]);
+                djj = g.sub(djj, t);
+            }
+            d.push(djj);
+            for i in j + 1..m {
+                let mut s = a[i][j];
+                for k in 0..j {
+                    let t = g.mul(l[i][k], l[j][k]);
+                    let t = g.mul(t, d[k]);
+                    s = g.sub(s, t);
+                }
+                let lij = g.div(s, djj);
+                l[i].push(lij);
+            }
+        }
+        Ldl { l, d }
+    }
+
+    /// `A⁻¹ b`.
+    pub fn solve(&self, g: &mut Graph, b: &[Id]) -> Vec<Id> {
+        let m = b.len();
+        let mut z: Vec<Id> = Vec::with_capacity(m);
+        for i in 0..m {
+            let mut s = b[i];
+            for k in 0..i {
+                let t = g.mul(self.l[i][k], z[k]);
+                s = g.sub(s, t);
+            }
+            z.push(s);
+        }
+        let mut x: Vec<Id> = z.iter().zip(&self.d).map(|(&z, &d)| g.div(z, d)).collect();
+        for i in (0..m).rev() {
+            for k in i + 1..m {
+                let t = g.mul(self.l[k][i], x[k]);
+                x[i] = g.sub(x[i], t);
+            }
+        }
+        x
+    }
+}
+
+/// The constrained forward dynamics built with one solve by `M` (theory §5): the free
+/// accelerations `a₀ = M⁻¹(τ + τ_p − C v − g)`, `Y = M⁻¹ Gᵀ` (one solve per row), the
+/// Schur complement `A = G Y` factored as [`Ldl`], the constraint forces
+/// `λ = A⁻¹ (γ − G a₀)` and `a = a₀ + Y λ`: `M a = τ + τ_p − C v − g + Gᵀ λ`, `G a = γ`.
+pub struct Constrained {
+    /// `y[r]` = `M⁻¹ G_rᵀ`.
+    pub y: Vec<Vec<Id>>,
+    pub schur: Ldl,
+    pub acceleration: Vec<Id>,
+    pub lambda: Vec<Id>,
+}
+
+impl Constrained {
+    pub fn build(
+        g: &mut Graph,
+        lk: &LoopKernels,
+        free: Vec<Id>,
+        solve_m: &mut dyn FnMut(&mut Graph, &[Id]) -> Vec<Id>,
+    ) -> Constrained {
+        let n = free.len();
+        let m = lk.rows();
+        let row = |r: usize| &lk.jacobian[r * n..(r + 1) * n];
+        let y: Vec<Vec<Id>> = (0..m).map(|r| solve_m(g, row(r))).collect();
+        let a: Vec<Vec<Id>> = (0..m)
+            .map(|r| (0..m).map(|c| g.dot(row(r), &y[c])).collect())
+            .collect();
+        let schur = Ldl::factor(g, &a);
+        let rhs: Vec<Id> = (0..m)
+            .map(|r| {
+                let ga = g.dot(row(r), &free);
+                g.sub(lk.gamma[r], ga)
+            })
+            .collect();
+        let lambda = schur.solve(g, &rhs);
+        let acceleration = Self::combine(g, &y, free, &lambda);
+        Constrained {
+            y,
+            schur,
+            acceleration,
+            lambda,
+        }
+    }
+
+    /// `x + Σ_r y_r w_r`.
+    fn combine(g: &mut Graph, y: &[Vec<Id>], mut x: Vec<Id>, w: &[Id]) -> Vec<Id> {
+        for (yr, &wr) in y.iter().zip(w) {
+            for (xi, &yi) in x.iter_mut().zip(yr) {
+                let t = g.mul(yi, wr);
+                *xi = g.add(*xi, t);
+            }
+        }
+        x
+    }
+
+    /// The solution `a'` of the augmented system `M a' − Gᵀ λ' = r₁`, `G a' = r₂`: one
+    /// column of the constrained dynamics' Jacobian, with `r₁`, `r₂` the residuals'
+    /// partial derivatives at fixed `(a, λ)`, negated.
+    pub fn column(
+        &self,
+        g: &mut Graph,
+        lk: &LoopKernels,
+        r1: &[Id],
+        r2: &[Id],
+        solve_m: &mut dyn FnMut(&mut Graph, &[Id]) -> Vec<Id>,
+    ) -> Vec<Id> {
+        let n = r1.len();
+        let y1 = solve_m(g, r1);
+        let rhs: Vec<Id> = (0..r2.len())
+            .map(|r| {
+                let gy = g.dot(&lk.jacobian[r * n..(r + 1) * n], &y1);
+                g.sub(r2[r], gy)
+            })
+            .collect();
+        let dl = self.schur.solve(g, &rhs);
+        Self::combine(g, &self.y, y1, &dl)
+    }
+}

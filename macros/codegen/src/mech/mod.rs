@@ -63,8 +63,16 @@ pub struct Kernels {
     /// Poses and Jacobians of every body and declared frame; built only when the
     /// scene asks for `kinematics` (or declares a frame).
     pub frames: Vec<frames::FrameKernel>,
-    /// The constraints of the loop joints; only for scenes that declare some.
-    pub loops: Option<loops::LoopKernels>,
+    /// The constraints of the loop joints and their forces; only for scenes that
+    /// declare some (their `forward` is then the constrained system's).
+    pub loops: Option<LoopOutputs>,
+}
+
+/// What a scene with loop joints emits besides its constrained forward dynamics.
+pub struct LoopOutputs {
+    pub constraints: loops::LoopKernels,
+    /// The constraint forces `λ` beside `forward` (same nodes' algorithm).
+    pub lambda: Vec<Id>,
 }
 
 /// What the derive emits for non-smooth elements besides their parameters.
@@ -154,7 +162,24 @@ impl Kernels {
             Which::Crba(_) => s.solve(g, &rhs, None),
             Which::Aba(_) => s.solve(g, &rhs_aba, base),
         };
-        let (forward, forward_algorithm) = solver.choose(&mut g, solve_forward);
+        // With loop joints, forward dynamics is that of the constrained system (theory
+        // §5): the free accelerations corrected by the constraint forces `λ`.
+        let loop_k =
+            (!model.loops.is_empty()).then(|| loops::loop_constraints(&mut g, model, &kin));
+        let (forward, forward_algorithm, loop_lambda) = match &loop_k {
+            None => {
+                let (f, used) = solver.choose(&mut g, solve_forward);
+                (f, used, Vec::new())
+            }
+            Some(lk) => {
+                let (out, used) = solver.choose(&mut g, |g, s| {
+                    let free = solve_forward(g, s);
+                    let c = loops::Constrained::build(g, lk, free, &mut |g, b| s.solve(g, b, None));
+                    c.acceleration.into_iter().chain(c.lambda).collect()
+                });
+                (out[..n].to_vec(), used, out[n..].to_vec())
+            }
+        };
         let inverse_mass = (!model.elements.is_empty()).then(|| {
             let (cols, _) = solver.choose_columns(&mut g, n, |g, s, k| {
                 let e: Vec<Id> = (0..n)
@@ -187,7 +212,71 @@ impl Kernels {
         // One kernel returns v̇ (column 0) and both halves of its Jacobian, so one
         // algorithm for all. The substitution's memo is kept per algorithm.
         let mut substitutions: [Option<(FastMap<Id, Id>, FastMap<Id, Id>)>; 2] = [None, None];
+        let mut constrained: [Option<loops::Constrained>; 2] = [None, None];
         let (mut cols, jacobian_algorithm) = solver.choose_columns(&mut g, 2 * n + 1, |g, s, k| {
+            if let Some(lk) = &loop_k {
+                // The constrained system's: v̇ = a, and the columns of the augmented
+                // system's derivative (see `loops::Constrained::column`).
+                let slot = usize::from(matches!(s, Which::Aba(_)));
+                if constrained[slot].is_none() {
+                    let free = solve_forward(g, s);
+                    let c = loops::Constrained::build(g, lk, free, &mut |g, b| s.solve(g, b, None));
+                    substitutions[slot] = Some((
+                        a.iter().copied().zip(c.acceleration.clone()).collect(),
+                        FastMap::default(),
+                    ));
+                    constrained[slot] = Some(c);
+                }
+                let (Some(c), Some((subst, memo))) = (&constrained[slot], &mut substitutions[slot])
+                else {
+                    unreachable!("built above")
+                };
+                if k == 0 {
+                    return c.acceleration.clone();
+                }
+                let x = if k <= n {
+                    Input {
+                        kind: InputKind::Q,
+                        index: (k - 1) as u16,
+                    }
+                } else {
+                    Input {
+                        kind: InputKind::V,
+                        index: (k - 1 - n) as u16,
+                    }
+                };
+                let m = lk.rows();
+                let on_q = x.kind == InputKind::Q;
+                let r1: Vec<Id> = (0..n)
+                    .map(|i| {
+                        let mut t = g.substitute(d_x[k - 1][i], subst, memo);
+                        if on_q {
+                            for r in 0..m {
+                                let dg = g.diff(lk.jacobian[r * n + i], x);
+                                let f = g.mul(dg, c.lambda[r]);
+                                t = g.sub(t, f);
+                            }
+                        }
+                        g.neg(t)
+                    })
+                    .collect();
+                let r2: Vec<Id> = (0..m)
+                    .map(|r| {
+                        let mut t = g.zero();
+                        if on_q {
+                            for i in 0..n {
+                                let dg = g.diff(lk.jacobian[r * n + i], x);
+                                let f = g.mul(dg, c.acceleration[i]);
+                                t = g.add(t, f);
+                            }
+                        }
+                        let dgamma = g.diff(lk.gamma[r], x);
+                        let t = g.sub(t, dgamma);
+                        g.neg(t)
+                    })
+                    .collect();
+                return c.column(g, lk, &r1, &r2, &mut |g, b| s.solve(g, b, None));
+            }
             if k == 0 {
                 return solve_forward(g, s);
             }
@@ -303,8 +392,10 @@ impl Kernels {
         } else {
             Vec::new()
         };
-        // After the frames, so that scenes without loops read the same.
-        let loops = (!model.loops.is_empty()).then(|| loops::loop_constraints(&mut g, model, &kin));
+        let loops = loop_k.map(|lk| LoopOutputs {
+            constraints: lk,
+            lambda: loop_lambda,
+        });
 
         Kernels {
             graph: g,

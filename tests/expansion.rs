@@ -76,6 +76,11 @@ fn lie_group_scenes() {
 }
 
 #[test]
+fn closed_loops() {
+    snapshot("loops.rs");
+}
+
+#[test]
 fn s9_arm() {
     snapshot("s9.rs");
 }

@@ -39,6 +39,13 @@ pub enum ErrorKind {
         element: String,
         cycle: String,
     },
+    /// At time `t` the closed mechanism could not be kept on its loops' constraints:
+    /// they became singular (a change point, a dead centre) or would not close (see
+    /// [`LoopError`](crate::loops::LoopError)).
+    Loops {
+        t: f64,
+        error: crate::loops::LoopError,
+    },
 }
 
 impl fmt::Display for ErrorKind {
@@ -77,6 +84,7 @@ impl fmt::Display for ErrorKind {
                  integration cannot resolve it — use NonSmoothMethod::TimeStepping for this \
                  run (or span)"
             ),
+            ErrorKind::Loops { t, error } => write!(f, "at t = {t}: {error}"),
         }
     }
 }

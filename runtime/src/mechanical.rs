@@ -112,6 +112,23 @@ where
         Some(N)
     }
 
+    /// Onto the loop constraints of a closed mechanism ([`Mechanism::project_onto_loops`]).
+    fn project(&self, t: f64, y: &mut [f64]) -> Result<bool, crate::ErrorKind> {
+        if S::LOOP_CONSTRAINTS.is_empty() {
+            return Ok(false);
+        }
+        let (mut q, mut v) = Self::split(y);
+        let moved = self
+            .mechanism
+            .project_onto_loops(&mut q, &mut v)
+            .map_err(|error| crate::ErrorKind::Loops { t, error })?;
+        if moved {
+            y[..N].copy_from_slice(q.as_slice());
+            y[N..2 * N].copy_from_slice(v.as_slice());
+        }
+        Ok(moved)
+    }
+
     /// The mechanism's parameters ([`Mechanism::validate`]), and no non-smooth elements
     /// unless they are to be ignored.
     fn validate(&self) -> Result<(), String> {

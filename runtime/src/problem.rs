@@ -52,6 +52,14 @@ pub trait OdeSystem {
     fn validate(&self) -> Result<(), String> {
         Ok(())
     }
+
+    /// Moves `y` at time `t` back onto an invariant manifold the equations keep only
+    /// up to the integration error (a closed mechanism's loop constraints); the drivers
+    /// call it after every accepted step and at the start. Returns whether `y` moved;
+    /// the default has no manifold.
+    fn project(&self, _t: f64, _y: &mut [f64]) -> Result<bool, crate::ErrorKind> {
+        Ok(false)
+    }
 }
 
 /// The number of leading components whose dense output is the positions quintic: the

@@ -174,12 +174,22 @@ where
         span: tf - t0,
         fresh: true,
     };
+    // A closed mechanism starts on its constraints (its given state, if off them, is
+    // projected: `loops::assemble` completes a partial one) and is put back on them
+    // after every step.
+    let mut y = problem.y0.clone();
+    system.project(t0, &mut y)?;
+    let at = Begin { y: &y, ..at };
     stepper.begin(&mut Eval::new(system, &mut sol.stats), at)?;
     sol.push_start(t0, stepper.y(), stepper.f());
     while stepper.t() < tf {
         let t_prev = stepper.t();
         stepper.step(&mut Eval::new(system, &mut sol.stats), tf)?;
         let t = stepper.t();
+        y.copy_from_slice(stepper.y());
+        if system.project(t, &mut y)? {
+            stepper.nudge(&mut Eval::new(system, &mut sol.stats), &y)?;
+        }
         if !tracker.is_empty() {
             match locate_events(stepper, system, problem, sol, tracker, t_prev)? {
                 Located::Nothing => {}

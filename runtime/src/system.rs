@@ -163,4 +163,17 @@ pub trait Mechanism<const N: usize> {
     /// The same system as a plain numeric description, for the independent numeric
     /// implementation in [`crate::numeric`].
     fn model(&self) -> Model;
+    /// Names of the constraint rows of the scene's loop joints (`#[loop_joint]`), empty
+    /// for a tree; see [`LoopConstraints`](crate::loops::LoopConstraints).
+    const LOOP_CONSTRAINTS: &'static [&'static str] = &[];
+    /// Projects `(q, v)` onto the loops' constraint manifold
+    /// ([`loops::project`](crate::loops::project)); a tree has nothing to project.
+    /// Returns whether anything moved. The integrators call it after each accepted step.
+    fn project_onto_loops(
+        &self,
+        _q: &mut SVector<f64, N>,
+        _v: &mut SVector<f64, N>,
+    ) -> Result<bool, crate::loops::LoopError> {
+        Ok(false)
+    }
 }

@@ -1,15 +1,17 @@
 //! The canonical multibody scenes of `docs/theory.md` §4 (feature `scenes`), declared with
 //! the derive exactly as a user would: the theory's lumped scenes S1–S7 with their
 //! non-smooth elements, the double pendulum, a planar three-link arm, a branched tree,
-//! the Panda (as attributes, and as S9 with friction and stops), and bodies on spherical
-//! and free joints. The examples run on them; `references` holds the closed forms and
-//! reference solutions the tests and the report compare against. A program of its own
-//! enables them with `filippov = { version = "0.1", features = ["scenes"] }`; without the
-//! feature none of them is compiled.
+//! the Panda (as attributes, and as S9 with friction and stops), bodies on spherical
+//! and free joints, and closed linkages (a four-bar and a slider-crank, §5). The
+//! examples run on them; `references` holds the closed forms and reference solutions
+//! the tests and the report compare against. A program of its own enables them with
+//! `filippov = { version = "0.1", features = ["scenes"] }`; without the feature none of
+//! them is compiled.
 
 mod arm3;
 mod double_pendulum;
 mod lie;
+mod loops;
 mod lumped;
 mod panda;
 pub mod references;
@@ -19,6 +21,7 @@ mod tree;
 pub use arm3::PlanarArm3;
 pub use double_pendulum::DoublePendulum;
 pub use lie::{BallChain, EulerBody, FreeBody, Satellite, SphericalBody};
+pub use loops::{FourBar, SliderCrank};
 pub use lumped::{
     BeltFriction, BilinearOscillator, BinghamBlock, BinghamOscillator, BouncingBall,
     CoulombOscillator, CubicBingham, DuffingBingham, FrictionChain, NonMonotoneMaxDissipation,

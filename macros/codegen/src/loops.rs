@@ -59,7 +59,7 @@ pub fn read(
         }
         return out;
     }
-    // Bodies by link index (the translation half of a free joint is internal).
+    // Bodies by link index.
     let body = |name: &Ident| links.iter().position(|l| name == &l.name);
     let bodies = || {
         links

@@ -192,10 +192,21 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
             }
         }
     }
-    let elements = crate::nonsmooth::read(nonsmooth_attrs, &links, &names, diag);
-    let frames = read_frames(frame_attrs, &links, &names, diag);
     let tree_joints: Vec<&Ident> = joints.iter().map(|j| &j.name).collect();
     let loops = crate::loops::read(loop_attrs, &links, &tree_joints, &names, diag);
+    if !loops.is_empty() {
+        for raw in &nonsmooth_attrs {
+            if let Some(name) = &raw.name {
+                diag.error_at(
+                    name,
+                    "friction, dash-pots and stops are not supported yet in scenes with loop joints; \
+                     drop the element, or model the mechanism as a tree",
+                );
+            }
+        }
+    }
+    let elements = crate::nonsmooth::read(nonsmooth_attrs, &links, &names, diag);
+    let frames = read_frames(frame_attrs, &links, &names, diag);
     // Declaring a frame is asking for its pose.
     emit.kinematics |= !frames.is_empty();
     // Scenes with non-smooth elements always carry their energies: time-stepping keeps

@@ -7,6 +7,10 @@
 //! `G v̇ = γ` keeps `G v = 0`), each straight-line code with the rows that fold to zero
 //! left out: a revolute loop joint of a planar mechanism has two rows, not five.
 
+mod manifold;
+
+pub use manifold::{LoopError, ROUND_OFF, SINGULAR_PIVOT, project};
+
 use nalgebra::{SMatrix, SVector};
 
 use crate::system::Mechanism;

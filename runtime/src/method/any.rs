@@ -46,6 +46,14 @@ impl Stepper for AnyStepper {
         each!(self, |s| s.state())
     }
 
+    fn state_mut(&mut self) -> &mut StepState {
+        each!(self, |s| s.state_mut())
+    }
+
+    fn nudge<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, y: &[f64]) -> StepResult {
+        each!(self, |s| s.nudge(ev, y))
+    }
+
     fn begin<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, at: Begin) -> StepResult {
         each!(self, |s| s.begin(ev, at))
     }

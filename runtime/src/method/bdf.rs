@@ -227,6 +227,21 @@ impl Stepper for BdfStepper {
         &self.s
     }
 
+    fn state_mut(&mut self) -> &mut StepState {
+        &mut self.s
+    }
+
+    /// The past shifted with the point: `∇⁰ y_n` moves, the differences stay (the
+    /// projection moves the recent past about as much as the point).
+    fn nudge<S: OdeSystem + ?Sized>(&mut self, _ev: &mut Eval<'_, S>, y: &[f64]) -> StepResult {
+        for ((d, &new), old) in self.diff[0].iter_mut().zip(y).zip(&self.s.y) {
+            *d += new - old;
+        }
+        self.s.y.copy_from_slice(y);
+        self.dense_pending = None;
+        Ok(())
+    }
+
     fn prepare_dense(&mut self) {
         if let Some((t0, order)) = self.dense_pending.take() {
             self.set_dense(t0, order);

@@ -78,6 +78,10 @@ impl Stepper for Dopri5Stepper {
         &self.s
     }
 
+    fn state_mut(&mut self) -> &mut StepState {
+        &mut self.s
+    }
+
     fn begin<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, at: Begin) -> StepResult {
         self.s.enter(ev, at, 5, self.s.h)?;
         self.k[0].copy_from_slice(&self.s.f);

@@ -58,6 +58,10 @@ impl Stepper for Rk4Stepper {
         &self.s
     }
 
+    fn state_mut(&mut self) -> &mut StepState {
+        &mut self.s
+    }
+
     /// A fixed step needs no first-step choice; afresh or not, the stepper begins at
     /// `(t, y)` with `f(t, y)`.
     fn begin<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, at: Begin) -> StepResult {

@@ -88,6 +88,10 @@ impl Stepper for Sdirk4Stepper {
         &self.s
     }
 
+    fn state_mut(&mut self) -> &mut StepState {
+        &mut self.s
+    }
+
     fn begin<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, at: Begin) -> StepResult {
         self.s.enter(ev, at, 4, self.s.h)?;
         self.controller = PiController::new(3);

@@ -214,6 +214,22 @@ pub trait Stepper {
     /// The state every stepper keeps.
     fn state(&self) -> &StepState;
 
+    /// The same, to change.
+    fn state_mut(&mut self) -> &mut StepState;
+
+    /// Moves the current point to `y` at the same time, by about the local error (a
+    /// projection onto an invariant manifold, [`OdeSystem::project`]): the step size is
+    /// kept, and `f` evaluated at the new point (one right-hand side). A multistep method
+    /// shifts its past with the point instead.
+    fn nudge<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, y: &[f64]) -> StepResult {
+        let s = self.state_mut();
+        s.y.copy_from_slice(y);
+        let mut f = std::mem::take(&mut s.f);
+        let done = ev.rhs(s.t, y, &mut f);
+        self.state_mut().f = f;
+        done
+    }
+
     /// Begins at `at` (see the module documentation): afresh, checking the options
     /// (invalid ones are [`ErrorKind::InvalidInput`] before anything is evaluated) and
     /// choosing the first step; or after a discontinuity, dropping what assumed a smooth

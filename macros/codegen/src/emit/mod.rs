@@ -295,10 +295,28 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
             let e = model.elements.iter().map(|e| e.name.as_str());
             quote!(const NON_SMOOTH_ELEMENTS: &'static [&'static str] = &[#(#e),*];)
         };
+        let loops = match &k.loops {
+            None => quote!(),
+            Some(lo) => {
+                let m = lo.constraints.rows();
+                let rows = lo.constraints.names.iter().map(|s| s.as_str());
+                quote! {
+                    const LOOP_CONSTRAINTS: &'static [&'static str] = &[#(#rows),*];
+                    fn project_onto_loops(
+                        &self,
+                        q: &mut ::filippov::nalgebra::SVector<f64, #n>,
+                        v: &mut ::filippov::nalgebra::SVector<f64, #n>,
+                    ) -> ::core::result::Result<bool, ::filippov::runtime::loops::LoopError> {
+                        ::filippov::runtime::loops::project::<Self, #n, #m>(self, q, v)
+                    }
+                }
+            }
+        };
         quote! {
             impl ::filippov::runtime::system::Mechanism<#n> for #ident {
                 const JOINTS: [&'static str; #n] = [#(#names),*];
                 #elements
+                #loops
                 #methods
                 #validate
                 #describe

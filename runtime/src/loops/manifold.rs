@@ -1,0 +1,163 @@
+//! Keeping a closed mechanism on its constraint manifold (theory §5): the projection
+//! after each accepted step, and the rank test that reports a singular configuration.
+//!
+//! Both work with the Schur complement `A = G M⁻¹ Gᵀ` at the current configuration,
+//! factored here as `A = L D Lᵀ` with the pivots checked: a pivot `d_j` that is a tiny
+//! fraction of `A_jj` ([`SINGULAR_PIVOT`]) means that constraint row `j` has become a
+//! combination of the rows before it — the loops lost a constraint's worth of
+//! stiffness, as a four-bar at a change point does — and the constraint forces would
+//! grow without bound.
+
+use nalgebra::{SMatrix, SVector};
+
+use super::LoopConstraints;
+
+/// A constraint row is taken as dependent on the rows before it when its pivot in
+/// `G M⁻¹ Gᵀ` is below this fraction of its diagonal entry: the squared sine of its
+/// angle to their span, in the mass metric, is below `1e-10`.
+pub const SINGULAR_PIVOT: f64 = 1e-10;
+
+/// Newton iterations of a position projection before it is declared stuck.
+const PROJECTION_ITERATIONS: usize = 8;
+
+/// Why a closed mechanism cannot be put on (or kept on) its constraint manifold.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LoopError {
+    /// The constraint Jacobian lost rank: row `row` (its name, `<loop joint>.<component>`)
+    /// depends on the rows before it, with `pivot` the fraction of its diagonal left.
+    Singular { row: &'static str, pivot: f64 },
+    /// No configuration closes the loops near the one given: after the Newton
+    /// iterations, row `row` is still off by `residual`.
+    NoAssembly { row: &'static str, residual: f64 },
+}
+
+impl std::fmt::Display for LoopError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LoopError::Singular { row, pivot } => write!(
+                f,
+                "the loop constraints are singular: row `{row}` depends on the rows before it \
+                 (pivot {pivot:.1e} of its diagonal); the mechanism is at a change point or a \
+                 dead centre, or two loop joints constrain the same motion"
+            ),
+            LoopError::NoAssembly { row, residual } => write!(
+                f,
+                "no configuration closes the loops near the one given: constraint `{row}` is still \
+                 off by {residual:.3e}; check the loop joints' origins and the given coordinates"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for LoopError {}
+
+/// `G`, `Y = M⁻¹ Gᵀ` and the factor of `A = G Y` at one configuration.
+pub(crate) struct Schur<const N: usize, const M: usize> {
+    pub g: SMatrix<f64, M, N>,
+    y: SMatrix<f64, N, M>,
+    /// `L` (unit lower triangular, below the diagonal) and `D` (on it).
+    ld: SMatrix<f64, M, M>,
+}
+
+impl<const N: usize, const M: usize> Schur<N, M> {
+    pub fn at<S: LoopConstraints<N, M>>(s: &S, q: &SVector<f64, N>) -> Result<Self, LoopError> {
+        let g = s.constraint_jacobian(q);
+        let chol = s.mass_matrix(q).cholesky().ok_or(LoopError::Singular {
+            row: S::CONSTRAINTS.first().copied().unwrap_or(""),
+            pivot: f64::NAN,
+        })?;
+        let y = chol.solve(&g.transpose());
+        let a = g * y;
+        let mut ld = SMatrix::<f64, M, M>::zeros();
+        for j in 0..M {
+            let mut d = a[(j, j)];
+            for k in 0..j {
+                d -= ld[(j, k)] * ld[(j, k)] * ld[(k, k)];
+            }
+            let pivot = d / a[(j, j)];
+            if !(pivot > SINGULAR_PIVOT) {
+                return Err(LoopError::Singular {
+                    row: S::CONSTRAINTS[j],
+                    pivot,
+                });
+            }
+            ld[(j, j)] = d;
+            for i in j + 1..M {
+                let mut s = a[(i, j)];
+                for k in 0..j {
+                    s -= ld[(i, k)] * ld[(j, k)] * ld[(k, k)];
+                }
+                ld[(i, j)] = s / d;
+            }
+        }
+        Ok(Schur { g, y, ld })
+    }
+
+    /// `Y A⁻¹ r`: the smallest change, in the mass metric, that moves `G x` by `r`.
+    pub fn correction(&self, r: &SVector<f64, M>) -> SVector<f64, N> {
+        let mut x = *r;
+        for i in 0..M {
+            for k in 0..i {
+                x[i] -= self.ld[(i, k)] * x[k];
+            }
+        }
+        for i in 0..M {
+            x[i] /= self.ld[(i, i)];
+        }
+        for i in (0..M).rev() {
+            for k in i + 1..M {
+                x[i] -= self.ld[(k, i)] * x[k];
+            }
+        }
+        self.y * x
+    }
+}
+
+/// How close to the manifold a projection puts the state: `|Φ|∞` within
+/// `ROUND_OFF · (1 + |q|∞)`, `|G v|∞` within `ROUND_OFF · (1 + |G|∞ |v|∞)`.
+pub const ROUND_OFF: f64 = 1e-14;
+
+/// Projects `(q, v)` onto the constraint manifold `Φ(q) = 0`, `G(q) v = 0` (theory §5):
+/// Newton steps `Δq = −M⁻¹Gᵀ A⁻¹ Φ` (each the smallest in the mass metric) until `|Φ|`
+/// is at round-off, then `v ← v − M⁻¹Gᵀ A⁻¹ G v`, the velocity's component off the
+/// constraints removed (in the mass metric: the kinetic energy only falls). Returns
+/// whether anything moved.
+///
+/// # Errors
+/// [`LoopError::Singular`] where `G` has lost rank, [`LoopError::NoAssembly`] where the
+/// iterations do not close the loops.
+pub fn project<S, const N: usize, const M: usize>(
+    s: &S,
+    q: &mut SVector<f64, N>,
+    v: &mut SVector<f64, N>,
+) -> Result<bool, LoopError>
+where
+    S: LoopConstraints<N, M>,
+{
+    let tol_q = ROUND_OFF * (1.0 + q.amax());
+    let mut moved = false;
+    let mut phi = s.constraint_residual(q);
+    let mut schur = Schur::at(s, q)?;
+    for _ in 0..PROJECTION_ITERATIONS {
+        if !(phi.amax() > tol_q) {
+            break;
+        }
+        *q -= schur.correction(&phi);
+        moved = true;
+        phi = s.constraint_residual(q);
+        schur = Schur::at(s, q)?;
+    }
+    if !(phi.amax() <= tol_q) {
+        let worst = phi.iamax();
+        return Err(LoopError::NoAssembly {
+            row: S::CONSTRAINTS[worst],
+            residual: phi[worst],
+        });
+    }
+    let gv = schur.g * *v;
+    if gv.amax() > ROUND_OFF * (1.0 + schur.g.amax() * v.amax()) {
+        *v -= schur.correction(&gv);
+        moved = true;
+    }
+    Ok(moved)
+}

@@ -385,3 +385,104 @@ fn closed_four_bar_stays_on_its_constraints_and_conserves_energy() {
         assert!(worst[2] <= 1e-8, "{name}: energy drift {:e}", worst[2]);
     }
 }
+
+/// A parallelogram four-bar turning uniformly reaches the configuration where all its
+/// links are collinear (a change point: the constraint rows lose rank, and the linkage
+/// may go on as a parallelogram or fold into an antiparallelogram) at
+/// `t* = (π − 1)/ω`. Every method stops there with the typed error naming the row,
+/// within 1e-6 of `t*`, keeping the solution up to it (or to the end of the step before,
+/// when the point lies just past it) — although no accepted step lands on the point.
+#[test]
+fn change_point_is_reported_where_it_is_reached() {
+    use filippov::runtime::loops::LoopError;
+    use filippov::runtime::{ErrorKind, MechanicalSystem, Method, Options, Problem, solve};
+    use filippov::scenes::FourBar;
+    let fb = FourBar {
+        a: 0.5,
+        b: 1.0,
+        c: 0.5,
+        d: 1.0,
+        g: 0.0,
+        ..FourBar::default()
+    };
+    let omega = 2.0;
+    let t_star = (std::f64::consts::PI - 1.0) / omega;
+    let y0 = [1.0, -1.0, 1.0, omega, -omega, omega];
+    for (name, method) in [
+        ("DOPRI5", Method::Dopri5(Options::tolerances(1e-8, 1e-10))),
+        ("SDIRK4", Method::Sdirk4(Options::tolerances(1e-8, 1e-10))),
+        ("BDF", Method::Bdf(Options::tolerances(1e-8, 1e-10))),
+    ] {
+        let err = solve(
+            &MechanicalSystem::unforced(&fb),
+            &Problem::new(0.0, 3.0, y0),
+            &method,
+        )
+        .expect_err(name);
+        let ErrorKind::Loops {
+            t,
+            error: LoopError::Singular { row, pivot },
+        } = err.kind
+        else {
+            panic!("{name}: {}", err.kind)
+        };
+        eprintln!("{name}: singular at t = {t} (t* = {t_star}), row {row}, pivot {pivot:e}");
+        assert!((t - t_star).abs() < 1e-6, "{name}: t = {t}");
+        assert!(row.starts_with("rocker_pin."));
+        let (t_last, y) = err.solution.last().unwrap();
+        assert!(
+            t_last <= t && t - t_last < 1e-5,
+            "{name}: last row at {t_last}"
+        );
+        assert!(
+            (y[0] - std::f64::consts::PI).abs() < 1e-5,
+            "{name}: crank at {}",
+            y[0]
+        );
+    }
+}
+
+/// `assemble` keeps the given coordinates and closes the loops with the others, from a
+/// rough guess: the crank angle and speed given, the four-bar's residual and velocity
+/// constraint at round-off; a rocker angle the linkage cannot reach, and a joint name
+/// it does not have, are typed errors naming the row and the joints.
+#[test]
+fn assembly_completes_a_partial_state_or_says_why_not() {
+    use filippov::runtime::loops::{LoopError, assemble};
+    use filippov::scenes::FourBar;
+    let fb = FourBar::default();
+    let mut rng = common::Rng::new(33);
+    for _ in 0..20 {
+        let crank = rng.uniform(-3.0, 3.0);
+        let speed = rng.uniform(-5.0, 5.0);
+        // The open branch of the crank-rocker: the coupler roughly level, the rocker up.
+        let guess = SVector::from([crank, 1.0 - crank, 1.5]);
+        let (q, v) = assemble(
+            &fb,
+            &guess,
+            &SVector::from([speed, 0.0, 0.0]),
+            &["crank_pivot"],
+        )
+        .unwrap_or_else(|e| panic!("crank at {crank}: {e}"));
+        assert_eq!((q[0], v[0]), (crank, speed));
+        assert!(fb.constraint_residual(&q).amax() < 1e-13, "{q}");
+        assert!((fb.constraint_jacobian(&q) * v).amax() < 1e-12 * (1.0 + v.amax()));
+    }
+    // The rocker pointing back at the crank's pivot: its end 0.2 from it, nearer than
+    // the coupler can fold (b − a = 0.8).
+    let far = assemble(
+        &fb,
+        &SVector::from([0.0, 0.0, std::f64::consts::PI]),
+        &SVector::zeros(),
+        &["rocker_pivot"],
+    );
+    assert!(
+        matches!(far, Err(LoopError::NoAssembly { row, .. }) if row.starts_with("rocker_pin.")),
+        "{far:?}"
+    );
+    let unknown = assemble(&fb, &SVector::zeros(), &SVector::zeros(), &["crank"]);
+    let Err(e @ LoopError::UnknownJoint { .. }) = unknown else {
+        panic!("{unknown:?}")
+    };
+    assert!(e.to_string().contains("`crank_pivot`"), "{e}");
+}

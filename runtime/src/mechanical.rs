@@ -129,6 +129,13 @@ where
         Ok(moved)
     }
 
+    fn conditioning(&self, y: &[f64]) -> Option<f64> {
+        if S::LOOP_CONSTRAINTS.is_empty() {
+            return None;
+        }
+        Some(self.mechanism.loop_conditioning(&Self::split(y).0))
+    }
+
     /// The mechanism's parameters ([`Mechanism::validate`]), and no non-smooth elements
     /// unless they are to be ignored.
     fn validate(&self) -> Result<(), String> {

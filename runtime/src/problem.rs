@@ -60,6 +60,14 @@ pub trait OdeSystem {
     fn project(&self, _t: f64, _y: &mut [f64]) -> Result<bool, crate::ErrorKind> {
         Ok(false)
     }
+
+    /// How far the manifold of [`project`](Self::project) is from becoming singular at
+    /// `y` (`1` far, `0` singular; a closed mechanism's [`loops::conditioning`]
+    /// (crate::loops::conditioning)); `None` without one. The smooth driver follows it
+    /// over each step and stops at a singular point it would step over.
+    fn conditioning(&self, _y: &[f64]) -> Option<f64> {
+        None
+    }
 }
 
 /// The number of leading components whose dense output is the positions quintic: the

@@ -186,6 +186,30 @@ where
         let t_prev = stepper.t();
         stepper.step(&mut Eval::new(system, &mut sol.stats), tf)?;
         let t = stepper.t();
+        if system.conditioning(stepper.y()).is_some() {
+            stepper.prepare_dense();
+            if let Some(ts) = singular_point(system, stepper.dense(), t_prev, t) {
+                // The run ends where the manifold became singular (at most a fraction of
+                // the step past its end), with the part of the step up to there kept and
+                // the error naming the constraint.
+                let t_row = ts.min(t);
+                let mut cut = stepper.dense().clone();
+                cut.truncate(t_row);
+                let mut ys = vec![0.0; y.len()];
+                cut.eval(t_row, &mut ys);
+                let mut f = vec![0.0; y.len()];
+                Eval::new(system, &mut sol.stats).rhs(t_row, &ys, &mut f)?;
+                sol.push_step(t_row, &ys, &f, Some(&cut), Keep::Last);
+                // The error the projection gives there, named at the point's time.
+                let mut at_point = ys.clone();
+                stepper.dense().eval(ts, &mut at_point);
+                for mut state in [at_point, ys] {
+                    if let Err(ErrorKind::Loops { error, .. }) = system.project(ts, &mut state) {
+                        return Err(ErrorKind::Loops { t: ts, error });
+                    }
+                }
+            }
+        }
         y.copy_from_slice(stepper.y());
         if system.project(t, &mut y)? {
             stepper.nudge(&mut Eval::new(system, &mut sol.stats), &y)?;
@@ -209,6 +233,73 @@ where
         }
     }
     Ok(())
+}
+
+/// Where in the step from `t0` to `t1` the system's manifold is singular
+/// ([`OdeSystem::conditioning`] below [`SINGULAR_PIVOT`](crate::loops::SINGULAR_PIVOT)),
+/// if anywhere: the conditioning is sampled at the step's ends and five inner points of
+/// its dense output, and around the smallest inner sample its minimum is found by
+/// golden-section search, so that a singular configuration the mechanism passes through
+/// between two steps is not stepped over, and is reported where the conditioning is
+/// least (to the dense output's accuracy). Below the threshold at the step's end (a
+/// method whose steps shrink as the constraint forces grow), the point is extrapolated
+/// from the last two samples: the conditioning touches zero quadratically.
+fn singular_point<S: OdeSystem + ?Sized>(
+    system: &S,
+    dense: &crate::method::stepper::DenseStep,
+    t0: f64,
+    t1: f64,
+) -> Option<f64> {
+    const SAMPLES: usize = 7;
+    let threshold = crate::loops::SINGULAR_PIVOT;
+    let mut y = vec![0.0; system.dim()];
+    let mut rho = |t: f64| {
+        dense.eval(t, &mut y);
+        system.conditioning(&y).unwrap_or(1.0)
+    };
+    let ts: Vec<f64> = (0..SAMPLES)
+        .map(|k| t0 + (t1 - t0) * k as f64 / (SAMPLES - 1) as f64)
+        .collect();
+    let values: Vec<f64> = ts.iter().map(|&t| rho(t)).collect();
+    let (k, &least) = values
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(b.1))?;
+    if k == 0 || (k == SAMPLES - 1 && least >= threshold) {
+        return (!(least >= threshold)).then_some(ts[k]);
+    }
+    if k == SAMPLES - 1 {
+        // Below the threshold at the step's end, still falling: the conditioning
+        // touches zero quadratically, so its square root falls linearly to the point.
+        let (r0, r1) = (values[k - 1].max(0.0).sqrt(), least.max(0.0).sqrt());
+        if r0 > r1 {
+            return Some(t1 + r1 * (t1 - ts[k - 1]) / (r0 - r1));
+        }
+        return Some(t1);
+    }
+    // Golden-section search for the minimum in the bracket around the smallest sample:
+    // the singular point is where the conditioning touches zero.
+    let ratio = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut a, mut b) = (ts[k - 1], ts[k + 1]);
+    let mut c = b - ratio * (b - a);
+    let mut d = a + ratio * (b - a);
+    let (mut fc, mut fd) = (rho(c), rho(d));
+    for _ in 0..80 {
+        if b - a <= 4.0 * f64::EPSILON * b.abs().max(1.0) {
+            break;
+        }
+        if fc < fd {
+            (b, d, fd) = (d, c, fc);
+            c = b - ratio * (b - a);
+            fc = rho(c);
+        } else {
+            (a, c, fc) = (c, d, fd);
+            d = a + ratio * (b - a);
+            fd = rho(d);
+        }
+    }
+    let (t_min, f_min) = if fc < fd { (c, fc) } else { (d, fd) };
+    (!(f_min.min(least) >= threshold)).then_some(t_min)
 }
 
 /// What the user events of a step did to the run.

@@ -176,4 +176,9 @@ pub trait Mechanism<const N: usize> {
     ) -> Result<bool, crate::loops::LoopError> {
         Ok(false)
     }
+    /// How far the loops' constraints are from losing rank at `q`
+    /// ([`loops::conditioning`](crate::loops::conditioning)); `1` for a tree.
+    fn loop_conditioning(&self, _q: &SVector<f64, N>) -> f64 {
+        1.0
+    }
 }

@@ -3,19 +3,25 @@
 //!
 //! Both work with the Schur complement `A = G M⁻¹ Gᵀ` at the current configuration,
 //! factored here as `A = L D Lᵀ` with the pivots checked: a pivot `d_j` that is a tiny
-//! fraction of `A_jj` ([`SINGULAR_PIVOT`]) means that constraint row `j` has become a
-//! combination of the rows before it — the loops lost a constraint's worth of
-//! stiffness, as a four-bar at a change point does — and the constraint forces would
-//! grow without bound.
+//! fraction of `A`'s largest diagonal entry ([`SINGULAR_PIVOT`]) means that constraint
+//! row `j` has vanished or become a combination of the rows before it — the loops lost
+//! a constraint's worth of stiffness, as a four-bar at a change point does — and the
+//! constraint forces would grow without bound.
 
 use nalgebra::{SMatrix, SVector};
 
 use super::LoopConstraints;
 
-/// A constraint row is taken as dependent on the rows before it when its pivot in
-/// `G M⁻¹ Gᵀ` is below this fraction of its diagonal entry: the squared sine of its
-/// angle to their span, in the mass metric, is below `1e-10`.
+/// A constraint row is taken as lost — vanished, or dependent on the rows before it —
+/// when its pivot in `G M⁻¹ Gᵀ` is below this fraction of the largest diagonal entry.
 pub const SINGULAR_PIVOT: f64 = 1e-10;
+
+/// The largest diagonal entry of `A`: the scale the pivots are measured against (a row
+/// of `G` that vanishes, as at a four-bar's change point, has a pivot that vanishes
+/// against it, not against its own diagonal).
+fn largest_diagonal<const M: usize>(a: &SMatrix<f64, M, M>) -> f64 {
+    (0..M).map(|j| a[(j, j)]).fold(0.0, f64::max)
+}
 
 /// Newton iterations of a position projection before it is declared stuck.
 const PROJECTION_ITERATIONS: usize = 8;
@@ -24,11 +30,17 @@ const PROJECTION_ITERATIONS: usize = 8;
 #[derive(Clone, Debug, PartialEq)]
 pub enum LoopError {
     /// The constraint Jacobian lost rank: row `row` (its name, `<loop joint>.<component>`)
-    /// depends on the rows before it, with `pivot` the fraction of its diagonal left.
+    /// vanished or depends on the rows before it, `pivot` its pivot in `G M⁻¹ Gᵀ` as a
+    /// fraction of the largest diagonal entry.
     Singular { row: &'static str, pivot: f64 },
     /// No configuration closes the loops near the one given: after the Newton
     /// iterations, row `row` is still off by `residual`.
     NoAssembly { row: &'static str, residual: f64 },
+    /// [`assemble`](super::assemble) was given a joint name the mechanism does not have.
+    UnknownJoint {
+        name: String,
+        joints: Vec<&'static str>,
+    },
 }
 
 impl std::fmt::Display for LoopError {
@@ -36,14 +48,23 @@ impl std::fmt::Display for LoopError {
         match self {
             LoopError::Singular { row, pivot } => write!(
                 f,
-                "the loop constraints are singular: row `{row}` depends on the rows before it \
-                 (pivot {pivot:.1e} of its diagonal); the mechanism is at a change point or a \
-                 dead centre, or two loop joints constrain the same motion"
+                "the loop constraints are singular: row `{row}` vanished or depends on the rows \
+                 before it (pivot {pivot:.1e}); the mechanism is at a change point or a dead \
+                 centre, or two loop joints constrain the same motion"
             ),
             LoopError::NoAssembly { row, residual } => write!(
                 f,
                 "no configuration closes the loops near the one given: constraint `{row}` is still \
                  off by {residual:.3e}; check the loop joints' origins and the given coordinates"
+            ),
+            LoopError::UnknownJoint { name, joints } => write!(
+                f,
+                "no joint named `{name}`; the mechanism's joints are {}",
+                joints
+                    .iter()
+                    .map(|j| format!("`{j}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ),
         }
     }
@@ -68,13 +89,14 @@ impl<const N: usize, const M: usize> Schur<N, M> {
         })?;
         let y = chol.solve(&g.transpose());
         let a = g * y;
+        let scale = largest_diagonal(&a);
         let mut ld = SMatrix::<f64, M, M>::zeros();
         for j in 0..M {
             let mut d = a[(j, j)];
             for k in 0..j {
                 d -= ld[(j, k)] * ld[(j, k)] * ld[(k, k)];
             }
-            let pivot = d / a[(j, j)];
+            let pivot = d / scale;
             if !(pivot > SINGULAR_PIVOT) {
                 return Err(LoopError::Singular {
                     row: S::CONSTRAINTS[j],
@@ -91,6 +113,42 @@ impl<const N: usize, const M: usize> Schur<N, M> {
             }
         }
         Ok(Schur { g, y, ld })
+    }
+
+    /// The smallest relative pivot of `A = G M⁻¹ Gᵀ` at `q` and its row: how far the
+    /// constraints are from losing rank (`1` for orthogonal rows, `0` where a row
+    /// depends on the rows before it).
+    pub fn conditioning<S: LoopConstraints<N, M>>(s: &S, q: &SVector<f64, N>) -> (f64, usize) {
+        let g = s.constraint_jacobian(q);
+        let Some(chol) = s.mass_matrix(q).cholesky() else {
+            return (0.0, 0);
+        };
+        let a = g * chol.solve(&g.transpose());
+        let scale = largest_diagonal(&a);
+        let mut ld = SMatrix::<f64, M, M>::zeros();
+        let mut worst = (f64::INFINITY, 0);
+        for j in 0..M {
+            let mut d = a[(j, j)];
+            for k in 0..j {
+                d -= ld[(j, k)] * ld[(j, k)] * ld[(k, k)];
+            }
+            let pivot = d / scale;
+            if !(pivot >= worst.0) {
+                worst = (pivot, j);
+            }
+            if !(d > 0.0) {
+                return (pivot.min(0.0), j);
+            }
+            ld[(j, j)] = d;
+            for i in j + 1..M {
+                let mut s = a[(i, j)];
+                for k in 0..j {
+                    s -= ld[(i, k)] * ld[(j, k)] * ld[(k, k)];
+                }
+                ld[(i, j)] = s / d;
+            }
+        }
+        worst
     }
 
     /// `Y A⁻¹ r`: the smallest change, in the mass metric, that moves `G x` by `r`.
@@ -160,4 +218,15 @@ where
         moved = true;
     }
     Ok(moved)
+}
+
+/// The smallest relative pivot of `G M⁻¹ Gᵀ` at `q` (see [`SINGULAR_PIVOT`]): `1` for
+/// constraints whose rows are orthogonal in the mass metric, falling to `0` where they
+/// lose rank. The integrators follow it over each step to catch a singular
+/// configuration the steps would step over.
+pub fn conditioning<S, const N: usize, const M: usize>(s: &S, q: &SVector<f64, N>) -> f64
+where
+    S: LoopConstraints<N, M>,
+{
+    Schur::conditioning(s, q).0
 }

@@ -7,9 +7,11 @@
 //! `G v̇ = γ` keeps `G v = 0`), each straight-line code with the rows that fold to zero
 //! left out: a revolute loop joint of a planar mechanism has two rows, not five.
 
+mod assemble;
 mod manifold;
 
-pub use manifold::{LoopError, ROUND_OFF, SINGULAR_PIVOT, project};
+pub use assemble::assemble;
+pub use manifold::{LoopError, ROUND_OFF, SINGULAR_PIVOT, conditioning, project};
 
 use nalgebra::{SMatrix, SVector};
 

@@ -309,6 +309,9 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
                     ) -> ::core::result::Result<bool, ::filippov::runtime::loops::LoopError> {
                         ::filippov::runtime::loops::project::<Self, #n, #m>(self, q, v)
                     }
+                    fn loop_conditioning(&self, q: &::filippov::nalgebra::SVector<f64, #n>) -> f64 {
+                        ::filippov::runtime::loops::conditioning::<Self, #n, #m>(self, q)
+                    }
                 }
             }
         };

@@ -3,7 +3,7 @@ use filippov::Mechanism;
 /// A Grashof crank-rocker four-bar in the x–y plane under gravity along −y, without
 /// losses: the crank (`a`) turns about the origin, the coupler (`b`) hangs from its end,
 /// the rocker (`c`) turns about `(d, 0)`, and a loop joint pins the coupler's end to the
-/// rocker's (theory §5). The tree's coordinates are the crank angle, the coupler's angle
+/// rocker's (theory §7). The tree's coordinates are the crank angle, the coupler's angle
 /// relative to the crank and the rocker's angle; the loop joint adds two constraints.
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
 #[mechanism(emit = [energy], gravity = [0.0, -g, 0.0])]

@@ -2,7 +2,7 @@
 //! the derive exactly as a user would: the theory's lumped scenes S1–S7 with their
 //! non-smooth elements, the double pendulum, a planar three-link arm, a branched tree,
 //! the Panda (as attributes, and as S9 with friction and stops), bodies on spherical
-//! and free joints, and closed linkages (a four-bar and a slider-crank, §5). The
+//! and free joints, and closed linkages (a four-bar and a slider-crank, §7). The
 //! examples run on them; `references` holds the closed forms and reference solutions
 //! the tests and the report compare against. A program of its own enables them with
 //! `filippov = { version = "0.1", features = ["scenes"] }`; without the feature none of

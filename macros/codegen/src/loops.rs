@@ -2,7 +2,7 @@
 //!
 //! The bodies and `#[joint]`s form the spanning tree; a loop joint connects two bodies
 //! the tree already connects (or a body and the world) and becomes constraints on the
-//! tree's coordinates instead of coordinates of its own (theory §5). It is written like
+//! tree's coordinates instead of coordinates of its own (theory §7). It is written like
 //! a tree joint, with the frame on the child side given too:
 //!
 //! ```text

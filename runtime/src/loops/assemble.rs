@@ -1,6 +1,6 @@
 //! Consistent initial conditions for a closed mechanism: the coordinates a user gives
 //! (the independent ones, such as a crank angle) are kept, and the others are solved
-//! for so that every loop closes and every velocity constraint holds (theory §5).
+//! for so that every loop closes and every velocity constraint holds (theory §7).
 
 use nalgebra::{DMatrix, DVector, SVector};
 

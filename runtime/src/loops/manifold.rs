@@ -1,4 +1,4 @@
-//! Keeping a closed mechanism on its constraint manifold (theory §5): the projection
+//! Keeping a closed mechanism on its constraint manifold (theory §7): the projection
 //! after each accepted step, and the rank test that reports a singular configuration.
 //!
 //! Both work with the Schur complement `A = G M⁻¹ Gᵀ` at the current configuration,
@@ -175,7 +175,7 @@ impl<const N: usize, const M: usize> Schur<N, M> {
 /// `ROUND_OFF · (1 + |q|∞)`, `|G v|∞` within `ROUND_OFF · (1 + |G|∞ |v|∞)`.
 pub const ROUND_OFF: f64 = 1e-14;
 
-/// Projects `(q, v)` onto the constraint manifold `Φ(q) = 0`, `G(q) v = 0` (theory §5):
+/// Projects `(q, v)` onto the constraint manifold `Φ(q) = 0`, `G(q) v = 0` (theory §7):
 /// Newton steps `Δq = −M⁻¹Gᵀ A⁻¹ Φ` (each the smallest in the mass metric) until `|Φ|`
 /// is at round-off, then `v ← v − M⁻¹Gᵀ A⁻¹ G v`, the velocity's component off the
 /// constraints removed (in the mass metric: the kinetic energy only falls). Returns

@@ -2,7 +2,7 @@
 //! (`#[loop_joint(…)]`), which the derive writes out like the other kernels.
 //!
 //! A loop joint cuts the mechanism's graph into its spanning tree, whose joint
-//! coordinates `q` are the state, and a constraint `Φ(q) = 0` (theory §5). The derive
+//! coordinates `q` are the state, and a constraint `Φ(q) = 0` (theory §7). The derive
 //! emits `Φ`, its Jacobian `G = ∂Φ/∂q` and the acceleration term `γ = −Ġ v` (so that
 //! `G v̇ = γ` keeps `G v = 0`), each straight-line code with the rows that fold to zero
 //! left out: a revolute loop joint of a planar mechanism has two rows, not five.

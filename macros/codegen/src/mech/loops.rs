@@ -1,4 +1,4 @@
-//! The constraints of the joints that close kinematic loops (theory §5): residual
+//! The constraints of the joints that close kinematic loops (theory §7): residual
 //! `Φ(q)`, its Jacobian `G = ∂Φ/∂q` and the acceleration term `γ = −Ġ v`, so that
 //! `G v̇ = γ` on the constraint manifold.
 //!
@@ -248,7 +248,7 @@ impl Ldl {
     }
 }
 
-/// The constrained forward dynamics built with one solve by `M` (theory §5): the free
+/// The constrained forward dynamics built with one solve by `M` (theory §7): the free
 /// accelerations `a₀ = M⁻¹(τ + τ_p − C v − g)`, `Y = M⁻¹ Gᵀ` (one solve per row), the
 /// Schur complement `A = G Y` factored as [`Ldl`], the constraint forces
 /// `λ = A⁻¹ (γ − G a₀)` and `a = a₀ + Y λ`: `M a = τ + τ_p − C v − g + Gᵀ λ`, `G a = γ`.

@@ -116,6 +116,18 @@ pub struct Model {
     pub links: Vec<Link>,
     pub springs: Vec<Spring>,
     pub dampers: Vec<Damper>,
+    /// Linear springs between two points (`#[spring(name: between(a, b), …)]`).
+    pub point_springs: Vec<PointSpring>,
+}
+
+/// A linear spring between point `a` (on link `a.0`, `None` the world, at `a.1` in
+/// that link's frame) and point `b`: potential `½ k (ℓ − rest)²`, `ℓ` their distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointSpring {
+    pub a: (Option<usize>, Vector3<f64>),
+    pub b: (Option<usize>, Vector3<f64>),
+    pub stiffness: f64,
+    pub rest: f64,
 }
 
 impl Model {
@@ -290,12 +302,30 @@ impl Model {
                 )
             })
             .collect();
+        let point = |p: &(Option<usize>, Vector3<f64>)| {
+            let link = p.0.map_or("null".to_string(), |l| l.to_string());
+            format!("{{\"link\": {link}, \"point\": {}}}", v3(&p.1))
+        };
+        let point_springs: Vec<String> = self
+            .point_springs
+            .iter()
+            .map(|s| {
+                format!(
+                    "{{\"a\": {}, \"b\": {}, \"stiffness\": {:e}, \"rest\": {:e}}}",
+                    point(&s.a),
+                    point(&s.b),
+                    s.stiffness,
+                    s.rest
+                )
+            })
+            .collect();
         format!(
-            "{{\n  \"gravity\": {},\n  \"links\": [\n    {}\n  ],\n  \"springs\": [{}],\n  \"dampers\": [{}]\n}}\n",
+            "{{\n  \"gravity\": {},\n  \"links\": [\n    {}\n  ],\n  \"springs\": [{}],\n  \"dampers\": [{}],\n  \"point_springs\": [{}]\n}}\n",
             v3(&self.gravity),
             links.join(",\n    "),
             springs.join(", "),
-            dampers.join(", ")
+            dampers.join(", "),
+            point_springs.join(", ")
         )
     }
 }

@@ -16,6 +16,7 @@ pub mod mech;
 pub mod model;
 pub mod nonsmooth;
 pub mod parse;
+pub mod point_springs;
 pub mod sym;
 pub mod urdf;
 pub mod validate;

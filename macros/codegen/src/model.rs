@@ -219,6 +219,17 @@ pub struct Potential {
     pub u: PExpr,
 }
 
+/// A linear spring between two points, each fixed to a link (`None`: the world) at a
+/// point of the link's frame: potential `½ k (ℓ − rest)²`, `ℓ` their distance.
+#[derive(Clone, Debug)]
+pub struct PointSpring {
+    pub name: String,
+    pub a: (Option<usize>, Vec3),
+    pub b: (Option<usize>, Vec3),
+    pub k: PExpr,
+    pub rest: PExpr,
+}
+
 /// A viscous damper on a joint coordinate: `τ = −c q̇`.
 #[derive(Clone, Debug)]
 pub struct Damper {
@@ -257,6 +268,8 @@ pub struct Model {
     pub algorithm: Algorithm,
     /// Joints that close kinematic loops (`#[loop_joint(…)]`), in declaration order.
     pub loops: Vec<LoopJoint>,
+    /// Springs between two points (`#[spring(name: between(a, b), …)]`).
+    pub point_springs: Vec<PointSpring>,
 }
 
 /// The linear solve behind forward dynamics, its Jacobian and `M⁻¹`.

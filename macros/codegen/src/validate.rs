@@ -81,6 +81,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let mut nonsmooth_attrs = Vec::new();
     let mut frame_attrs = Vec::new();
     let mut loop_attrs = Vec::new();
+    let mut point_spring_attrs = Vec::new();
     let mut claimed: Vec<Ident> = Vec::new();
     for mut raw in raws {
         match raw.family {
@@ -164,6 +165,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
                     }
                 }
             }
+            Family::Spring if raw.head.is_some() => point_spring_attrs.push(raw),
             Family::Spring | Family::Damper => element_attrs.push(raw),
             Family::Friction | Family::Bingham | Family::Stop => nonsmooth_attrs.push(raw),
             Family::Frame => frame_attrs.push(raw),
@@ -205,6 +207,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
             }
         }
     }
+    let point_springs = crate::point_springs::read(point_spring_attrs, &links, &names, diag);
     let elements = crate::nonsmooth::read(nonsmooth_attrs, &links, &names, diag);
     let frames = read_frames(frame_attrs, &links, &names, diag);
     // Declaring a frame is asking for its pose.
@@ -257,6 +260,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         frames,
         algorithm,
         loops,
+        point_springs,
     })
 }
 
@@ -579,7 +583,7 @@ fn check_unique<'a>(names: impl Iterator<Item = &'a Ident>, what: &str, diag: &m
     }
 }
 
-fn vec3(e: &Expr, what: &str, names: &[String], diag: &mut Diagnostics) -> Option<Vec3> {
+pub(crate) fn vec3(e: &Expr, what: &str, names: &[String], diag: &mut Diagnostics) -> Option<Vec3> {
     let items = array(e, 3, what, diag)?;
     let v: Vec<Option<PExpr>> = items.into_iter().map(|x| lower(x, names, diag)).collect();
     let [a, b, c] = <[Option<PExpr>; 3]>::try_from(v).ok()?;

@@ -417,6 +417,7 @@ pub(crate) mod test_systems {
                     })
                     .collect(),
                 dampers: vec![],
+                point_springs: vec![],
             }
         }
     }

@@ -46,6 +46,7 @@ use crate::{Solution, SolveError};
 ///     links: vec![block],
 ///     springs: vec![],
 ///     dampers: vec![],
+///     point_springs: vec![],
 /// };
 /// let friction = Element {
 ///     name: "friction_x",

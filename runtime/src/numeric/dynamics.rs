@@ -44,7 +44,70 @@ pub fn passive_forces(model: &Model, q: &DVector<f64>, v: &DVector<f64>) -> DVec
     for d in &model.dampers {
         tau[d.coordinate] -= d.damping * v[d.coordinate];
     }
+    if !model.point_springs.is_empty() {
+        let poses = super::link_poses(model, q);
+        for s in &model.point_springs {
+            let (pa, pb) = (world_point(&poses, &s.a), world_point(&poses, &s.b));
+            let d = pb - pa;
+            let length = d.norm();
+            // The force on b; a takes its opposite.
+            let f = d * (-s.stiffness * (length - s.rest) / length);
+            apply_point_force(model, &poses, s.b.0, &pb, &f, &mut tau);
+            apply_point_force(model, &poses, s.a.0, &pa, &(-f), &mut tau);
+        }
+    }
     tau
+}
+
+/// A point given on a link (`None`: the world), in world coordinates.
+fn world_point(poses: &[super::Pose], p: &(Option<usize>, Vector3<f64>)) -> Vector3<f64> {
+    match p.0 {
+        Some(l) => poses[l].transform_point(&p.1),
+        None => p.1,
+    }
+}
+
+/// Adds the generalised force of the world force `f` applied at the world point `p` of
+/// `link` (nothing for the world): for every joint on the path to the root, each of its
+/// motion directions (a unit rotation about, or translation along, a world axis
+/// through its link's origin) does `(w × (p − o))·f` or `w·f` of work per unit speed.
+fn apply_point_force(
+    model: &Model,
+    poses: &[super::Pose],
+    link: Option<usize>,
+    p: &Vector3<f64>,
+    f: &Vector3<f64>,
+    tau: &mut DVector<f64>,
+) {
+    use super::JointKind;
+    let mut at = link;
+    while let Some(l) = at {
+        let link = &model.links[l];
+        if let Some(c) = link.coordinate {
+            let pose = &poses[l];
+            let arm = p - pose.translation;
+            match link.joint {
+                JointKind::Revolute { axis } => {
+                    let w = pose.rotation * axis;
+                    tau[c] += w.cross(&arm).dot(f);
+                }
+                JointKind::Prismatic { axis } => tau[c] += (pose.rotation * axis).dot(f),
+                JointKind::Spherical => {
+                    for k in 0..3 {
+                        let w = pose.rotation.column(k).into_owned();
+                        tau[c + k] += w.cross(&arm).dot(f);
+                    }
+                }
+                JointKind::Translation => {
+                    for k in 0..3 {
+                        tau[c + k] += pose.rotation.column(k).dot(f);
+                    }
+                }
+                JointKind::Fixed => {}
+            }
+        }
+        at = link.parent;
+    }
 }
 
 /// `τ = M a + C v + g − τ_p`: the input forces that produce acceleration `a`.
@@ -81,7 +144,7 @@ pub fn kinetic_energy(model: &Model, q: &DVector<f64>, v: &DVector<f64>) -> f64 
 }
 
 /// Potential energy of gravity, `−Σ m gravity · p_com`, plus the springs
-/// `Σ ½ k (q_i − rest)²`.
+/// `Σ ½ k (q_i − rest)²` and the point springs `Σ ½ k (ℓ − rest)²`.
 pub fn potential_energy(model: &Model, q: &DVector<f64>) -> f64 {
     let poses = super::link_poses(model, q);
     let gravity: f64 = model
@@ -95,7 +158,15 @@ pub fn potential_energy(model: &Model, q: &DVector<f64>) -> f64 {
         .iter()
         .map(|s| 0.5 * s.stiffness * (q[spring_slot(model, s.coordinate)] - s.rest).powi(2))
         .sum();
-    gravity + springs
+    let point_springs: f64 = model
+        .point_springs
+        .iter()
+        .map(|s| {
+            let length = (world_point(&poses, &s.b) - world_point(&poses, &s.a)).norm();
+            0.5 * s.stiffness * (length - s.rest).powi(2)
+        })
+        .sum();
+    gravity + springs + point_springs
 }
 
 /// Total spatial momentum in world coordinates, `(linear, angular)`: the linear momentum

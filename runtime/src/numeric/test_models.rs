@@ -38,6 +38,7 @@ pub fn double_pendulum(m1: f64, l1: f64, m2: f64, l2: f64) -> Model {
         ],
         springs: vec![],
         dampers: vec![],
+        point_springs: vec![],
     }
 }
 
@@ -78,6 +79,7 @@ pub fn cart_pole(mc: f64, mp: f64, l: f64) -> Model {
         links: vec![cart, rod("pole", Some(0), 1, 0.0, mp, l)],
         springs: vec![],
         dampers: vec![],
+        point_springs: vec![],
     }
 }
 
@@ -184,6 +186,7 @@ pub fn spatial_chain() -> Model {
         ],
         springs: vec![],
         dampers: vec![],
+        point_springs: vec![],
     }
 }
 
@@ -256,6 +259,7 @@ pub fn free_body(m: f64, com: Vector3<f64>, inertia: Matrix3<f64>, gravity: Vect
         ],
         springs: vec![],
         dampers: vec![],
+        point_springs: vec![],
     }
 }
 
@@ -277,6 +281,7 @@ pub fn spherical_body() -> Model {
         )],
         springs: vec![],
         dampers: vec![],
+        point_springs: vec![],
     }
 }
 
@@ -327,6 +332,7 @@ pub fn ball_chain() -> Model {
         ],
         springs: vec![],
         dampers: vec![],
+        point_springs: vec![],
     }
 }
 
@@ -376,5 +382,6 @@ pub fn satellite(gravity: Vector3<f64>) -> Model {
         ],
         springs: vec![],
         dampers: vec![],
+        point_springs: vec![],
     }
 }

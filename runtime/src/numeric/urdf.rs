@@ -174,6 +174,7 @@ impl Model {
             links,
             springs: Vec::new(),
             dampers: Vec::new(),
+            point_springs: Vec::new(),
         })
     }
 }

@@ -114,6 +114,19 @@ pub fn model_fn(model: &Model) -> TokenStream {
         let (i, c) = (d.coordinate, expr(&d.c, p));
         quote!(::filippov::runtime::numeric::Damper { coordinate: #i, damping: #c })
     });
+    let point_springs = model.point_springs.iter().map(|s| {
+        let end = |e: &(Option<usize>, [PExpr; 3])| {
+            let link = match e.0 {
+                Some(l) => quote!(::core::option::Option::Some(#l)),
+                None => quote!(::core::option::Option::None),
+            };
+            let point = v3(&e.1, p);
+            quote!((#link, #point))
+        };
+        let (a, b) = (end(&s.a), end(&s.b));
+        let (k, r) = (expr(&s.k, p), expr(&s.rest, p));
+        quote!(::filippov::runtime::numeric::PointSpring { a: #a, b: #b, stiffness: #k, rest: #r })
+    });
     quote! {
         #[allow(clippy::all)]
         fn model(&self) -> ::filippov::runtime::numeric::Model {
@@ -122,6 +135,7 @@ pub fn model_fn(model: &Model) -> TokenStream {
                 links: vec![#(#links),*],
                 springs: vec![#(#springs),*],
                 dampers: vec![#(#dampers),*],
+                point_springs: vec![#(#point_springs),*],
             }
         }
     }

@@ -5,6 +5,7 @@
 //! - mass matrix `M(q)`: [`crba`] (composite-rigid-body algorithm);
 //! - inverse dynamics and bias forces: [`rnea`] (recursive Newton–Euler);
 //! - gravity forces: [`gravity`] (composite first moments);
+//! - springs between two points: [`point_springs`] (their potential, differentiated);
 //! - Christoffel symbols and the Coriolis matrix: [`christoffel`] (derivatives of `M`
 //!   along the local exponential coordinates of [`chart`]);
 //! - forward dynamics `M⁻¹ (τ + τ_p − bias)`, its Jacobian `∂v̇/∂x = −M⁻¹ ∂ID/∂x` at
@@ -24,6 +25,7 @@ pub mod gravity;
 pub mod kinematics;
 pub mod loops;
 pub mod ltdl;
+pub mod point_springs;
 pub mod rnea;
 pub mod spatial;
 
@@ -128,7 +130,15 @@ impl Kernels {
         let gravity = gravity::gravity_forces(&mut g, model, &kin, &composite, gravity_vec);
         let coriolis_v = rnea::rnea(&mut g, model, &kin, &inertia, None, &v, &zeros);
         let bias: Vec<Id> = (0..n).map(|i| g.add(coriolis_v[i], gravity[i])).collect();
-        let passive = passive_forces(&mut g, model, &q, &v);
+        let mut passive = passive_forces(&mut g, model, &q, &v);
+        // Springs between two points: their forces −∂U/∂q.
+        let point_potential = point_springs::potential(&mut g, model, &kin);
+        if let Some(u) = point_potential {
+            for (k, p) in passive.iter_mut().enumerate() {
+                let du = chart.derivative(&mut g, u, k);
+                *p = g.sub(*p, du);
+            }
+        }
         let rnea_a = rnea::rnea(&mut g, model, &kin, &inertia, None, &v, &a);
         let inverse: Vec<Id> = (0..n)
             .map(|i| {
@@ -331,6 +341,9 @@ impl Kernels {
                 let e = g.mul(k, dd);
                 let e = g.mul(half, e);
                 potential = g.add(potential, e);
+            }
+            if let Some(u) = point_potential {
+                potential = g.add(potential, u);
             }
             (kinetic, potential)
         });

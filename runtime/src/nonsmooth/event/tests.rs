@@ -69,6 +69,7 @@ impl<const N: usize, const E: usize> Mechanism<N> for Lumped<N, E> {
             links,
             springs: Vec::new(),
             dampers: Vec::new(),
+            point_springs: Vec::new(),
         }
     }
 }

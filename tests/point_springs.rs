@@ -63,7 +63,10 @@ fn a_pulled_rod_has_its_closed_form_force() {
         let force = -s.k * (length - s.rest) * dl;
         let q = SVector::from([theta]);
         let got = s.passive_forces(&q, &SVector::zeros())[0];
-        assert!((got - force).abs() < 1e-12 * (1.0 + force.abs()), "{got} against {force}");
+        assert!(
+            (got - force).abs() < 1e-12 * (1.0 + force.abs()),
+            "{got} against {force}"
+        );
         let u = 0.5 * s.k * (length - s.rest).powi(2);
         assert!((s.potential_energy(&q) - u).abs() < 1e-13);
     }

@@ -267,3 +267,29 @@ pub fn s5_switches(tf: f64) -> Vec<(f64, Mode)> {
     }
     switches
 }
+
+/// The published reference solution of Andrews' squeezing mechanism at `t = 0.03`
+/// (IVP test set, Mazzia & Magherini, problem "andrews": computed with PSIDE at
+/// rtol = atol = 1e-14), positions in the test set's order `(β, Θ, γ, Φ, δ, Ω, ε)`;
+/// [`AndrewsSqueezer::TEST_SET_ORDER`](super::AndrewsSqueezer::TEST_SET_ORDER) places
+/// them in the scene's coordinates.
+pub const ANDREWS_Q_AT_0_03: [f64; 7] = [
+    0.1581077119629904e+2,
+    -0.1575637105984298e+2,
+    0.4082224013073101e-1,
+    -0.5347301163226948e+0,
+    0.5244099658805304e+0,
+    0.5347301163226948e+0,
+    0.1048080741042263e+1,
+];
+
+/// Its velocities at `t = 0.03`, same order.
+pub const ANDREWS_V_AT_0_03: [f64; 7] = [
+    0.1139920302151208e+4,
+    -0.1424379294994111e+4,
+    0.1103291221937134e+2,
+    0.1929337464421385e+2,
+    0.5735699284790808e+0,
+    -0.1929337464421385e+2,
+    0.3231791658026955e+0,
+];

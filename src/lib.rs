@@ -100,7 +100,17 @@
 //!   `ṗ` then `ω` in world axes) of every body and frame, by [`FrameId`].
 //! - `#[spring(joint, k = …, rest = …)]` or `#[spring(joint, potential = U(x))]` (a
 //!   non-linear spring by its energy in the coordinate `x`; force `−dU/dx` derived
-//!   symbolically), `#[damper(joint, c = …)]` on joint coordinates.
+//!   symbolically), `#[damper(joint, c = …)]` on joint coordinates;
+//!   `#[spring(name: between(a, b), k = …, rest = …, from = [x, y, z], to = [x, y, z])]`
+//!   a linear spring between a point of `a` (a body or `world`) and a point of body `b`,
+//!   given in their frames.
+//! - `#[loop_joint(name: revolute(axis) | prismatic(axis) | spherical | fixed, parent =
+//!   world | body, child = body, origin = […], rpy = […], child_origin = […],
+//!   child_rpy = […])]` — a joint that closes a kinematic loop between bodies the tree
+//!   already connects, its frame given on both sides; it becomes constraints on the
+//!   tree's coordinates, which the derive writes out with the closed mechanism's
+//!   dynamics ([`runtime::loops::LoopConstraints`]), and every integrator keeps on them
+//!   ([`runtime::loops`]; trees with spherical or free joints are not closed yet).
 //! - Non-smooth elements: `#[friction(joint, f_crit = …)]` (Coulomb),
 //!   `#[friction(joint, f_static = …, f_kinetic = …)]` (static and kinetic friction: held
 //!   at rest up to `f_static`, slipping at `f_kinetic ≤ f_static`; where rest and slip

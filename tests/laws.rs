@@ -123,6 +123,7 @@ fn graph(law: fn(f64) -> (f64, f64), selection: Selection) -> (Scene<1, 1>, Grap
         }],
         springs: vec![],
         dampers: vec![],
+        point_springs: vec![],
     };
     let element = Element {
         name: "damper",

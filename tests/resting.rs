@@ -1,6 +1,8 @@
 //! Resting contact: an arm under gravity that falls onto its joint limit and comes to rest
 //! there — the most common state of a robot arm — and a ball settling on a floor.
 
+mod common;
+
 #[path = "../examples/support/resting_arm.rs"]
 mod resting_arm;
 #[path = "../examples/support/supported_arm.rs"]
@@ -68,32 +70,11 @@ mod energy_balance {
         arm.kinetic_energy(&q, &v) + arm.potential_energy(&q) + 0.5 * arm.ks * pen * pen
     }
 
-    /// The work the elbow's friction has dissipated by `∫ f v dt` on every interval of
-    /// the solution (five-point Gauss–Legendre on its dense output).
+    /// The work the elbow's friction has dissipated, `∫ f v dt` over the solution.
     pub fn dissipated(sol: &Solution) -> f64 {
         let f = sol.column_index("f_friction_elbow").unwrap();
         let v = sol.column_index("v_elbow").unwrap();
-        let nodes = [
-            (-0.906_179_845_938_664, 0.236_926_885_056_189),
-            (-0.538_469_310_105_683, 0.478_628_670_499_366),
-            (0.0, 0.568_888_888_888_889),
-            (0.538_469_310_105_683, 0.478_628_670_499_366),
-            (0.906_179_845_938_664, 0.236_926_885_056_189),
-        ];
-        sol.times()
-            .windows(2)
-            .filter(|w| w[1] > w[0])
-            .map(|w| {
-                let (a, b) = (w[0], w[1]);
-                nodes
-                    .iter()
-                    .map(|&(x, wt)| {
-                        let y = sol.at(0.5 * (a + b) + 0.5 * (b - a) * x).unwrap();
-                        0.5 * (b - a) * wt * y[f] * y[v]
-                    })
-                    .sum::<f64>()
-            })
-            .sum()
+        super::common::integral(sol, &|_, y| y[f] * y[v])
     }
 }
 

@@ -7,13 +7,14 @@ use std::path::PathBuf;
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// The sections' keys for `--only`, in the report's order.
-pub const SECTIONS: [&str; 13] = [
+pub const SECTIONS: [&str; 14] = [
     "smooth",
     "nonsmooth",
     "dense",
     "agreement",
     "s9",
     "lie",
+    "loops",
     "kernels",
     "expansion",
     "compile",

@@ -126,6 +126,7 @@ fn scene_sources() -> Vec<(String, String)> {
         "panda.rs",
         "s9.rs",
         "lie.rs",
+        "loops.rs",
     ]
     .iter()
     .map(|f| {

@@ -31,6 +31,8 @@ mod lie;
 mod lie_support;
 #[path = "long_runs.rs"]
 mod long_runs;
+#[path = "loops.rs"]
+mod loops;
 #[path = "markdown.rs"]
 mod markdown;
 #[path = "nonsmooth.rs"]
@@ -63,7 +65,7 @@ pub use config::Config;
 /// Runs every section and writes the report; returns the path of the Markdown page.
 pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     std::fs::create_dir_all(&config.out_dir)?;
-    let progress = config.progress(13);
+    let progress = config.progress(14);
     let load_before = timing::load();
     let started = std::time::Instant::now();
     let mut page = markdown::Page::new("filippov report");
@@ -96,12 +98,12 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
         let _ = peers::diffsol(config);
         log("the diffsol peer built and run", since);
     }
-    // Pinocchio, SciPy and SymPy: the peer script runs here, before the sections that
-    // time the peers' programs beside ours or read their results (URDF robots, planar
-    // chains, CPU flags, the peers' section). It needs the scene models and the URDF
+    // Pinocchio, SciPy, SymPy and IDA: the peer script runs here, before the sections
+    // that time the peers' programs beside ours or read their results (URDF robots,
+    // planar chains, CPU flags, closed loops, the peers' section). It needs the scene models and the URDF
     // robots' states, written first (the URDF section's export; its page is discarded).
     let peer_script = if config.peers
-        && ["kernels", "chains", "urdf", "flags"]
+        && ["kernels", "chains", "urdf", "flags", "loops"]
             .iter()
             .any(|s| config.runs(s))
     {
@@ -160,6 +162,11 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
         s9::s9(config)
     );
     let lg = section!("lie", "Lie-group scenes (S10)", lie::lie(config));
+    let lp = section!(
+        "loops",
+        "closed loops: Andrews' squeezer, a four-bar, a slider-crank",
+        loops::loops(config)
+    );
     let k = section!("kernels", "kernels", kernels::kernels(config));
     let e = section!("expansion", "expansion time", kernels::expansion(config));
     let c = section!("compile", "compile time", kernels::compile_times(config));
@@ -221,6 +228,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     summary.extend(agree.summary.iter().cloned());
     summary.extend(arm.summary.iter().cloned());
     summary.extend(lg.summary.iter().cloned());
+    summary.extend(lp.summary.iter().cloned());
     summary.extend(e.summary.iter().cloned());
     summary.extend(c.summary.iter().cloned());
     summary.extend(sc.summary.iter().cloned());
@@ -235,6 +243,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     page.append(agree.page);
     page.append(arm.page);
     page.append(lg.page);
+    page.append(lp.page);
     page.append(k.page);
     page.append(e.page);
     page.append(c.page);

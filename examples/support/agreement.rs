@@ -190,6 +190,7 @@ fn describe(seed: u64) -> Description {
         links,
         springs,
         dampers,
+        point_springs: Vec::new(),
     };
     let mut q0: Vec<f64> = (0..n).map(|_| r.uniform(-0.5, 0.5)).collect();
     let mut v0: Vec<f64> = (0..n).map(|_| r.uniform(-1.0, 1.0)).collect();

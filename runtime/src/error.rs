@@ -41,10 +41,10 @@ pub enum ErrorKind {
     },
     /// At time `t` the closed mechanism could not be kept on its loops' constraints:
     /// they became singular (a change point, a dead centre) or would not close (see
-    /// [`LoopError`](crate::loops::LoopError)).
+    /// [`LoopError`](crate::loops::error::LoopError)).
     Loops {
         t: f64,
-        error: crate::loops::LoopError,
+        error: crate::loops::error::LoopError,
     },
 }
 

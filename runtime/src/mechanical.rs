@@ -120,7 +120,7 @@ where
         let (mut q, mut v) = Self::split(y);
         let moved = self
             .mechanism
-            .project_onto_loops(&mut q, &mut v)
+            .project_onto_loops(&mut q, &mut v, &[])
             .map_err(|error| crate::ErrorKind::Loops { t, error })?;
         if moved {
             y[..N].copy_from_slice(q.as_slice());

@@ -166,14 +166,16 @@ pub trait Mechanism<const N: usize> {
     /// Names of the constraint rows of the scene's loop joints (`#[loop_joint]`), empty
     /// for a tree; see [`LoopConstraints`](crate::loops::LoopConstraints).
     const LOOP_CONSTRAINTS: &'static [&'static str] = &[];
-    /// Projects `(q, v)` onto the loops' constraint manifold
-    /// ([`loops::project`](crate::loops::project)); a tree has nothing to project.
+    /// Projects `(q, v)` onto the loops' constraint manifold, the coordinates marked in
+    /// `held` kept ([`loops::project`](crate::loops::project)); a tree has nothing to
+    /// project.
     /// Returns whether anything moved. The integrators call it after each accepted step.
     fn project_onto_loops(
         &self,
         _q: &mut SVector<f64, N>,
         _v: &mut SVector<f64, N>,
-    ) -> Result<bool, crate::loops::LoopError> {
+        _held: &[bool],
+    ) -> Result<bool, crate::loops::error::LoopError> {
         Ok(false)
     }
     /// How far the loops' constraints are from losing rank at `q`

@@ -41,9 +41,11 @@ impl Default for FourBar {
     }
 }
 
-/// A slider-crank in the x–y plane: the crank (`r`) turns about the origin, the
-/// connecting rod (`l`) hangs from its end, the slider runs along x on a prismatic
-/// joint, and a loop joint pins the rod's end to the slider (two constraints).
+/// A slider-crank in the x–y plane pressing against a stop: the crank (`r`) turns about
+/// the origin, driven through the input; the connecting rod (`l`) hangs from its end;
+/// the slider runs along x on a prismatic joint with Coulomb friction `fc` and a rigid
+/// stop at `s_max` (restitution `e`); a loop joint pins the rod's end to the slider (two
+/// constraints).
 #[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
 #[mechanism(emit = [energy], gravity = [0.0, -g, 0.0], inputs = [crank])]
 #[body(crank_arm, mass = mc, com = [r / 2.0, 0.0, 0.0], inertia = rod(mc, r))]
@@ -53,16 +55,22 @@ impl Default for FourBar {
 #[body(slider, mass = ms, com = [0.0, 0.0, 0.0], inertia = sphere(ms, 0.02))]
 #[joint(stroke: prismatic(x), parent = world, child = slider)]
 #[loop_joint(wrist_pin: revolute(z), parent = rod, child = slider, origin = [l, 0.0, 0.0])]
+#[friction(stroke, f_crit = fc)]
+#[stop(stroke, max = s_max, restitution = e)]
 pub struct SliderCrank {
     pub r: f64,
     pub l: f64,
     pub mc: f64,
     pub mr: f64,
     pub ms: f64,
+    pub fc: f64,
+    pub s_max: f64,
+    pub e: f64,
     pub g: f64,
 }
 
 impl Default for SliderCrank {
+    /// Stroke `l − r … l + r = 0.25 … 0.45`, the stop at 0.43 (elastic), friction 3 N.
     fn default() -> Self {
         SliderCrank {
             r: 0.1,
@@ -70,6 +78,9 @@ impl Default for SliderCrank {
             mc: 0.5,
             mr: 0.4,
             ms: 1.0,
+            fc: 3.0,
+            s_max: 0.43,
+            e: 1.0,
             g: 9.81,
         }
     }
@@ -230,5 +241,72 @@ impl AndrewsSqueezer {
             q[i] = test_set[k];
         }
         q
+    }
+}
+
+/// A Delta-style parallel robot (three closed loops), under gravity along −z: three legs
+/// at 120° around the base, each an upper arm on a revolute joint about the base's
+/// tangent and a forearm on a universal joint (two revolute joints through a massless
+/// elbow), whose end is held to the moving platform by a ball (spherical loop joint);
+/// the platform only translates (three prismatic joints through two massless carriages,
+/// as a Delta's parallelograms keep it level). Twelve tree coordinates, nine constraint
+/// rows, three degrees of freedom.
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(emit = [energy], gravity = [0.0, 0.0, -g], inputs = [hip_1, hip_2, hip_3])]
+#[body(carriage_x, mass = 0.0)]
+#[joint(platform_x: prismatic(x), parent = world, child = carriage_x, origin = [0.0, 0.0, -h])]
+#[body(carriage_y, mass = 0.0)]
+#[joint(platform_y: prismatic(y), parent = carriage_x, child = carriage_y)]
+#[body(platform, mass = mp, com = [0.0, 0.0, 0.0], inertia = cylinder(mp, rp, 0.01))]
+#[joint(platform_z: prismatic(z), parent = carriage_y, child = platform)]
+#[body(arm_1, mass = ma, com = [la / 2.0, 0.0, 0.0], inertia = rod(ma, la))]
+#[joint(hip_1: revolute(y), parent = world, child = arm_1, origin = [rb, 0.0, 0.0])]
+#[body(elbow_1, mass = 0.0)]
+#[joint(elbow_1a: revolute(y), parent = arm_1, child = elbow_1, origin = [la, 0.0, 0.0])]
+#[body(forearm_1, mass = mf, com = [lf / 2.0, 0.0, 0.0], inertia = rod(mf, lf))]
+#[joint(elbow_1b: revolute(z), parent = elbow_1, child = forearm_1)]
+#[body(arm_2, mass = ma, com = [la / 2.0, 0.0, 0.0], inertia = rod(ma, la))]
+#[joint(hip_2: revolute(y), parent = world, child = arm_2, origin = [rb * cos(2.0 * PI / 3.0), rb * sin(2.0 * PI / 3.0), 0.0], rpy = [0.0, 0.0, 2.0 * PI / 3.0])]
+#[body(elbow_2, mass = 0.0)]
+#[joint(elbow_2a: revolute(y), parent = arm_2, child = elbow_2, origin = [la, 0.0, 0.0])]
+#[body(forearm_2, mass = mf, com = [lf / 2.0, 0.0, 0.0], inertia = rod(mf, lf))]
+#[joint(elbow_2b: revolute(z), parent = elbow_2, child = forearm_2)]
+#[body(arm_3, mass = ma, com = [la / 2.0, 0.0, 0.0], inertia = rod(ma, la))]
+#[joint(hip_3: revolute(y), parent = world, child = arm_3, origin = [rb * cos(4.0 * PI / 3.0), rb * sin(4.0 * PI / 3.0), 0.0], rpy = [0.0, 0.0, 4.0 * PI / 3.0])]
+#[body(elbow_3, mass = 0.0)]
+#[joint(elbow_3a: revolute(y), parent = arm_3, child = elbow_3, origin = [la, 0.0, 0.0])]
+#[body(forearm_3, mass = mf, com = [lf / 2.0, 0.0, 0.0], inertia = rod(mf, lf))]
+#[joint(elbow_3b: revolute(z), parent = elbow_3, child = forearm_3)]
+#[loop_joint(ball_1: spherical, parent = platform, child = forearm_1, origin = [rp, 0.0, 0.0], child_origin = [lf, 0.0, 0.0])]
+#[loop_joint(ball_2: spherical, parent = platform, child = forearm_2, origin = [rp * cos(2.0 * PI / 3.0), rp * sin(2.0 * PI / 3.0), 0.0], child_origin = [lf, 0.0, 0.0])]
+#[loop_joint(ball_3: spherical, parent = platform, child = forearm_3, origin = [rp * cos(4.0 * PI / 3.0), rp * sin(4.0 * PI / 3.0), 0.0], child_origin = [lf, 0.0, 0.0])]
+pub struct Delta {
+    /// Base radius (hip joints), platform radius (balls).
+    pub rb: f64,
+    pub rp: f64,
+    /// Upper arm and forearm lengths.
+    pub la: f64,
+    pub lf: f64,
+    pub ma: f64,
+    pub mf: f64,
+    pub mp: f64,
+    /// Where the platform's carriage starts below the base.
+    pub h: f64,
+    pub g: f64,
+}
+
+impl Default for Delta {
+    fn default() -> Self {
+        Delta {
+            rb: 0.2,
+            rp: 0.05,
+            la: 0.25,
+            lf: 0.5,
+            ma: 0.3,
+            mf: 0.1,
+            mp: 0.5,
+            h: 0.4,
+            g: 9.81,
+        }
     }
 }

@@ -21,7 +21,7 @@ mod tree;
 pub use arm3::PlanarArm3;
 pub use double_pendulum::DoublePendulum;
 pub use lie::{BallChain, EulerBody, FreeBody, Satellite, SphericalBody};
-pub use loops::{AndrewsSqueezer, FourBar, SliderCrank};
+pub use loops::{AndrewsSqueezer, Delta, FourBar, SliderCrank};
 pub use lumped::{
     BeltFriction, BilinearOscillator, BinghamBlock, BinghamOscillator, BouncingBall,
     CoulombOscillator, CubicBingham, DuffingBingham, FrictionChain, NonMonotoneMaxDissipation,

@@ -380,3 +380,29 @@ pub fn check_kinematics_lie<S, const N: usize, const NQ: usize>(
     };
     check_kinematics(sys, model, q, v, flow);
 }
+
+/// `∫ integrand(t, y(t)) dt` over a solution, five-point Gauss–Legendre on each interval
+/// between its rows, on its dense output (exact for the interpolant up to degree 9).
+pub fn integral(sol: &filippov::runtime::Solution, integrand: &dyn Fn(f64, &[f64]) -> f64) -> f64 {
+    const NODES: [(f64, f64); 5] = [
+        (-0.906_179_845_938_664, 0.236_926_885_056_189),
+        (-0.538_469_310_105_683, 0.478_628_670_499_366),
+        (0.0, 0.568_888_888_888_889),
+        (0.538_469_310_105_683, 0.478_628_670_499_366),
+        (0.906_179_845_938_664, 0.236_926_885_056_189),
+    ];
+    sol.times()
+        .windows(2)
+        .filter(|w| w[1] > w[0])
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            NODES
+                .iter()
+                .map(|&(x, wt)| {
+                    let t = 0.5 * (a + b) + 0.5 * (b - a) * x;
+                    0.5 * (b - a) * wt * integrand(t, &sol.at(t).expect("inside the run"))
+                })
+                .sum::<f64>()
+        })
+        .sum()
+}

@@ -18,8 +18,8 @@ use syn::Ident;
 
 use crate::diag::Diagnostics;
 use crate::model::{JointKind, Link, LoopJoint};
-use crate::parse::{RawAttr, ident_of};
-use crate::validate::{joint_kind, placement, placement_at};
+use crate::parse::RawAttr;
+use crate::validate::{joint_kind, link_list, placement, placement_at, take_child, take_parent};
 
 /// The keys a loop joint takes.
 const KEYS: [&str; 6] = [
@@ -61,13 +61,7 @@ pub fn read(
     }
     // Bodies by link index.
     let body = |name: &Ident| links.iter().position(|l| name == &l.name);
-    let bodies = || {
-        links
-            .iter()
-            .map(|l| format!("`{}`", l.name))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
+    let bodies = || link_list(links);
     for mut raw in raws {
         let Some(name) = raw.name.clone() else {
             continue;
@@ -101,69 +95,26 @@ pub fn read(
                 None
             }
         };
-        let parent = match raw.take("parent", diag) {
-            Some((_, e)) => match ident_of(&e) {
-                Some(i) if i == "world" => Some(None),
-                Some(i) => match body(i) {
-                    Some(l) => Some(Some(l)),
-                    None => {
-                        diag.error_at(
-                            i,
-                            format_args!("no body named `{i}`; the parent must be `world` or a declared body ({})", bodies()),
-                        );
-                        None
-                    }
-                },
-                None => {
-                    diag.error_at(&e, "`parent` must be a body name or `world`");
-                    None
-                }
-            },
+        let body = |i: &Ident, role: &str, diag: &mut Diagnostics| match body(i) {
+            Some(l) => Some(l),
             None => {
                 diag.error_at(
-                    &name,
+                    i,
                     format_args!(
-                        "loop joint `{name}` has no parent; add `parent = <body>` (or `world`)"
+                        "no body named `{i}`; the {role} must be a declared body ({})",
+                        bodies()
                     ),
                 );
                 None
             }
         };
-        let child = match raw.take("child", diag) {
-            Some((_, e)) => match ident_of(&e) {
-                Some(i) if i == "world" => {
-                    diag.error_at(
-                        &e,
-                        "`world` cannot be a child; put it on the parent side (`parent = world`) and the body on the child side",
-                    );
-                    None
-                }
-                Some(i) => match body(i) {
-                    Some(l) => Some((l, i.clone())),
-                    None => {
-                        diag.error_at(
-                            i,
-                            format_args!(
-                                "no body named `{i}`; the child must be a declared body ({})",
-                                bodies()
-                            ),
-                        );
-                        None
-                    }
-                },
-                None => {
-                    diag.error_at(&e, "`child` must be a body name");
-                    None
-                }
-            },
-            None => {
-                diag.error_at(
-                    &name,
-                    format_args!("loop joint `{name}` has no child; add `child = <body>`"),
-                );
-                None
-            }
+        let parent = match take_parent(&mut raw, &name, "loop joint", diag) {
+            Some(Some(p)) => body(&p, "parent", diag).map(Some),
+            Some(None) => Some(None),
+            None => None,
         };
+        let child = take_child(&mut raw, &name, "loop joint", diag)
+            .and_then(|c| body(&c, "child", diag).map(|l| (l, c)));
         let (origin, rpy) = placement(&mut raw, names, diag);
         let (child_origin, child_rpy) =
             placement_at(&mut raw, ["child_origin", "child_rpy"], names, diag);

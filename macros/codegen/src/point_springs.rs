@@ -12,7 +12,7 @@ use crate::diag::Diagnostics;
 use crate::model::{Link, PExpr, PointSpring, Vec3};
 use crate::parse::expr::lower;
 use crate::parse::{RawAttr, ident_of, strip};
-use crate::validate::vec3;
+use crate::validate::{link_list, vec3};
 
 const KEYS: [&str; 4] = ["k", "rest", "from", "to"];
 
@@ -23,13 +23,7 @@ pub fn read(
     diag: &mut Diagnostics,
 ) -> Vec<PointSpring> {
     let mut out = Vec::new();
-    let bodies = || {
-        links
-            .iter()
-            .map(|l| format!("`{}`", l.name))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
+    let bodies = || link_list(links);
     for mut raw in raws {
         let Some(name) = raw.name.clone() else {
             continue;

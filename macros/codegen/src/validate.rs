@@ -196,17 +196,6 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     }
     let tree_joints: Vec<&Ident> = joints.iter().map(|j| &j.name).collect();
     let loops = crate::loops::read(loop_attrs, &links, &tree_joints, &names, diag);
-    if !loops.is_empty() {
-        for raw in &nonsmooth_attrs {
-            if let Some(name) = &raw.name {
-                diag.error_at(
-                    name,
-                    "friction, dash-pots and stops are not supported yet in scenes with loop joints; \
-                     drop the element, or model the mechanism as a tree",
-                );
-            }
-        }
-    }
     let point_springs = crate::point_springs::read(point_spring_attrs, &links, &names, diag);
     let elements = crate::nonsmooth::read(nonsmooth_attrs, &links, &names, diag);
     let frames = read_frames(frame_attrs, &links, &names, diag);
@@ -861,7 +850,29 @@ fn read_joint(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opt
             None
         }
     };
-    let parent = match raw.take("parent", diag) {
+    let parent = take_parent(&mut raw, &name, "joint", diag);
+    let child = take_child(&mut raw, &name, "joint", diag);
+    let (origin, rpy) = placement(&mut raw, names, diag);
+    raw.reject_rest(&["parent", "child", "origin", "rpy"], diag);
+    Some(Joint {
+        name,
+        kind: kind?,
+        parent: parent?,
+        child: child?,
+        origin,
+        rpy,
+    })
+}
+
+/// `parent = world | <body>` of a joint (`what`: "joint", "loop joint"): `Some(None)`
+/// for the world, `None` after an error.
+pub(crate) fn take_parent(
+    raw: &mut RawAttr,
+    name: &Ident,
+    what: &str,
+    diag: &mut Diagnostics,
+) -> Option<Option<Ident>> {
+    match raw.take("parent", diag) {
         Some((_, e)) => match ident_of(&e) {
             Some(i) if i == "world" => Some(None),
             Some(i) => Some(Some(i.clone())),
@@ -872,20 +883,29 @@ fn read_joint(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opt
         },
         None => {
             diag.error_at(
-                &name,
+                name,
                 format_args!(
-                    "joint `{name}` has no parent; add `parent = world` or `parent = <body>`"
+                    "{what} `{name}` has no parent; add `parent = world` or `parent = <body>`"
                 ),
             );
             None
         }
-    };
-    let child = match raw.take("child", diag) {
+    }
+}
+
+/// `child = <body>` of a joint (`what`: "joint", "loop joint"), `None` after an error.
+pub(crate) fn take_child(
+    raw: &mut RawAttr,
+    name: &Ident,
+    what: &str,
+    diag: &mut Diagnostics,
+) -> Option<Ident> {
+    match raw.take("child", diag) {
         Some((_, e)) => match ident_of(&e) {
             Some(i) if i == "world" => {
                 diag.error_at(
                     &e,
-                    "`world` cannot be a child; a joint's child is one of the bodies",
+                    "`world` cannot be a child; a joint's child is one of the bodies (the world goes on the parent side)",
                 );
                 None
             }
@@ -897,22 +917,21 @@ fn read_joint(mut raw: RawAttr, names: &[String], diag: &mut Diagnostics) -> Opt
         },
         None => {
             diag.error_at(
-                &name,
-                format_args!("joint `{name}` has no child; add `child = <body>`"),
+                name,
+                format_args!("{what} `{name}` has no child; add `child = <body>`"),
             );
             None
         }
-    };
-    let (origin, rpy) = placement(&mut raw, names, diag);
-    raw.reject_rest(&["parent", "child", "origin", "rpy"], diag);
-    Some(Joint {
-        name,
-        kind: kind?,
-        parent: parent?,
-        child: child?,
-        origin,
-        rpy,
-    })
+    }
+}
+
+/// The links' names, for messages: "`a`, `b`, …".
+pub(crate) fn link_list(links: &[Link]) -> String {
+    links
+        .iter()
+        .map(|l| format!("`{}`", l.name))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 pub(crate) fn joint_kind(h: &Expr, diag: &mut Diagnostics) -> Option<JointKind> {

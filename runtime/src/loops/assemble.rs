@@ -5,7 +5,7 @@
 use nalgebra::{DMatrix, DVector, SVector};
 
 use super::LoopConstraints;
-use super::manifold::{LoopError, ROUND_OFF};
+use super::manifold::{LoopError, position_tolerance};
 
 /// Newton iterations of an assembly before it gives up.
 const ASSEMBLY_ITERATIONS: usize = 50;
@@ -56,7 +56,7 @@ where
             .unwrap_or_else(|_| DVector::zeros(free.len()))
     };
     let mut q = *q;
-    let tol = |q: &SVector<f64, N>| ROUND_OFF * (1.0 + q.amax());
+    let tol = |q: &SVector<f64, N>| position_tolerance(q, &s.constraint_jacobian(q));
     let mut phi = s.constraint_residual(&q);
     for _ in 0..ASSEMBLY_ITERATIONS {
         if phi.amax() <= tol(&q) {

@@ -11,6 +11,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::LoopConstraints;
+pub use super::error::LoopError;
 
 /// A constraint row is taken as lost — vanished, or dependent on the rows before it —
 /// when its pivot in `G M⁻¹ Gᵀ` is below this fraction of the largest diagonal entry.
@@ -23,54 +24,40 @@ fn largest_diagonal<const M: usize>(a: &SMatrix<f64, M, M>) -> f64 {
     (0..M).map(|j| a[(j, j)]).fold(0.0, f64::max)
 }
 
-/// Newton iterations of a position projection before it is declared stuck.
-const PROJECTION_ITERATIONS: usize = 8;
-
-/// Why a closed mechanism cannot be put on (or kept on) its constraint manifold.
-#[derive(Clone, Debug, PartialEq)]
-pub enum LoopError {
-    /// The constraint Jacobian lost rank: row `row` (its name, `<loop joint>.<component>`)
-    /// vanished or depends on the rows before it, `pivot` its pivot in `G M⁻¹ Gᵀ` as a
-    /// fraction of the largest diagonal entry.
-    Singular { row: &'static str, pivot: f64 },
-    /// No configuration closes the loops near the one given: after the Newton
-    /// iterations, row `row` is still off by `residual`.
-    NoAssembly { row: &'static str, residual: f64 },
-    /// [`assemble`](super::assemble) was given a joint name the mechanism does not have.
-    UnknownJoint {
-        name: String,
-        joints: Vec<&'static str>,
-    },
-}
-
-impl std::fmt::Display for LoopError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            LoopError::Singular { row, pivot } => write!(
-                f,
-                "the loop constraints are singular: row `{row}` vanished or depends on the rows \
-                 before it (pivot {pivot:.1e}); the mechanism is at a change point or a dead \
-                 centre, or two loop joints constrain the same motion"
-            ),
-            LoopError::NoAssembly { row, residual } => write!(
-                f,
-                "no configuration closes the loops near the one given: constraint `{row}` is still \
-                 off by {residual:.3e}; check the loop joints' origins and the given coordinates"
-            ),
-            LoopError::UnknownJoint { name, joints } => write!(
-                f,
-                "no joint named `{name}`; the mechanism's joints are {}",
-                joints
-                    .iter()
-                    .map(|j| format!("`{j}`"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
+/// `A = L D Lᵀ` (`L` unit lower triangular, stored below the diagonal, `D` on it), and
+/// the smallest pivot against `A`'s largest diagonal entry with its row; the
+/// factorisation stops at the first pivot that is not positive (that row and the rest
+/// are left unfactored).
+fn factor<const M: usize>(a: &SMatrix<f64, M, M>) -> (SMatrix<f64, M, M>, (f64, usize)) {
+    let scale = largest_diagonal(a);
+    let mut ld = SMatrix::<f64, M, M>::zeros();
+    let mut worst = (f64::INFINITY, 0);
+    for j in 0..M {
+        let mut d = a[(j, j)];
+        for k in 0..j {
+            d -= ld[(j, k)] * ld[(j, k)] * ld[(k, k)];
+        }
+        let pivot = d / scale;
+        if !(pivot >= worst.0) {
+            worst = (pivot, j);
+        }
+        if !(d > 0.0) {
+            return (ld, (pivot.min(0.0), j));
+        }
+        ld[(j, j)] = d;
+        for i in j + 1..M {
+            let mut s = a[(i, j)];
+            for k in 0..j {
+                s -= ld[(i, k)] * ld[(j, k)] * ld[(k, k)];
+            }
+            ld[(i, j)] = s / d;
         }
     }
+    (ld, worst)
 }
 
-impl std::error::Error for LoopError {}
+/// Newton iterations of a position projection before it is declared stuck.
+const PROJECTION_ITERATIONS: usize = 8;
 
 /// `G`, `Y = M⁻¹ Gᵀ` and the factor of `A = G Y` at one configuration.
 pub(crate) struct Schur<const N: usize, const M: usize> {
@@ -81,36 +68,33 @@ pub(crate) struct Schur<const N: usize, const M: usize> {
 }
 
 impl<const N: usize, const M: usize> Schur<N, M> {
-    pub fn at<S: LoopConstraints<N, M>>(s: &S, q: &SVector<f64, N>) -> Result<Self, LoopError> {
-        let g = s.constraint_jacobian(q);
-        let chol = s.mass_matrix(q).cholesky().ok_or(LoopError::Singular {
+    /// At `q`, with the coordinates marked in `held` (if any) held fixed: their
+    /// columns of `G` taken out and their rows and columns of `M` replaced by the
+    /// identity, so that every correction leaves them where they are.
+    pub fn at<S: LoopConstraints<N, M>>(
+        s: &S,
+        q: &SVector<f64, N>,
+        held: &[bool],
+    ) -> Result<Self, LoopError> {
+        let mut g = s.constraint_jacobian(q);
+        let mut mass = s.mass_matrix(q);
+        for (c, _) in held.iter().enumerate().filter(|(_, h)| **h) {
+            g.column_mut(c).fill(0.0);
+            mass.row_mut(c).fill(0.0);
+            mass.column_mut(c).fill(0.0);
+            mass[(c, c)] = 1.0;
+        }
+        let chol = mass.cholesky().ok_or(LoopError::Singular {
             row: S::CONSTRAINTS.first().copied().unwrap_or(""),
             pivot: f64::NAN,
         })?;
         let y = chol.solve(&g.transpose());
-        let a = g * y;
-        let scale = largest_diagonal(&a);
-        let mut ld = SMatrix::<f64, M, M>::zeros();
-        for j in 0..M {
-            let mut d = a[(j, j)];
-            for k in 0..j {
-                d -= ld[(j, k)] * ld[(j, k)] * ld[(k, k)];
-            }
-            let pivot = d / scale;
-            if !(pivot > SINGULAR_PIVOT) {
-                return Err(LoopError::Singular {
-                    row: S::CONSTRAINTS[j],
-                    pivot,
-                });
-            }
-            ld[(j, j)] = d;
-            for i in j + 1..M {
-                let mut s = a[(i, j)];
-                for k in 0..j {
-                    s -= ld[(i, k)] * ld[(j, k)] * ld[(k, k)];
-                }
-                ld[(i, j)] = s / d;
-            }
+        let (ld, (pivot, row)) = factor(&(g * y));
+        if !(pivot > SINGULAR_PIVOT) {
+            return Err(LoopError::Singular {
+                row: S::CONSTRAINTS[row],
+                pivot,
+            });
         }
         Ok(Schur { g, y, ld })
     }
@@ -123,32 +107,7 @@ impl<const N: usize, const M: usize> Schur<N, M> {
         let Some(chol) = s.mass_matrix(q).cholesky() else {
             return (0.0, 0);
         };
-        let a = g * chol.solve(&g.transpose());
-        let scale = largest_diagonal(&a);
-        let mut ld = SMatrix::<f64, M, M>::zeros();
-        let mut worst = (f64::INFINITY, 0);
-        for j in 0..M {
-            let mut d = a[(j, j)];
-            for k in 0..j {
-                d -= ld[(j, k)] * ld[(j, k)] * ld[(k, k)];
-            }
-            let pivot = d / scale;
-            if !(pivot >= worst.0) {
-                worst = (pivot, j);
-            }
-            if !(d > 0.0) {
-                return (pivot.min(0.0), j);
-            }
-            ld[(j, j)] = d;
-            for i in j + 1..M {
-                let mut s = a[(i, j)];
-                for k in 0..j {
-                    s -= ld[(i, k)] * ld[(j, k)] * ld[(k, k)];
-                }
-                ld[(i, j)] = s / d;
-            }
-        }
-        worst
+        factor(&(g * chol.solve(&g.transpose()))).1
     }
 
     /// `Y A⁻¹ r`: the smallest change, in the mass metric, that moves `G x` by `r`.
@@ -172,14 +131,26 @@ impl<const N: usize, const M: usize> Schur<N, M> {
 }
 
 /// How close to the manifold a projection puts the state: `|Φ|∞` within
-/// `ROUND_OFF · (1 + |q|∞)`, `|G v|∞` within `ROUND_OFF · (1 + |G|∞ |v|∞)`.
+/// `ROUND_OFF · (1 + |G|∞)` plus what the coordinates' own rounding leaves
+/// (`4 ε |q|∞ |G|∞`: a crank that has turned ten thousand times carries its angle to
+/// 1.5e-11 only), `|G v|∞` within `ROUND_OFF · (1 + |G|∞ |v|∞)`.
 pub const ROUND_OFF: f64 = 1e-14;
+
+/// The position tolerance of [`ROUND_OFF`] at `q` with constraint Jacobian `g`.
+pub(super) fn position_tolerance<const N: usize, const M: usize>(
+    q: &SVector<f64, N>,
+    g: &SMatrix<f64, M, N>,
+) -> f64 {
+    let g_scale = g.amax();
+    ROUND_OFF * (1.0 + g_scale) + 4.0 * f64::EPSILON * q.amax() * g_scale
+}
 
 /// Projects `(q, v)` onto the constraint manifold `Φ(q) = 0`, `G(q) v = 0` (theory §7):
 /// Newton steps `Δq = −M⁻¹Gᵀ A⁻¹ Φ` (each the smallest in the mass metric) until `|Φ|`
 /// is at round-off, then `v ← v − M⁻¹Gᵀ A⁻¹ G v`, the velocity's component off the
-/// constraints removed (in the mass metric: the kinetic energy only falls). Returns
-/// whether anything moved.
+/// constraints removed (in the mass metric: the kinetic energy only falls). The
+/// coordinates marked in `held` (a stuck joint, a stop in contact; empty for none) stay
+/// where they are, and so do their velocities. Returns whether anything moved.
 ///
 /// # Errors
 /// [`LoopError::Singular`] where `G` has lost rank, [`LoopError::NoAssembly`] where the
@@ -188,14 +159,15 @@ pub fn project<S, const N: usize, const M: usize>(
     s: &S,
     q: &mut SVector<f64, N>,
     v: &mut SVector<f64, N>,
+    held: &[bool],
 ) -> Result<bool, LoopError>
 where
     S: LoopConstraints<N, M>,
 {
-    let tol_q = ROUND_OFF * (1.0 + q.amax());
     let mut moved = false;
     let mut phi = s.constraint_residual(q);
-    let mut schur = Schur::at(s, q)?;
+    let mut schur = Schur::at(s, q, held)?;
+    let tol_q = position_tolerance(q, &schur.g);
     for _ in 0..PROJECTION_ITERATIONS {
         if !(phi.amax() > tol_q) {
             break;
@@ -203,7 +175,7 @@ where
         *q -= schur.correction(&phi);
         moved = true;
         phi = s.constraint_residual(q);
-        schur = Schur::at(s, q)?;
+        schur = Schur::at(s, q, held)?;
     }
     if !(phi.amax() <= tol_q) {
         let worst = phi.iamax();

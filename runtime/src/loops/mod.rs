@@ -8,10 +8,12 @@
 //! left out: a revolute loop joint of a planar mechanism has two rows, not five.
 
 mod assemble;
+pub mod error;
 mod manifold;
 
 pub use assemble::assemble;
-pub use manifold::{LoopError, ROUND_OFF, SINGULAR_PIVOT, conditioning, project};
+pub use error::LoopError;
+pub use manifold::{ROUND_OFF, SINGULAR_PIVOT, conditioning, project};
 
 use nalgebra::{SMatrix, SVector};
 

@@ -519,8 +519,13 @@ where
                     return self.act(act, &cut, buf, stepper);
                 }
                 let (t1, y1) = (stepper.t(), stepper.y());
-                let q = SVector::from_column_slice(&y1[..N]);
-                let v = SVector::from_column_slice(&y1[N..]);
+                let mut q = SVector::from_column_slice(&y1[..N]);
+                let mut v = SVector::from_column_slice(&y1[N..]);
+                if self.project(t1, &mut q, &mut v)? {
+                    let y: Vec<f64> = q.iter().chain(v.iter()).copied().collect();
+                    let sys = mode_system!(self);
+                    stepper.nudge(&mut Eval::new(&sys, &mut self.out.stats), &y)?;
+                }
                 let keep = if t1 >= tf { Keep::Last } else { Keep::AsAsked };
                 self.push_row(
                     t1,
@@ -932,6 +937,30 @@ where
 
     /// The current `[q; v]`.
     /// The integrator's accuracy at a component of size `x`: `atol + rtol |x|`.
+    /// A closed mechanism's state put back on its loops' constraints (see
+    /// [`crate::loops`]), the coordinates of stuck elements and of stops in contact
+    /// held where they are (their velocities stay exactly zero). Returns whether it
+    /// moved.
+    fn project(
+        &self,
+        t: f64,
+        q: &mut SVector<f64, N>,
+        v: &mut SVector<f64, N>,
+    ) -> Result<bool, ErrorKind> {
+        if S::LOOP_CONSTRAINTS.is_empty() {
+            return Ok(false);
+        }
+        let mut held = [false; N];
+        for (el, m) in self.elements.iter().zip(&self.modes) {
+            if matches!(m, Mode::Stick | Mode::Contact) {
+                held[el.coordinate] = true;
+            }
+        }
+        self.system
+            .project_onto_loops(q, v, &held)
+            .map_err(|error| ErrorKind::Loops { t, error })
+    }
+
     fn tol(&self, x: f64) -> f64 {
         self.options.atol + self.options.rtol * x.abs()
     }
@@ -1245,6 +1274,10 @@ where
         // negative f·v, or a velocity jump) in the pre-switch row, and the plateau speed
         // must hold exactly. Likewise a rigid stop reached touches it up to the bracket:
         // the row shows the contact position exactly.
+        // On a closed mechanism's loops (the coordinates of stuck elements and stops in
+        // contact held), before the switching coordinates are set exactly below: a
+        // coordinate set there moves off the loops by the root finder's round-off only.
+        self.project(t, &mut q, &mut v)?;
         for &e in triggered {
             let el = self.elements[e];
             if let (ElementKind::DashPot { .. }, Some((d, k))) = (el.kind, self.modes[e].slip()) {
@@ -1830,6 +1863,16 @@ where
         resuming: bool,
     ) -> Result<(), ErrorKind> {
         let (mut q, mut v) = (problem.q0, problem.v0);
+        // A closed mechanism starts on its loops (`loops::assemble` completes a partial
+        // start).
+        if !resuming {
+            self.system
+                .project_onto_loops(&mut q, &mut v, &[])
+                .map_err(|error| ErrorKind::Loops {
+                    t: problem.t0,
+                    error,
+                })?;
+        }
         for (e, el) in self.elements.iter().enumerate() {
             let Some(f) = problem.forces0.get(e).copied().flatten() else {
                 continue;

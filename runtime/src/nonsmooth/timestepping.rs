@@ -218,7 +218,17 @@ impl<const N: usize> TimeSteps<'_, N> {
             }
         }
         let coord: Vec<usize> = graphs.iter().map(|g| g.element.coordinate).collect();
-        let (q, v) = (problem.q0, problem.v0);
+        let (mut q, mut v) = (problem.q0, problem.v0);
+        // A closed mechanism starts on its loops.
+        if let Err(error) = system.project_onto_loops(&mut q, &mut v, &[]) {
+            return Err(SolveError::new(
+                ErrorKind::Loops {
+                    t: problem.t0,
+                    error,
+                },
+                traj,
+            ));
+        }
         let f = match initial_forces(system, problem, &graphs) {
             Ok(f) => f,
             Err(msg) => return Err(invalid(traj, msg)),
@@ -361,11 +371,19 @@ impl<const N: usize> TimeSteps<'_, N> {
             sweeps += 1;
             let f_start = f.clone();
             let mut v_scale = vec![0.0; N];
+            // A coordinate that its element's force cannot move (a closed mechanism at a
+            // dead centre, where its loops lock it: W_ee = 0) still gets a line of
+            // positive slope, at the round-off of the largest diagonal: its velocity is
+            // then the free one, and the force no more than the law allows.
+            let w_floor = 1e-14
+                * (0..ne)
+                    .map(|e| w[(e, e)].abs())
+                    .fold(f64::MIN_POSITIVE, f64::max);
             for e in 0..ne {
                 let coupling: f64 = (0..ne).filter(|&b| b != e).map(|b| w[(e, b)] * f[b]).sum();
                 let line = Line {
                     v_free: v_free[coord[e]] - hn * coupling,
-                    w: hn * w[(e, e)],
+                    w: hn * w[(e, e)].max(w_floor),
                 };
                 let state = StepState {
                     q: q[coord[e]],
@@ -482,6 +500,13 @@ impl<const N: usize> TimeSteps<'_, N> {
         // not (a plateau's speed kept), and where they carry too little, the
         // displacement of the coordinates no element sets exactly is shortened
         // (theory.md §3).
+        // A closed mechanism back on its loops (see `crate::loops`), before the energy
+        // check, which sees the projected state.
+        if !S::LOOP_CONSTRAINTS.is_empty() {
+            system
+                .project_onto_loops(&mut q_next, &mut v_next, &[])
+                .map_err(|error| ErrorKind::Loops { t: t_next, error })?;
+        }
         let work = tau.dot(&(q_next - q));
         let allowed = self.energy + work;
         let mut e_next = energy(system, graphs, &q_next, &v_next);

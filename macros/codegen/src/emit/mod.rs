@@ -306,8 +306,9 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
                         &self,
                         q: &mut ::filippov::nalgebra::SVector<f64, #n>,
                         v: &mut ::filippov::nalgebra::SVector<f64, #n>,
+                        held: &[bool],
                     ) -> ::core::result::Result<bool, ::filippov::runtime::loops::LoopError> {
-                        ::filippov::runtime::loops::project::<Self, #n, #m>(self, q, v)
+                        ::filippov::runtime::loops::project::<Self, #n, #m>(self, q, v, held)
                     }
                     fn loop_conditioning(&self, q: &::filippov::nalgebra::SVector<f64, #n>) -> f64 {
                         ::filippov::runtime::loops::conditioning::<Self, #n, #m>(self, q)

@@ -190,12 +190,30 @@ impl Kernels {
                 (out[..n].to_vec(), used, out[n..].to_vec())
             }
         };
+        // With loop joints, the constrained system's: `P = M⁻¹ − Y A⁻¹ Yᵀ`, the
+        // response to a unit force that the loops let through (column k: the augmented
+        // solve with `r₁ = e_k`, `r₂ = 0`), so that the elements' Delassus operator and
+        // impulses respect the loops (`G P = 0`).
         let inverse_mass = (!model.elements.is_empty()).then(|| {
+            let mut constrained: [Option<loops::Constrained>; 2] = [None, None];
             let (cols, _) = solver.choose_columns(&mut g, n, |g, s, k| {
                 let e: Vec<Id> = (0..n)
                     .map(|i| g.constant(if i == k { 1.0 } else { 0.0 }))
                     .collect();
-                s.solve(g, &e, None)
+                let Some(lk) = &loop_k else {
+                    return s.solve(g, &e, None);
+                };
+                let slot = usize::from(matches!(s, Which::Aba(_)));
+                if constrained[slot].is_none() {
+                    let free = solve_forward(g, s);
+                    constrained[slot] =
+                        Some(loops::Constrained::build(g, lk, free, &mut |g, b| {
+                            s.solve(g, b, None)
+                        }));
+                }
+                let c = constrained[slot].as_ref().expect("built above");
+                let zeros = vec![g.zero(); lk.rows()];
+                c.column(g, lk, &e, &zeros, &mut |g, b| s.solve(g, b, None))
             });
             transpose_cols(&cols)
         });

@@ -179,6 +179,9 @@ where
     // after every step.
     let mut y = problem.y0.clone();
     system.project(t0, &mut y)?;
+    // A system with a manifold (it has a conditioning) is followed and projected after
+    // each step; the others skip both.
+    let manifold = system.conditioning(&y).is_some();
     let at = Begin { y: &y, ..at };
     stepper.begin(&mut Eval::new(system, &mut sol.stats), at)?;
     sol.push_start(t0, stepper.y(), stepper.f());
@@ -186,7 +189,7 @@ where
         let t_prev = stepper.t();
         stepper.step(&mut Eval::new(system, &mut sol.stats), tf)?;
         let t = stepper.t();
-        if system.conditioning(stepper.y()).is_some() {
+        if manifold {
             stepper.prepare_dense();
             if let Some(ts) = singular_point(system, stepper.dense(), t_prev, t) {
                 // The run ends where the manifold became singular (at most a fraction of
@@ -210,9 +213,11 @@ where
                 }
             }
         }
-        y.copy_from_slice(stepper.y());
-        if system.project(t, &mut y)? {
-            stepper.nudge(&mut Eval::new(system, &mut sol.stats), &y)?;
+        if manifold {
+            y.copy_from_slice(stepper.y());
+            if system.project(t, &mut y)? {
+                stepper.nudge(&mut Eval::new(system, &mut sol.stats), &y)?;
+            }
         }
         if !tracker.is_empty() {
             match locate_events(stepper, system, problem, sol, tracker, t_prev)? {

@@ -8,6 +8,7 @@
 // Index loops read like the formulas they implement (M_ij, c_ijk, …).
 #![allow(clippy::needless_range_loop)]
 
+pub mod attr_values;
 pub mod coordinate;
 pub mod diag;
 pub mod emit;

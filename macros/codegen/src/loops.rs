@@ -16,10 +16,10 @@
 
 use syn::Ident;
 
+use crate::attr_values::{joint_kind, link_list, placement, placement_at, take_child, take_parent};
 use crate::diag::Diagnostics;
 use crate::model::{JointKind, Link, LoopJoint};
 use crate::parse::RawAttr;
-use crate::validate::{joint_kind, link_list, placement, placement_at, take_child, take_parent};
 
 /// The keys a loop joint takes.
 const KEYS: [&str; 6] = [

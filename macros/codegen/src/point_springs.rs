@@ -8,11 +8,11 @@
 
 use syn::{Expr, Ident};
 
+use crate::attr_values::{link_list, vec3};
 use crate::diag::Diagnostics;
 use crate::model::{Link, PExpr, PointSpring, Vec3};
 use crate::parse::expr::lower;
 use crate::parse::{RawAttr, ident_of, strip};
-use crate::validate::{link_list, vec3};
 
 const KEYS: [&str; 4] = ["k", "rest", "from", "to"];
 

@@ -23,6 +23,8 @@ mod config;
 mod dense;
 #[path = "flags.rs"]
 mod flags;
+#[path = "../support/four_bar_orbit.rs"]
+mod four_bar_orbit;
 #[path = "kernels.rs"]
 mod kernels;
 #[path = "lie.rs"]

@@ -77,6 +77,7 @@
 //! Generated scenes are plain `f64` structs: `Send + Sync + Copy`. [`Solution`],
 //! [`Stats`], [`Options`], [`Problem`], [`NonSmoothProblem`] and the steppers are `Send +
 //! Sync`; a parameter sweep may run one integration per thread.
+mod conservative;
 mod element;
 mod error;
 pub mod events;
@@ -98,6 +99,7 @@ mod solve;
 mod stats;
 pub mod system;
 
+pub use conservative::{Conservative, ENERGY_SCALE_LIMIT};
 pub use element::{Mode, NonSmooth};
 pub use error::{ErrorKind, SolveError};
 pub use events::{Event, EventDirection, EventHit, Reset};

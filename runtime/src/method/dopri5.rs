@@ -82,6 +82,16 @@ impl Stepper for Dopri5Stepper {
         &mut self.s
     }
 
+    /// As the default, and `k_1` (the first stage, kept from the last step's seventh:
+    /// first same as last) taken from the new point too: a stale
+    /// `k_1` would step from the projected state with the derivative of the one before.
+    fn nudge<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, y: &[f64]) -> StepResult {
+        self.s.y.copy_from_slice(y);
+        ev.rhs(self.s.t, y, &mut self.s.f)?;
+        self.k[0].copy_from_slice(&self.s.f);
+        Ok(())
+    }
+
     fn begin<S: OdeSystem + ?Sized>(&mut self, ev: &mut Eval<'_, S>, at: Begin) -> StepResult {
         self.s.enter(ev, at, 5, self.s.h)?;
         self.k[0].copy_from_slice(&self.s.f);

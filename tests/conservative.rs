@@ -34,7 +34,7 @@ fn drift<S: Energy<N>, const N: usize>(s: &S, sol: &Solution, e0: f64) -> f64 {
     sol.rows()
         .map(|(_, y)| {
             let q = SVector::<f64, N>::from_column_slice(&y[..N]);
-            let v = SVector::<f64, N>::from_column_slice(&y[N..]);
+            let v = SVector::<f64, N>::from_column_slice(&y[N..2 * N]);
             (s.total_energy(&q, &v) - e0).abs() / e0.abs()
         })
         .fold(0.0, f64::max)
@@ -77,7 +77,7 @@ fn four_bar_on_its_energy_level_stays_on_its_orbit() {
         let mut closure = [0.0f64; 2];
         for (_, y) in held.rows() {
             let q = V3::from_column_slice(&y[..3]);
-            let v = V3::from_column_slice(&y[3..]);
+            let v = V3::from_column_slice(&y[3..6]);
             closure[0] = closure[0].max(fb.constraint_residual(&q).amax());
             closure[1] = closure[1].max((fb.constraint_jacobian(&q) * v).amax());
         }

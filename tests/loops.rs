@@ -330,7 +330,7 @@ fn closed_four_bar_stays_on_its_constraints_and_conserves_energy() {
     let y0 = [0.5, 1.0, 2.0, 6.0, -1.0, 0.5];
     let energy = |y: &[f64]| {
         let q = SVector::<f64, 3>::from_column_slice(&y[..3]);
-        let v = SVector::<f64, 3>::from_column_slice(&y[3..]);
+        let v = SVector::<f64, 3>::from_column_slice(&y[3..6]);
         fb.kinetic_energy(&q, &v) + fb.potential_energy(&q)
     };
     for (name, method) in [
@@ -344,7 +344,7 @@ fn closed_four_bar_stays_on_its_constraints_and_conserves_energy() {
         let mut worst = [0.0f64; 3];
         for (_, y) in sol.rows() {
             let q = SVector::<f64, 3>::from_column_slice(&y[..3]);
-            let v = SVector::<f64, 3>::from_column_slice(&y[3..]);
+            let v = SVector::<f64, 3>::from_column_slice(&y[3..6]);
             worst[0] = worst[0].max(fb.constraint_residual(&q).amax());
             worst[1] = worst[1].max((fb.constraint_jacobian(&q) * v).amax());
             worst[2] = worst[2].max((energy(y) - e0).abs() / e0.abs());
@@ -360,6 +360,48 @@ fn closed_four_bar_stays_on_its_constraints_and_conserves_energy() {
         assert!(worst[0] <= 1e-12 && worst[1] <= 1e-12, "{name}: {worst:?}");
         assert!(worst[2] <= 1e-8, "{name}: energy drift {:e}", worst[2]);
     }
+}
+
+/// The loop joints' constraint forces are columns of the solution, `λ_<row>`: the force
+/// the joint applies to its child body at the joint, in world axes. Checked by the
+/// rocker's own equation of motion, which no kernel writes: turning about its fixed
+/// pivot, `I_O α = −m g (c/2) cos θ + c (cos θ λ_y − sin θ λ_x)`, at every row, with
+/// `α` the row's derivative.
+#[test]
+fn constraint_forces_are_columns_of_the_solution() {
+    use filippov::runtime::{MechanicalSystem, Method, Options, Problem, solve};
+    let fb = filippov::scenes::FourBar::default();
+    let y0 = [0.5, 1.0, 2.0, 6.0, -1.0, 0.5];
+    let sol = solve(
+        &MechanicalSystem::unforced(&fb),
+        &Problem::new(0.0, 2.0, y0),
+        &Method::Dopri5(Options::tolerances(1e-10, 1e-12)),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(sol.dim(), 8);
+    let (lx, ly) = (
+        sol.column_index("λ_rocker_pin.x").expect("a λ column"),
+        sol.column_index("λ_rocker_pin.y").expect("a λ column"),
+    );
+    let inertia = fb.mc * fb.c * fb.c / 3.0;
+    let mut worst = 0.0f64;
+    let mut largest = 0.0f64;
+    for i in 0..sol.len() {
+        let (y, dy) = (sol.state(i), sol.derivative(i));
+        let theta = y[2];
+        let (fx, fy) = (y[lx], y[ly]);
+        let moment =
+            -fb.mc * fb.g * fb.c / 2.0 * theta.cos() + fb.c * (theta.cos() * fy - theta.sin() * fx);
+        worst = worst.max((inertia * dy[5] - moment).abs());
+        largest = largest.max(fx.abs().max(fy.abs()));
+    }
+    eprintln!("rocker's moment balance within {worst:.1e} N·m, |λ| up to {largest:.2} N");
+    assert!(largest > 1.0, "the pin carries a force");
+    assert!(worst < 1e-10 * largest * fb.c, "{worst:e}");
+    // Between rows the columns are read back linearly.
+    let (t0, t1) = (sol.times()[3], sol.times()[4]);
+    let mid = sol.at(0.5 * (t0 + t1)).expect("inside");
+    assert_eq!(mid[lx], 0.5 * (sol.state(3)[lx] + sol.state(4)[lx]));
 }
 
 /// A parallelogram four-bar turning uniformly reaches the configuration where all its
@@ -589,6 +631,20 @@ fn slider_crank_with_friction_and_a_stop() {
     );
     assert!(worst_phi < 1e-10, "|Φ| = {worst_phi:e}");
     assert!(balance.abs() < 1e-8 * scale, "balance {balance:e}");
+    // The wrist pin's force is a column after the elements' forces; the slider's own
+    // equation along its stroke, m_s a = λ_x − f_friction − f_stop, holds at every row
+    // (sliding, stuck, against the stop).
+    let lx = ed.column_index("λ_wrist_pin.x").expect("a λ column");
+    let stop = ed.column_index("f_stop_stroke").expect("the stop's force");
+    assert!(lx > stop && lx > f, "{:?}", ed.names());
+    let mut worst_slider = 0.0f64;
+    for i in 0..ed.len() {
+        let (y, dy) = (ed.state(i), ed.derivative(i));
+        let residual = press.ms * dy[5] - (y[lx] - y[f] - y[stop]);
+        worst_slider = worst_slider.max(residual.abs() / (1.0 + y[lx].abs()));
+    }
+    eprintln!("slider's equation along its stroke within {worst_slider:.1e} of the pin force");
+    assert!(worst_slider < 1e-8, "{worst_slider:e}");
     // Time-stepping converges to it: positions, uniformly over the first half second
     // (later, the bounces on the stop amplify every difference).
     let dist = |h: f64| {
@@ -599,6 +655,7 @@ fn slider_crank_with_friction_and_a_stop() {
             &NonSmoothMethod::TimeStepping { h, theta: 1.0 },
         )
         .unwrap_or_else(|e| panic!("time-stepping h = {h}: {e}"));
+        assert_eq!(ts.names(), ed.names(), "the same columns");
         (0..=50)
             .map(|k| {
                 let t = 0.01 * k as f64;
@@ -725,7 +782,7 @@ fn delta_robot_against_a_reference_without_the_generator() {
     // A short lossless run under gravity from rest: on the loops, energy conserved.
     let energy = |y: &[f64]| {
         let q = SVector::<f64, 12>::from_column_slice(&y[..12]);
-        let v = SVector::<f64, 12>::from_column_slice(&y[12..]);
+        let v = SVector::<f64, 12>::from_column_slice(&y[12..24]);
         delta.kinetic_energy(&q, &v) + delta.potential_energy(&q)
     };
     let mut y0 = q.as_slice().to_vec();

@@ -141,6 +141,14 @@ where
         self.system.validate()
     }
 
+    fn output_names(&self) -> Vec<String> {
+        self.system.output_names()
+    }
+
+    fn outputs(&self, t: f64, y: &[f64], out: &mut [f64]) {
+        self.system.outputs(t, y, out);
+    }
+
     /// Onto the loops ([`MechanicalSystem`]'s projection), then onto the energy level by
     /// scaling the velocities, unless that would change the kinetic energy by more than
     /// [`ENERGY_SCALE_LIMIT`] of itself.

@@ -193,8 +193,6 @@ impl Mode {
     }
 }
 
-/// Column names of a non-smooth solution: those of the mechanism's state
-/// ([`state_names`](crate::system::state_names)), then `f_<element>`.
 /// How a message names coordinate `c`: its joint as the scene declares it (`` `rail` ``),
 /// or `coordinate c` for a scene without joint names.
 pub(crate) fn joint_name(joints: &[&str], c: usize) -> String {
@@ -204,8 +202,35 @@ pub(crate) fn joint_name(joints: &[&str], c: usize) -> String {
     }
 }
 
+/// Column names of a non-smooth solution: those of the mechanism's state
+/// ([`state_names`](crate::system::state_names)), then `f_<element>`, then a closed
+/// mechanism's constraint forces `λ_<row>`.
 pub(crate) fn column_names<S: NonSmooth<N>, const N: usize>(system: &S) -> Vec<String> {
     let mut names = crate::system::state_names(&S::JOINTS);
     names.extend((0..S::ELEMENTS).map(|e| format!("f_{}", system.element(e).name)));
+    names.extend(crate::system::loop_force_names(S::LOOP_CONSTRAINTS));
     names
+}
+
+/// Appends to `row` a closed mechanism's constraint forces `λ` at `(q, v)` under the
+/// input `tau` and the element forces `f` (element `e` acting with `−f[e]` on coordinate
+/// `coordinates[e]`); nothing for a tree.
+pub(crate) fn push_loop_forces<S: NonSmooth<N>, const N: usize>(
+    system: &S,
+    coordinates: impl Iterator<Item = usize>,
+    (q, v, tau): (&SVector<f64, N>, &SVector<f64, N>, &SVector<f64, N>),
+    f: &[f64],
+    row: &mut Vec<f64>,
+) {
+    let m = S::LOOP_CONSTRAINTS.len();
+    if m == 0 {
+        return;
+    }
+    let mut net = *tau;
+    for (c, fe) in coordinates.zip(f) {
+        net[c] -= fe;
+    }
+    let start = row.len();
+    row.resize(start + m, 0.0);
+    system.loop_forces(q, v, &net, &mut row[start..]);
 }

@@ -129,6 +129,20 @@ where
         Ok(moved)
     }
 
+    /// A closed mechanism's constraint forces, `λ_<row>`.
+    fn output_names(&self) -> Vec<String> {
+        crate::system::loop_force_names(S::LOOP_CONSTRAINTS)
+    }
+
+    fn outputs(&self, t: f64, y: &[f64], out: &mut [f64]) {
+        if S::LOOP_CONSTRAINTS.is_empty() {
+            return;
+        }
+        let (q, v) = Self::split(y);
+        let tau = (self.input)(t, &q, &v);
+        self.mechanism.loop_forces(&q, &v, &tau, out);
+    }
+
     fn conditioning(&self, y: &[f64]) -> Option<f64> {
         if S::LOOP_CONSTRAINTS.is_empty() {
             return None;

@@ -61,6 +61,17 @@ pub trait OdeSystem {
         Ok(false)
     }
 
+    /// Columns a solution carries after the state, computed from it at each row (a
+    /// closed mechanism's constraint forces, `λ_<row>`): their names. None by default.
+    /// Between rows they are interpolated linearly.
+    fn output_names(&self) -> Vec<String> {
+        Vec::new()
+    }
+
+    /// The values of [`output_names`](Self::output_names)' columns at `(t, y)`, into
+    /// `out` (of their number).
+    fn outputs(&self, _t: f64, _y: &[f64], _out: &mut [f64]) {}
+
     /// How far the manifold of [`project`](Self::project) is from becoming singular at
     /// `y` (`1` far, `0` singular; a closed mechanism's [`loops::conditioning`]
     /// (crate::loops::conditioning)); `None` without one. The smooth driver follows it

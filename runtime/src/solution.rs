@@ -263,6 +263,35 @@ impl Solution {
         }
     }
 
+    /// Appends columns computed from each stored row, `fill(t, row, out)` writing their
+    /// values (a closed mechanism's constraint forces from its state): their derivatives
+    /// are stored as zero, and between rows they are read back linearly, like element
+    /// forces. The dense output keeps covering the columns it covered.
+    pub(crate) fn append_columns(
+        &mut self,
+        names: Vec<String>,
+        mut fill: impl FnMut(f64, &[f64], &mut [f64]),
+    ) {
+        let (old, extra) = (self.dim, names.len());
+        if extra == 0 {
+            return;
+        }
+        let dim = old + extra;
+        let mut y = vec![0.0; self.len() * dim];
+        let mut dy = vec![0.0; self.len() * dim];
+        for (i, &t) in self.t.iter().enumerate() {
+            let (from, to) = (i * old..(i + 1) * old, i * dim..i * dim + old);
+            y[to.clone()].copy_from_slice(&self.y[from.clone()]);
+            dy[to].copy_from_slice(&self.dy[from.clone()]);
+            let (row, out) = y[i * dim..(i + 1) * dim].split_at_mut(old);
+            fill(t, row, out);
+        }
+        self.y = y;
+        self.dy = dy;
+        self.dim = dim;
+        self.names.extend(names);
+    }
+
     /// The first `n` columns are positions read back with the quintic in `q, q̇, q̈` (see
     /// [`OdeSystem::dense_positions`](crate::OdeSystem::dense_positions)).
     pub(crate) fn with_dense_positions(mut self, n: Option<usize>) -> Self {

@@ -146,9 +146,16 @@ where
     let tracker = checked.and_then(|()| Tracker::new(events, problem.t0, &problem.y0));
     let mut tracker = match tracker {
         Ok(tracker) => tracker,
-        Err(msg) => return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol)),
+        Err(msg) => {
+            sol.append_columns(system.output_names(), |_, _, _| {});
+            return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
+        }
     };
-    match run(stepper, system, problem, observer, &mut sol, &mut tracker) {
+    let result = run(stepper, system, problem, observer, &mut sol, &mut tracker);
+    // The system's outputs (a closed mechanism's constraint forces), from each row kept,
+    // whether the run completed or not.
+    sol.append_columns(system.output_names(), |t, y, out| system.outputs(t, y, out));
+    match result {
         Ok(()) => Ok(sol),
         Err(kind) => Err(SolveError::new(kind, sol)),
     }

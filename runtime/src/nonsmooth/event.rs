@@ -1008,8 +1008,15 @@ where
                 }
             }
         }
+        crate::element::push_loop_forces(
+            self.system,
+            self.elements.iter().map(|el| el.coordinate),
+            (q, v, &tau),
+            &ev.f,
+            &mut y,
+        );
         let mut dy: Vec<f64> = v.iter().chain(ev.a.iter()).copied().collect();
-        dy.extend(std::iter::repeat_n(0.0, ev.f.len()));
+        dy.resize(y.len(), 0.0);
         match row {
             Row::Start => self.out.push_start(t, &y, &dy),
             Row::Step { dense, keep } => self.out.push_step(t, &y, &dy, dense, keep),
@@ -2088,7 +2095,7 @@ where
                 self.t = te;
                 self.q = SVector::from_column_slice(&row[..N]);
                 self.v = SVector::from_column_slice(&row[N..2 * N]);
-                self.last_forces = row[2 * N..].to_vec();
+                self.last_forces = row[2 * N..2 * N + S::ELEMENTS].to_vec();
                 // A reset ends the hand-over: event-driven integration goes on from the
                 // new state.
                 if let Some(k) = act.reset {

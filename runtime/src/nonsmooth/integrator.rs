@@ -174,7 +174,7 @@ where
                 Run::EventDriven { driver, stepper }
             }
             NonSmoothMethod::TimeStepping { h, theta } => Run::TimeStepping {
-                steps: TimeSteps::new(system, problem, h, theta)?,
+                steps: TimeSteps::new(system, &input, problem, h, theta)?,
                 input,
             },
         };

@@ -136,7 +136,7 @@ where
     I: Input<N> + ?Sized,
     O: Observer + ?Sized,
 {
-    let mut run = TimeSteps::new(system, problem, h, theta)?;
+    let mut run = TimeSteps::new(system, input, problem, h, theta)?;
     while run.t < problem.tf {
         if let Err(kind) = run.step(system, input, problem.tf) {
             return Err(SolveError::new(kind, run.traj));
@@ -191,8 +191,9 @@ pub(crate) struct TimeSteps<'a, const N: usize> {
 
 impl<const N: usize> TimeSteps<'_, N> {
     /// Checks the problem and the elements and writes the first row.
-    pub(crate) fn new<S: NonSmooth<N>>(
+    pub(crate) fn new<S: NonSmooth<N>, I: Input<N> + ?Sized>(
         system: &S,
+        input: &I,
         problem: &NonSmoothProblem<N>,
         h: f64,
         theta: f64,
@@ -233,9 +234,18 @@ impl<const N: usize> TimeSteps<'_, N> {
             Ok(f) => f,
             Err(msg) => return Err(invalid(traj, msg)),
         };
-        let mut dy0 = vec![0.0; 2 * N + ne];
+        let mut y0 = row(&q, &v, &f);
+        let tau0 = input.forces(problem.t0, &q, &v);
+        crate::element::push_loop_forces(
+            system,
+            coord.iter().copied(),
+            (&q, &v, &tau0),
+            &f,
+            &mut y0,
+        );
+        let mut dy0 = vec![0.0; y0.len()];
         dy0[..N].copy_from_slice(v.as_slice());
-        traj.push_start(problem.t0, &row(&q, &v, &f), &dy0);
+        traj.push_start(problem.t0, &y0, &dy0);
         // Each coordinate's weight of v_{n+1} in its position update: θ_q = max(θ, 1 − θ),
         // and 1 where a rigid stop acts (Moreau's velocity-level impact law comes to rest
         // only with positions advanced by the new velocity; with θ_q = ½ a ball resting on a
@@ -545,7 +555,16 @@ impl<const N: usize> TimeSteps<'_, N> {
             }
         }
 
-        let y = row(&q_next, &v_next, f);
+        let mut y = row(&q_next, &v_next, f);
+        crate::element::push_loop_forces(
+            system,
+            graphs.iter().map(|g| g.element.coordinate),
+            (&q_next, &v_next, &tau),
+            f,
+            &mut y,
+        );
+        // The step's forces: the elements' and, after them, the loops'.
+        let forces = y[2 * N..].to_vec();
         if let Some(i) = y.iter().position(|x| !x.is_finite()) {
             return Err(ErrorKind::NonFinite {
                 t: t_next,
@@ -557,6 +576,7 @@ impl<const N: usize> TimeSteps<'_, N> {
             .map(|dq| dq / hn)
             .chain((v_next - v).iter().map(|dv| dv / hn))
             .chain(f.iter().zip(&f_prev).map(|(a, b)| (a - b) / hn))
+            .chain(std::iter::repeat_n(0.0, y.len() - 2 * N - ne))
             .collect();
         if !self.tracker.is_empty() {
             let (a, b) = ((t, &self.y[..]), (t_next, &y[..2 * N]));
@@ -578,7 +598,7 @@ impl<const N: usize> TimeSteps<'_, N> {
                 // between the step's ends), the state changes, and the steps go on from
                 // the new state on a grid anchored there.
                 let mut row_e = at(te);
-                row_e.extend_from_slice(f);
+                row_e.extend_from_slice(&forces);
                 traj.push_step(te, &row_e, &dy, None, Keep::Event);
                 let mut y_e = row_e[..2 * N].to_vec();
                 self.tracker
@@ -604,7 +624,7 @@ impl<const N: usize> TimeSteps<'_, N> {
                     y_e.clone(),
                 ));
                 let mut row_after = y_e.clone();
-                row_after.extend_from_slice(f);
+                row_after.extend_from_slice(&forces);
                 traj.push_jump(te, &row_after, &dy);
                 self.q = SVector::from_column_slice(&y_e[..N]);
                 self.v = SVector::from_column_slice(&y_e[N..2 * N]);
@@ -620,7 +640,7 @@ impl<const N: usize> TimeSteps<'_, N> {
             if let Some(te) = crossings.terminal {
                 // The run ends inside the step: its state there, the step's forces.
                 let mut row_e = at(te);
-                row_e.extend_from_slice(f);
+                row_e.extend_from_slice(&forces);
                 traj.push_step(te, &row_e, &dy, None, Keep::Last);
                 self.q = SVector::from_column_slice(&row_e[..N]);
                 self.v = SVector::from_column_slice(&row_e[N..2 * N]);

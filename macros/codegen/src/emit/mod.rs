@@ -313,6 +313,19 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
                     fn loop_conditioning(&self, q: &::filippov::nalgebra::SVector<f64, #n>) -> f64 {
                         ::filippov::runtime::loops::conditioning::<Self, #n, #m>(self, q)
                     }
+                    fn loop_forces(
+                        &self,
+                        q: &::filippov::nalgebra::SVector<f64, #n>,
+                        v: &::filippov::nalgebra::SVector<f64, #n>,
+                        tau: &::filippov::nalgebra::SVector<f64, #n>,
+                        out: &mut [f64],
+                    ) {
+                        let (_, lambda) =
+                            <Self as ::filippov::runtime::loops::LoopConstraints<#n, #m>>::constrained_forward_dynamics(
+                                self, q, v, tau,
+                            );
+                        out.copy_from_slice(lambda.as_slice());
+                    }
                 }
             }
         };

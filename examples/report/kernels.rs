@@ -304,8 +304,39 @@ pub fn compile_times(config: &Config) -> Section {
             ),
         )
     });
-    for (file, src) in scene_sources().into_iter().chain(robots) {
-        let stem = file.trim_end_matches(".rs").replace('.', "_");
+    // The closed mechanisms of `loops.rs`, each with a function that calls its kernels:
+    // the tree's and the loops' (constrained forward dynamics, constraint Jacobian, γ).
+    let loops_src = scene_sources()
+        .into_iter()
+        .find(|(f, _)| f == "loops.rs")
+        .map(|(_, src)| src)
+        .unwrap_or_default();
+    let closed = [("AndrewsSqueezer", 7), ("Delta", 12)].map(|(scene, n)| {
+        (
+            format!("loops.rs: {scene}, kernels called"),
+            format!(
+                "{loops_src}\n\
+                 pub fn kernels(q: &filippov::nalgebra::SVector<f64, {n}>, v: &filippov::nalgebra::SVector<f64, {n}>, \
+                 tau: &filippov::nalgebra::SVector<f64, {n}>) -> f64 {{\n\
+                     use filippov::runtime::loops::LoopConstraints;\n\
+                     let s = {scene}::default();\n\
+                     s.mass_matrix(q)[0] + s.forward_dynamics(q, v, tau)[0] + s.forward_dynamics_jacobian(q, v, tau).d_dq[0] \
+                     + s.constrained_forward_dynamics(q, v, tau).1[0] + s.constraint_jacobian(q)[0] + s.constraint_gamma(q, v)[0]\n}}\n"
+            ),
+        )
+    });
+    for (file, src) in scene_sources().into_iter().chain(closed).chain(robots) {
+        let stem: String = file
+            .trim_end_matches(".rs")
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() {
+                    c.to_ascii_lowercase()
+                } else {
+                    '_'
+                }
+            })
+            .collect();
         let dir = work.join(&stem);
         let _ = std::fs::create_dir_all(dir.join("src"));
         let features = if file.ends_with(".urdf") {
@@ -349,7 +380,7 @@ pub fn compile_times(config: &Config) -> Section {
             }
         }
     }
-    page.para("`cargo build --release` of a crate holding only the scene (dependencies prebuilt), median (min–max) of 3 rebuilds. The generated methods are `#[inline]`, so rustc compiles their code in the crate that calls them: the `.rs` rows (a crate declaring the bundled scenes and calling nothing) measure expansion and type checking, little code generation. The `.urdf` rows are a crate with `#[derive(Mechanism)] #[mechanism(urdf = …)]` on that file of `robots/` (feature `urdf`; default kernels; Solo12 and the humanoid with `base = free`, the Panda's fingers locked) and a public function calling its mass matrix, forward dynamics and Jacobian, so they include code generation.");
+    page.para("`cargo build --release` of a crate holding only the scene (dependencies prebuilt), median (min–max) of 3 rebuilds. The generated methods are `#[inline]`, so rustc compiles their code in the crate that calls them: the `.rs` rows (a crate declaring the bundled scenes and calling nothing) measure expansion and type checking, little code generation. The `.urdf` rows are a crate with `#[derive(Mechanism)] #[mechanism(urdf = …)]` on that file of `robots/` (feature `urdf`; default kernels; Solo12 and the humanoid with `base = free`, the Panda's fingers locked) and a public function calling its mass matrix, forward dynamics and Jacobian, so they include code generation, as do the two `loops.rs: …, kernels called` rows (the closed mechanisms' file with a function calling the tree's and the loops' kernels of one of them).");
     page.table(
         &["scene file", "release compile [s], median (min–max)"],
         &rows,

@@ -111,6 +111,11 @@
 //!   tree's coordinates, which the derive writes out with the closed mechanism's
 //!   dynamics ([`runtime::loops::LoopConstraints`]), and every integrator keeps on them
 //!   ([`runtime::loops`]; trees with spherical or free joints are not closed yet).
+//! - `#[contact(name: point | sphere(r), body = body, at = […], plane = world | body,
+//!   origin = […], rpy = […], normal = axis, mu = …, restitution = …)]` — a point or
+//!   sphere on a body touching a plane; the derive writes out its gap, normal and
+//!   tangential Jacobians and `γ` terms ([`runtime::contacts::Contacts`]; no integrator
+//!   acts on contacts yet).
 //! - Non-smooth elements: `#[friction(joint, f_crit = …)]` (Coulomb),
 //!   `#[friction(joint, f_static = …, f_kinetic = …)]` (static and kinetic friction: held
 //!   at rest up to `f_static`, slipping at `f_kinetic ≤ f_static`; where rest and slip

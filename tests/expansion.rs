@@ -81,6 +81,11 @@ fn closed_loops() {
 }
 
 #[test]
+fn contacts() {
+    snapshot("contacts.rs");
+}
+
+#[test]
 fn s9_arm() {
     snapshot("s9.rs");
 }

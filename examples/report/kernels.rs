@@ -127,6 +127,7 @@ fn scene_sources() -> Vec<(String, String)> {
         "s9.rs",
         "lie.rs",
         "loops.rs",
+        "contacts.rs",
     ]
     .iter()
     .map(|f| {

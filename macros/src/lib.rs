@@ -8,8 +8,8 @@ use proc_macro::TokenStream;
 #[proc_macro_derive(
     Mechanism,
     attributes(
-        mechanism, body, joint, loop_joint, spring, damper, friction, bingham, stop, frame,
-        urdf_param
+        mechanism, body, joint, loop_joint, contact, spring, damper, friction, bingham, stop,
+        frame, urdf_param
     )
 )]
 pub fn derive_mechanism(input: TokenStream) -> TokenStream {

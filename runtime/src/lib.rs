@@ -78,6 +78,7 @@
 //! [`Stats`], [`Options`], [`Problem`], [`NonSmoothProblem`] and the steppers are `Send +
 //! Sync`; a parameter sweep may run one integration per thread.
 mod conservative;
+pub mod contacts;
 mod element;
 mod error;
 pub mod events;

@@ -2,13 +2,15 @@
 //! the derive exactly as a user would: the theory's lumped scenes S1–S7 with their
 //! non-smooth elements, the double pendulum, a planar three-link arm, a branched tree,
 //! the Panda (as attributes, and as S9 with friction and stops), bodies on spherical
-//! and free joints, and closed linkages (a four-bar and a slider-crank, §7). The
+//! and free joints, closed linkages (a four-bar and a slider-crank, §7), and bodies touching the ground
+//! through contacts (§8). The
 //! examples run on them; `references` holds the closed forms and reference solutions
 //! the tests and the report compare against. A program of its own enables them with
 //! `filippov = { version = "0.1", features = ["scenes"] }`; without the feature none of
 //! them is compiled.
 
 mod arm3;
+mod contacts;
 mod double_pendulum;
 mod lie;
 mod loops;
@@ -19,6 +21,7 @@ mod s9;
 mod tree;
 
 pub use arm3::PlanarArm3;
+pub use contacts::{SlidingBox, SpinningBall};
 pub use double_pendulum::DoublePendulum;
 pub use lie::{BallChain, EulerBody, FreeBody, Satellite, SphericalBody};
 pub use loops::{AndrewsSqueezer, Delta, FourBar, SliderCrank};

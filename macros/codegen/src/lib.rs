@@ -9,6 +9,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod attr_values;
+pub mod contacts;
 pub mod coordinate;
 pub mod diag;
 pub mod emit;

@@ -270,6 +270,8 @@ pub struct Model {
     pub loops: Vec<LoopJoint>,
     /// Springs between two points (`#[spring(name: between(a, b), …)]`).
     pub point_springs: Vec<PointSpring>,
+    /// Contacts of points and spheres with planes (`#[contact(…)]`), in declaration order.
+    pub contacts: Vec<Contact>,
 }
 
 /// The linear solve behind forward dynamics, its Jacobian and `M⁻¹`.
@@ -325,6 +327,26 @@ pub struct LoopJoint {
     pub rpy: Vec3,
     pub child_origin: Vec3,
     pub child_rpy: Vec3,
+}
+
+/// A point or sphere on a body touching a plane (`#[contact(…)]`, theory §8): the
+/// sphere's centre `at` (body frame) and its radius; the plane's frame
+/// `plane · Trans(origin) · Rot(rpy)` (`plane`: its link, `None` for the world) and its
+/// normal there, a signed coordinate axis, the frame's other two axes its tangents.
+#[derive(Clone, Debug)]
+pub struct Contact {
+    pub name: String,
+    pub body: usize,
+    pub at: Vec3,
+    pub radius: PExpr,
+    pub plane: Option<usize>,
+    pub origin: Vec3,
+    pub rpy: Vec3,
+    pub normal: [f64; 3],
+    /// Coulomb friction coefficient (`0`: frictionless).
+    pub mu: PExpr,
+    /// Newton's coefficient of restitution.
+    pub restitution: PExpr,
 }
 
 /// Kernels the integrators do not call, emitted only when the scene asks for them by

@@ -82,6 +82,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let mut nonsmooth_attrs = Vec::new();
     let mut frame_attrs = Vec::new();
     let mut loop_attrs = Vec::new();
+    let mut contact_attrs = Vec::new();
     let mut point_spring_attrs = Vec::new();
     let mut claimed: Vec<Ident> = Vec::new();
     for mut raw in raws {
@@ -171,6 +172,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
             Family::Friction | Family::Bingham | Family::Stop => nonsmooth_attrs.push(raw),
             Family::Frame => frame_attrs.push(raw),
             Family::LoopJoint => loop_attrs.push(raw),
+            Family::Contact => contact_attrs.push(raw),
         }
     }
     check_unique(bodies.iter().map(|b| &b.name), "body", diag);
@@ -199,6 +201,13 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let loops = crate::loops::read(loop_attrs, &links, &tree_joints, &names, diag);
     let point_springs = crate::point_springs::read(point_spring_attrs, &links, &names, diag);
     let elements = crate::nonsmooth::read(nonsmooth_attrs, &links, &names, diag);
+    let taken: Vec<String> = tree_joints
+        .iter()
+        .map(|j| j.to_string())
+        .chain(loops.iter().map(|l| l.name.clone()))
+        .chain(elements.iter().map(|e| e.name.clone()))
+        .collect();
+    let contacts = crate::contacts::read(contact_attrs, &links, &taken, &names, diag);
     let frames = read_frames(frame_attrs, &links, &names, diag);
     // Declaring a frame is asking for its pose.
     emit.kinematics |= !frames.is_empty();
@@ -251,6 +260,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         algorithm,
         loops,
         point_springs,
+        contacts,
     })
 }
 

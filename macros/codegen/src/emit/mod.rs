@@ -2,6 +2,7 @@
 //! ([`function`]), the numeric model description ([`describe`]) and, on error, a stub
 //! impl that keeps secondary errors away ([`fallback`]).
 
+pub mod contacts;
 pub mod describe;
 pub mod fallback;
 pub mod function;
@@ -261,6 +262,8 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
     helpers.extend(ns_helpers);
     let (loop_constraints, loop_helpers) = loops::loops_impl(model, k, &mut stats);
     helpers.extend(loop_helpers);
+    let (contact_kernels, contact_helpers) = contacts::contacts_impl(model, k, &mut stats);
+    helpers.extend(contact_helpers);
     let head = if lie {
         let rot: Vec<TokenStream> = model
             .links
@@ -353,6 +356,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         #optional
         #nonsmooth
         #loop_constraints
+        #contact_kernels
         impl #ident {
             /// Number of degrees of freedom.
             pub const DOF: usize = #n;

@@ -95,6 +95,32 @@ pub fn validate_fn(model: &Model) -> TokenStream {
             Check::NonNegative,
         );
     }
+    for c in &model.contacts {
+        scalar(
+            format!("friction coefficient `mu` of contact `{}`", c.name),
+            &c.mu,
+            Check::NonNegative,
+        );
+        scalar(
+            format!("restitution of contact `{}`", c.name),
+            &c.restitution,
+            Check::UnitInterval,
+        );
+        scalar(
+            format!("radius of contact `{}`", c.name),
+            &c.radius,
+            Check::NonNegative,
+        );
+        for (what, v) in [("at", &c.at), ("origin", &c.origin), ("rpy", &c.rpy)] {
+            for (k, x) in v.iter().enumerate() {
+                scalar(
+                    format!("{what} [{k}] of contact `{}`", c.name),
+                    x,
+                    Check::Finite,
+                );
+            }
+        }
+    }
     for e in &model.elements {
         match &e.kind {
             ElementKind::DashPot { law, f_crit } => {

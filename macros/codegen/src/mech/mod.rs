@@ -14,11 +14,13 @@
 //!   algorithm, unrolled per link), whichever emits fewer operations for the scene
 //!   (`#[mechanism(forward_dynamics = auto | crba | aba)]`, see `Solver`);
 //! - world poses and Jacobians of bodies and `#[frame]`s: [`frames`];
-//! - the constraints of loop joints, `Φ`, `G = ∂Φ/∂q` and `γ = −Ġ v`: [`loops`].
+//! - the constraints of loop joints, `Φ`, `G = ∂Φ/∂q` and `γ = −Ġ v`: [`loops`];
+//! - contacts' gaps, normal and tangential Jacobians and `γ`: [`contacts`].
 
 pub mod aba;
 pub mod chart;
 pub mod christoffel;
+pub mod contacts;
 pub mod crba;
 pub mod frames;
 pub mod gravity;
@@ -68,6 +70,9 @@ pub struct Kernels {
     /// The constraints of the loop joints and their forces; only for scenes that
     /// declare some (their `forward` is then the constrained system's).
     pub loops: Option<LoopOutputs>,
+    /// Gaps, normal and tangential Jacobians and `γ` of the contacts; only for scenes
+    /// that declare some.
+    pub contacts: Option<contacts::ContactKernels>,
 }
 
 /// What a scene with loop joints emits besides its constrained forward dynamics.
@@ -427,6 +432,8 @@ impl Kernels {
             constraints: lk,
             lambda: loop_lambda,
         });
+        let contacts =
+            (!model.contacts.is_empty()).then(|| contacts::contacts(&mut g, model, &kin));
 
         Kernels {
             graph: g,
@@ -448,6 +455,7 @@ impl Kernels {
             elements,
             frames,
             loops,
+            contacts,
         }
     }
 }

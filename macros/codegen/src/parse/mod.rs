@@ -27,10 +27,11 @@ pub enum Family {
     Stop,
     Frame,
     LoopJoint,
+    Contact,
 }
 
 impl Family {
-    pub const ALL: [(&'static str, Family); 10] = [
+    pub const ALL: [(&'static str, Family); 11] = [
         ("mechanism", Family::Mechanism),
         ("body", Family::Body),
         ("joint", Family::Joint),
@@ -41,6 +42,7 @@ impl Family {
         ("stop", Family::Stop),
         ("frame", Family::Frame),
         ("loop_joint", Family::LoopJoint),
+        ("contact", Family::Contact),
     ];
 
     fn of(path: &syn::Path) -> Option<Family> {

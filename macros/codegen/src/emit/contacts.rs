@@ -1,0 +1,134 @@
+//! The `Contacts` impl of a scene with contacts: gaps, normal and tangential Jacobians
+//! and their `γ` terms ([`crate::mech::contacts`]), each one straight-line method, and
+//! the contacts' coefficients.
+
+use proc_macro2::{Literal, TokenStream};
+use quote::{format_ident, quote};
+
+use super::FnStats;
+use super::describe::expr;
+use super::function::{Signature, emit};
+use crate::mech::Kernels;
+use crate::model::Model;
+use crate::sym::{Id, InputKind};
+
+/// `impl Contacts<N, K, T>`, or nothing for a scene without contacts.
+pub fn contacts_impl(
+    model: &Model,
+    k: &Kernels,
+    stats: &mut Vec<FnStats>,
+) -> (TokenStream, TokenStream) {
+    let Some(ck) = &k.contacts else {
+        return (TokenStream::new(), TokenStream::new());
+    };
+    let (n, kc, t) = (k.dof, ck.contacts(), ck.tangents());
+    let g = &k.graph;
+    let ident = &model.ident;
+    let mut helpers = TokenStream::new();
+    let mut methods = TokenStream::new();
+    let mut add = |name: &'static str,
+                   inputs: Vec<InputKind>,
+                   ret: TokenStream,
+                   outs: &[Id],
+                   asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
+                   doc: &str| {
+        let sig = Signature {
+            vis: quote!(),
+            elements: 0,
+            name: format_ident!("{}", name),
+            inputs,
+            ret,
+            doc: doc.to_string(),
+        };
+        let e = emit(g, &model.params, (n, n), &sig, outs, asm);
+        stats.push(FnStats {
+            name,
+            ops: g.count_ops(outs),
+            lets: e.lets,
+        });
+        helpers.extend(e.helpers);
+        methods.extend(e.method);
+    };
+    let vector = |m: usize| move |o: Vec<TokenStream>| quote!(::filippov::nalgebra::SVector::<f64, #m>::from([#(#o),*]));
+    let matrix = |m: usize| {
+        move |o: Vec<TokenStream>| {
+            // Row-major entries, column-major arrays.
+            let cols: Vec<TokenStream> = (0..n)
+                .map(|j| {
+                    let col: Vec<&TokenStream> = (0..m).map(|i| &o[i * n + j]).collect();
+                    quote!([#(#col),*])
+                })
+                .collect();
+            quote!(::filippov::nalgebra::SMatrix::<f64, #m, #n>::from([#(#cols),*]))
+        }
+    };
+    add(
+        "contact_gaps",
+        vec![InputKind::Q],
+        quote!(::filippov::nalgebra::SVector<f64, #kc>),
+        &ck.gaps,
+        &vector(kc),
+        " The contacts' gaps `g_N(q)` (positive apart, negative in penetration).",
+    );
+    add(
+        "contact_normal_jacobian",
+        vec![InputKind::Q],
+        quote!(::filippov::nalgebra::SMatrix<f64, #kc, #n>),
+        &ck.normal,
+        &matrix(kc),
+        " `W_N(q) = ∂g_N/∂q`: the normal velocities are `W_N v`.",
+    );
+    add(
+        "contact_normal_gamma",
+        vec![InputKind::Q, InputKind::V],
+        quote!(::filippov::nalgebra::SVector<f64, #kc>),
+        &ck.normal_gamma,
+        &vector(kc),
+        " `γ_N = −Ẇ_N v`: the normal accelerations are `W_N v̇ − γ_N`.",
+    );
+    add(
+        "contact_tangent_jacobian",
+        vec![InputKind::Q],
+        quote!(::filippov::nalgebra::SMatrix<f64, #t, #n>),
+        &ck.tangent,
+        &matrix(t),
+        " `W_T(q)`: the contact points' relative velocities along the planes' tangents are `W_T v`.",
+    );
+    add(
+        "contact_tangent_gamma",
+        vec![InputKind::Q, InputKind::V],
+        quote!(::filippov::nalgebra::SVector<f64, #t>),
+        &ck.tangent_gamma,
+        &vector(t),
+        " `γ_T = −Ẇ_T v`: the tangential accelerations are `W_T v̇ − γ_T`.",
+    );
+    let p = &model.params;
+    let mu: Vec<TokenStream> = model.contacts.iter().map(|c| expr(&c.mu, p)).collect();
+    let e: Vec<TokenStream> = model
+        .contacts
+        .iter()
+        .map(|c| expr(&c.restitution, p))
+        .collect();
+    let names: Vec<Literal> = ck.names.iter().map(|s| Literal::string(s)).collect();
+    let tangents: Vec<Literal> = ck
+        .tangent_names
+        .iter()
+        .map(|s| Literal::string(s))
+        .collect();
+    let of = &ck.tangent_of;
+    let code = quote! {
+        impl ::filippov::runtime::contacts::Contacts<#n, #kc, #t> for #ident {
+            const CONTACTS: [&'static str; #kc] = [#(#names),*];
+            const TANGENTS: [&'static str; #t] = [#(#tangents),*];
+            const TANGENT_OF: [usize; #t] = [#(#of),*];
+            fn contact_friction(&self) -> [f64; #kc] {
+                [#(#mu),*]
+            }
+            fn contact_restitution(&self) -> [f64; #kc] {
+                [#(#e),*]
+            }
+            #methods
+        }
+    };
+    (code, helpers)
+}

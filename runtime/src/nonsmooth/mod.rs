@@ -12,7 +12,13 @@
 //! pushes the coordinate back into its admissible side. Because the elements act on
 //! coordinates, their Delassus operator `W = J M⁻¹ Jᵀ` is the submatrix of
 //! [`NonSmooth::inverse_mass_matrix`] at their coordinates.
+//!
+//! Contacts (`#[contact]`) act along their gap's and slip's Jacobian rows instead; the
+//! selection of their modes (closed or lifting off, stuck or breaking away) is a linear
+//! complementarity problem (`contact`).
 
+#[allow(dead_code)] // the contact integrators that call it come next (issue 31)
+mod contact;
 mod event;
 mod integrator;
 mod kind;

@@ -2,7 +2,8 @@
 //! limits (here), step-size control ([`control`]), Butcher tableaus as data
 //! ([`tableau`]), polynomial dense output ([`dense`]), counted evaluation of a system
 //! (`eval`), the simplified-Newton matrix and finite-difference Jacobians
-//! (`newton`) with its small dense LU (`lu`), and bracketing root finding on dense output ([`rootfind`]).
+//! (`newton`) with its small dense LU (`lu`), bracketing root finding on dense output ([`rootfind`]),
+//! and linear complementarity problems by complementary pivoting ([`lcp`]).
 //!
 //! Nothing here knows a method or a driver; methods (`crate::method`, the Lie-group
 //! ones in `crate::liegroup`) and drivers (`crate::solve`, `crate::nonsmooth`) use it.
@@ -10,6 +11,7 @@
 pub mod control;
 pub mod dense;
 pub(crate) mod eval;
+pub mod lcp;
 pub(crate) mod lu;
 pub(crate) mod newton;
 pub mod rootfind;

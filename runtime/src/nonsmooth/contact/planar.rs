@@ -1,0 +1,339 @@
+//! The contact forces of planar contacts at one instant: which closed contacts stay
+//! closed, which stuck ones stay stuck, as a linear complementarity problem (Pfeiffer &
+//! Glocker, *Multibody Dynamics with Unilateral Contacts*, 1996, §7; theory §8).
+//!
+//! Every contact here is closed (`g_N = 0`, `ġ_N = 0`); its tangential velocity is zero
+//! (stuck) or has a sign (sliding). With the free accelerations `a₀` and the operator
+//! `W` that maps a generalised force to its accelerations (`M⁻¹`, or its projection
+//! onto a closed mechanism's loops), the accelerations are
+//!
+//! ```text
+//! v̇ = a₀ + W (Σ_closed w_N λ_N + Σ_stuck w_T λ_T − Σ_sliding μ s w_T λ_N)
+//! ```
+//!
+//! and the contacts' accelerations `g̈ = wᵀ v̇ − γ`. The laws:
+//!
+//! - normal: `g̈_N ≥ 0`, `λ_N ≥ 0`, `g̈_N λ_N = 0` (stays, or lifts off with no force);
+//! - stuck: `|λ_T| ≤ μ λ_N`, and `g̈_T = 0` inside the cone, `g̈_T` opposing the force at
+//!   its edge. With `λ_R = μ λ_N + λ_T ≥ 0`, `λ_L = μ λ_N − λ_T ≥ 0` and
+//!   `g̈_T = g̈_T⁺ − g̈_T⁻` (both `≥ 0`), this is `g̈_T⁺ ⊥ λ_R`, `g̈_T⁻ ⊥ λ_L`.
+//!
+//! One LCP: `z = [λ_N; λ_R; g̈_T⁻]`, `w = [g̈_N; g̈_T⁺; λ_L] = A z + b`, solved by
+//! complementary pivoting. Where sliding contacts' friction pulls them into the ground
+//! strongly enough (Painlevé's paradox) their block of `A` — `g̈_N` against their own
+//! `λ_N` — is not a P-matrix, and some states have no consistent mode or several:
+//! [`ContactError::Painleve`] says so rather than pick one.
+
+use nalgebra::{DMatrix, DVector};
+
+use crate::numerics::lcp::{self, LcpError};
+
+/// One closed contact, its rows and its law.
+#[derive(Clone, Debug)]
+pub(crate) struct Closed {
+    /// `w_N`: the normal velocity is `w_Nᵀ v`.
+    pub normal: DVector<f64>,
+    /// `γ_N`: `g̈_N = w_Nᵀ v̇ − γ_N`.
+    pub gamma_n: f64,
+    /// `w_T` and `γ_T` along the plane's tangent.
+    pub tangent: DVector<f64>,
+    pub gamma_t: f64,
+    /// Friction coefficient.
+    pub mu: f64,
+    /// `None`: stuck (tangential velocity zero); `Some(s)`: sliding with velocity sign `s`.
+    pub sliding: Option<f64>,
+}
+
+/// What the contacts do next.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Outcome {
+    /// `λ_N` per contact (`0` where it lifts off).
+    pub normal: Vec<f64>,
+    /// `λ_T` per contact (`−μ s λ_N` when sliding).
+    pub tangent: Vec<f64>,
+    /// `g̈_N` per contact: `> 0` where it lifts off.
+    pub normal_acceleration: Vec<f64>,
+    /// `g̈_T` per contact: for a stuck contact, nonzero where it breaks away (its sign
+    /// the new sliding direction).
+    pub tangent_acceleration: Vec<f64>,
+    /// `v̇`.
+    pub acceleration: DVector<f64>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum ContactError {
+    /// The problem's matrix is not a P-matrix: with these frictions and directions the
+    /// contact problem has no solution or several for some forces (Painlevé).
+    /// `solved`: whether a solution was found for these forces anyway.
+    Painleve { solved: bool },
+    /// No consistent forces for these (a dependent set of contacts).
+    NoSolution,
+}
+
+/// The contact forces of `contacts` (all closed) with free accelerations `a0` and
+/// operator `w` (see the module documentation).
+pub(crate) fn solve(
+    w: &DMatrix<f64>,
+    a0: &DVector<f64>,
+    contacts: &[Closed],
+) -> Result<Outcome, ContactError> {
+    let k = contacts.len();
+    let stuck: Vec<usize> = (0..k)
+        .filter(|&i| contacts[i].sliding.is_none() && contacts[i].mu > 0.0)
+        .collect();
+    let h = stuck.len();
+    // Each contact's force direction per unit λ_N: the normal, less the sliding friction.
+    let normal_force: Vec<DVector<f64>> = contacts
+        .iter()
+        .map(|c| match c.sliding {
+            Some(s) => &c.normal - &c.tangent * (c.mu * s),
+            None => c.normal.clone(),
+        })
+        .collect();
+    // Accelerations per unit force: W times each direction.
+    let wn: Vec<DVector<f64>> = normal_force.iter().map(|f| w * f).collect();
+    let wt: Vec<DVector<f64>> = stuck.iter().map(|&i| w * &contacts[i].tangent).collect();
+    let size = k + 2 * h;
+    let mut a = DMatrix::<f64>::zeros(size, size);
+    let mut b = DVector::<f64>::zeros(size);
+    // The effect of z on v̇: λ_N through wn less μ_i λ_N(i) through wt for stuck i (since
+    // λ_T = λ_R − μ λ_N), λ_R through wt.
+    let mut effect: Vec<DVector<f64>> = wn.clone();
+    for (j, &i) in stuck.iter().enumerate() {
+        effect[i] -= &wt[j] * contacts[i].mu;
+    }
+    for (r, c) in contacts.iter().enumerate() {
+        // g̈_N row.
+        for col in 0..k {
+            a[(r, col)] = c.normal.dot(&effect[col]);
+        }
+        for (j, _) in stuck.iter().enumerate() {
+            a[(r, k + j)] = c.normal.dot(&wt[j]);
+        }
+        b[r] = c.normal.dot(a0) - c.gamma_n;
+    }
+    for (j, &i) in stuck.iter().enumerate() {
+        let c = &contacts[i];
+        // g̈_T⁺ = g̈_T + g̈_T⁻.
+        let row = k + j;
+        for col in 0..k {
+            a[(row, col)] = c.tangent.dot(&effect[col]);
+        }
+        for (jj, _) in stuck.iter().enumerate() {
+            a[(row, k + jj)] = c.tangent.dot(&wt[jj]);
+        }
+        a[(row, k + h + j)] = 1.0;
+        b[row] = c.tangent.dot(a0) - c.gamma_t;
+        // λ_L = 2 μ λ_N − λ_R.
+        let row = k + h + j;
+        a[(row, i)] = 2.0 * c.mu;
+        a[(row, k + j)] = -1.0;
+    }
+    // Painlevé: the sliding contacts' own block, `g̈_N` against their `λ_N` (friction
+    // included), must be a P-matrix, or some forces give no consistent mode or several.
+    let sliding: Vec<usize> = (0..k).filter(|&i| contacts[i].sliding.is_some()).collect();
+    let block = DMatrix::from_fn(sliding.len(), sliding.len(), |r, c| {
+        a[(sliding[r], sliding[c])]
+    });
+    let well_posed = sliding.is_empty() || lcp::is_p_matrix(&block);
+    let sol = match lcp::solve(&a, &b) {
+        Ok(s) => s,
+        Err(LcpError::NoSolution) if !well_posed => {
+            return Err(ContactError::Painleve { solved: false });
+        }
+        Err(_) => return Err(ContactError::NoSolution),
+    };
+    if !well_posed {
+        return Err(ContactError::Painleve { solved: true });
+    }
+    let z = &sol.z;
+    let mut normal = vec![0.0; k];
+    let mut tangent = vec![0.0; k];
+    let mut acc = a0.clone();
+    for i in 0..k {
+        normal[i] = z[i];
+        acc += &wn[i] * z[i];
+        if let Some(s) = contacts[i].sliding {
+            tangent[i] = -contacts[i].mu * s * z[i];
+        }
+    }
+    for (j, &i) in stuck.iter().enumerate() {
+        tangent[i] = z[k + j] - contacts[i].mu * z[i];
+        acc += &wt[j] * tangent[i];
+    }
+    let normal_acceleration = contacts
+        .iter()
+        .map(|c| c.normal.dot(&acc) - c.gamma_n)
+        .collect();
+    let tangent_acceleration = contacts
+        .iter()
+        .map(|c| c.tangent.dot(&acc) - c.gamma_t)
+        .collect();
+    Ok(Outcome {
+        normal,
+        tangent,
+        normal_acceleration,
+        tangent_acceleration,
+        acceleration: acc,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const G: f64 = 9.81;
+
+    /// A point of a planar body with coordinates (x, y, θ) at body offset `r` (rotated by
+    /// θ), against a line with unit normal `n` and tangent `t`: its rows `[n; r × n]`.
+    fn rows(theta: f64, r: [f64; 2], n: [f64; 2], t: [f64; 2]) -> (DVector<f64>, DVector<f64>) {
+        let (s, c) = theta.sin_cos();
+        let rw = [c * r[0] - s * r[1], s * r[0] + c * r[1]];
+        let cross = |d: [f64; 2]| rw[0] * d[1] - rw[1] * d[0];
+        (
+            DVector::from_row_slice(&[n[0], n[1], cross(n)]),
+            DVector::from_row_slice(&[t[0], t[1], cross(t)]),
+        )
+    }
+
+    /// A box of half-sizes (a, b) resting with its bottom on a line at angle φ, both
+    /// corners closed; `sliding` gives both corners' tangential velocity sign.
+    fn boxed(
+        phi: f64,
+        mu: f64,
+        sliding: Option<f64>,
+    ) -> (DMatrix<f64>, DVector<f64>, Vec<Closed>, [f64; 3]) {
+        let (m, a, b) = (2.0, 0.3, 0.2);
+        let inertia = m * ((2.0 * a) * (2.0 * a) + (2.0 * b) * (2.0 * b)) / 12.0;
+        let w =
+            DMatrix::from_diagonal(&DVector::from_row_slice(&[1.0 / m, 1.0 / m, 1.0 / inertia]));
+        let a0 = DVector::from_row_slice(&[0.0, -G, 0.0]);
+        let (n, t) = ([-phi.sin(), phi.cos()], [phi.cos(), phi.sin()]);
+        let contacts = [[-a, -b], [a, -b]]
+            .map(|r| {
+                let (wn, wt) = rows(phi, r, n, t);
+                Closed {
+                    normal: wn,
+                    gamma_n: 0.0,
+                    tangent: wt,
+                    gamma_t: 0.0,
+                    mu,
+                    sliding,
+                }
+            })
+            .to_vec();
+        (w, a0, contacts, [m, a, b])
+    }
+
+    #[test]
+    fn box_on_an_incline_below_its_friction_angle_stays() {
+        for phi in [0.0, 0.1, 0.3, 0.45] {
+            let mu = 0.5; // friction angle atan(0.5) = 0.4636
+            let (w, a0, contacts, [m, a, b]) = boxed(phi, mu, None);
+            let out = solve(&w, &a0, &contacts).expect("well posed");
+            assert!(
+                out.acceleration.amax() < 1e-12,
+                "{phi}: {}",
+                out.acceleration
+            );
+            let (n_sum, t_sum) = (
+                out.normal[0] + out.normal[1],
+                out.tangent[0] + out.tangent[1],
+            );
+            assert!((n_sum - m * G * phi.cos()).abs() < 1e-12, "{phi}");
+            assert!((t_sum - m * G * phi.sin()).abs() < 1e-12, "{phi}");
+            // No rotation: a (λ_front − λ_rear) + b Σλ_T = 0 (front = up the slope).
+            let split = out.normal[1] - out.normal[0];
+            assert!(
+                (split + b / a * m * G * phi.sin()).abs() < 1e-12,
+                "{phi}: {split}"
+            );
+            for i in 0..2 {
+                assert!(out.tangent[i].abs() <= mu * out.normal[i] + 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn box_on_an_incline_above_its_friction_angle_breaks_away() {
+        let (phi, mu) = (0.6, 0.5);
+        let (w, a0, contacts, [m, _, _]) = boxed(phi, mu, None);
+        let out = solve(&w, &a0, &contacts).expect("well posed");
+        // Down the slope at g (sin φ − μ cos φ), friction at the cone's edge up the slope.
+        let expected = -G * (phi.sin() - mu * phi.cos());
+        for i in 0..2 {
+            assert!(
+                (out.tangent_acceleration[i] - expected).abs() < 1e-12,
+                "{:?}",
+                out.tangent_acceleration
+            );
+            assert!((out.tangent[i] - mu * out.normal[i]).abs() < 1e-12);
+            assert!(out.normal_acceleration[i].abs() < 1e-12);
+        }
+        assert!((out.normal[0] + out.normal[1] - m * G * phi.cos()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn sliding_box_loads_its_leading_corner() {
+        // Level ground, sliding towards +x: decelerates at μ g without turning, the leading
+        // corner carrying μ b m g / a more than the trailing one.
+        let mu = 0.4;
+        let (w, a0, contacts, [m, a, b]) = boxed(0.0, mu, Some(1.0));
+        let out = solve(&w, &a0, &contacts).expect("well posed");
+        assert!(
+            (out.acceleration[0] + mu * G).abs() < 1e-12,
+            "{}",
+            out.acceleration
+        );
+        assert!(out.acceleration[1].abs() < 1e-12 && out.acceleration[2].abs() < 1e-12);
+        assert!((out.normal[1] - out.normal[0] - mu * b * m * G / a).abs() < 1e-12);
+        assert!((out.normal[0] + out.normal[1] - m * G).abs() < 1e-12);
+    }
+
+    #[test]
+    fn pulled_up_box_lifts_off() {
+        let (w, _, contacts, _) = boxed(0.0, 0.5, None);
+        let a0 = DVector::from_row_slice(&[0.0, 1.0, 0.0]);
+        let out = solve(&w, &a0, &contacts).expect("well posed");
+        assert_eq!(out.normal, vec![0.0, 0.0]);
+        assert!(
+            out.normal_acceleration
+                .iter()
+                .all(|&x| (x - 1.0).abs() < 1e-12)
+        );
+    }
+
+    /// Painlevé's rod: a uniform rod of half-length l at angle θ, its lower end sliding
+    /// (velocity sign s = −1, towards the rod's foot). `g̈_N` per unit `λ_N` is
+    /// `(1 + 3 cos²θ − 3 μ sin θ cos θ) / m`: negative above
+    /// `μ_P = (1 + 3 cos²θ) / (3 sin θ cos θ)`, where the problem has no solution or two.
+    #[test]
+    fn painleve_is_named_above_its_threshold_and_not_below() {
+        let (m, l) = (1.0, 0.5);
+        let w = DMatrix::from_diagonal(&DVector::from_row_slice(&[
+            1.0 / m,
+            1.0 / m,
+            3.0 / (m * l * l),
+        ]));
+        let a0 = DVector::from_row_slice(&[0.0, -G, 0.0]);
+        for theta in [0.3f64, 0.5, 0.8, 1.1] {
+            let (s, c) = theta.sin_cos();
+            let threshold = (1.0 + 3.0 * c * c) / (3.0 * s * c);
+            let contact = |mu: f64| Closed {
+                normal: DVector::from_row_slice(&[0.0, 1.0, -l * c]),
+                gamma_n: 0.0,
+                tangent: DVector::from_row_slice(&[1.0, 0.0, l * s]),
+                gamma_t: 0.0,
+                mu,
+                sliding: Some(-1.0),
+            };
+            let below = solve(&w, &a0, &[contact(threshold * 0.99)]);
+            assert!(below.is_ok(), "θ = {theta}: {below:?}");
+            let above = solve(&w, &a0, &[contact(threshold * 1.01)]);
+            assert!(
+                matches!(above, Err(ContactError::Painleve { .. })),
+                "θ = {theta}: {above:?}"
+            );
+        }
+    }
+}

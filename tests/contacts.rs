@@ -292,3 +292,172 @@ fn contact_coefficients_are_validated() {
     let text = bouncy.validate().expect_err("e > 1").to_string();
     assert!(text.contains("restitution of contact `ball`"), "{text}");
 }
+
+mod stepping {
+    use filippov::prelude::*;
+    use filippov::runtime::contacts::Contacts;
+    use filippov::runtime::{NonSmoothProblem, contact_time_stepping};
+    use filippov::scenes::{SlidingBox, SpinningBall};
+
+    type V3 = SVector<f64, 3>;
+
+    fn no_input(_: f64, _: &V3, _: &V3) -> V3 {
+        V3::zeros()
+    }
+
+    /// The box resting on its ground (tilted by φ): angle φ, centre at `b` along the
+    /// normal from the origin.
+    fn resting(s: &SlidingBox) -> V3 {
+        V3::from([-s.b * s.phi.sin(), s.b * s.phi.cos(), s.phi])
+    }
+
+    /// Level ground, launched at `v0`: it slides to rest at `t = v0 / (μ g)` after
+    /// `v0² / (2 μ g)`, without turning or lifting, its leading corner carrying
+    /// `μ b m g / a` more than the trailing one; first order in `h`.
+    #[test]
+    fn box_slides_to_rest_in_its_closed_form_time_and_distance() {
+        let s = SlidingBox::default();
+        let v0 = 2.0;
+        let (t_stop, distance) = (v0 / (s.mu * s.g), v0 * v0 / (2.0 * s.mu * s.g));
+        let mut errors = Vec::new();
+        for h in [1e-3, 1e-4] {
+            let p = NonSmoothProblem::new(0.0, 1.0, resting(&s), V3::from([v0, 0.0, 0.0]));
+            let sol = contact_time_stepping(&s, &no_input, &p, h).unwrap_or_else(|e| panic!("{e}"));
+            let stopped = sol
+                .rows()
+                .find(|(_, y)| y[3] == 0.0)
+                .map(|(t, _)| t)
+                .expect("it stops");
+            let (_, last) = sol.last().unwrap();
+            let (rear, front) = (
+                sol.column_index("λ_rear.n").unwrap(),
+                sol.column_index("λ_front.n").unwrap(),
+            );
+            // While sliding: the load split and the friction at the cone's edge.
+            let (_, mid) = sol.rows().nth(10).unwrap();
+            let split = mid[front] - mid[rear];
+            assert!(
+                (split - s.mu * s.b * s.m * s.g / s.a).abs() < 1e-9,
+                "{split}"
+            );
+            assert!((mid[front] + mid[rear] - s.m * s.g).abs() < 1e-9);
+            let worst_turn = sol
+                .rows()
+                .map(|(_, y)| y[2].abs().max((y[1] - s.b).abs()))
+                .fold(0.0, f64::max);
+            eprintln!(
+                "h = {h}: stopped at {stopped:.6} (closed form {t_stop:.6}), slid {:.6} ({distance:.6}); \
+                 turned or lifted ≤ {worst_turn:.1e}",
+                last[0]
+            );
+            assert!(
+                (stopped - t_stop).abs() <= 1.01 * h,
+                "{stopped} against {t_stop}"
+            );
+            assert!(
+                (last[0] - distance).abs() <= 1.01 * v0 * h,
+                "{} against {distance}",
+                last[0]
+            );
+            assert!(worst_turn < 1e-12, "{worst_turn:e}");
+            // At rest it does not move by a rounding.
+            assert!(
+                sol.rows()
+                    .filter(|(t, _)| *t >= stopped)
+                    .all(|(_, y)| y[0] == last[0] && y[3] == 0.0)
+            );
+            errors.push((last[0] - distance).abs());
+        }
+        assert!(
+            errors[1] < 0.2 * errors[0] + 1e-12,
+            "first order: {errors:?}"
+        );
+    }
+
+    /// Below its friction angle the box on the incline stays where it was put: its
+    /// coordinates are the start's, bit for bit, over 10⁴ s.
+    #[test]
+    fn box_on_an_incline_below_its_friction_angle_does_not_move() {
+        let s = SlidingBox {
+            phi: 0.3,
+            ..SlidingBox::default()
+        };
+        assert!(s.phi.tan() < s.mu);
+        let q0 = resting(&s);
+        let p = NonSmoothProblem::new(0.0, 1e4, q0, V3::zeros());
+        let sol = contact_time_stepping(&s, &no_input, &p, 0.1).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(sol.len(), 100_001);
+        for (t, y) in sol.rows() {
+            assert_eq!(&y[..6], &[q0[0], q0[1], q0[2], 0.0, 0.0, 0.0], "t = {t}");
+        }
+        let (_, last) = sol.last().unwrap();
+        let tangential = last[sol.column_index("λ_rear.x").unwrap()]
+            + last[sol.column_index("λ_front.x").unwrap()];
+        assert!(
+            (tangential - s.m * s.g * s.phi.sin()).abs() < 1e-9,
+            "{tangential}"
+        );
+    }
+
+    /// Above it the box slides down at `g (sin φ − μ cos φ)`: time-stepping's velocity is
+    /// that, step after step.
+    #[test]
+    fn box_on_an_incline_above_its_friction_angle_accelerates() {
+        let s = SlidingBox {
+            phi: 0.6,
+            ..SlidingBox::default()
+        };
+        let a = s.g * (s.phi.sin() - s.mu * s.phi.cos());
+        let p = NonSmoothProblem::new(0.0, 2.0, resting(&s), V3::zeros());
+        let sol = contact_time_stepping(&s, &no_input, &p, 1e-3).unwrap_or_else(|e| panic!("{e}"));
+        let mut worst = 0.0f64;
+        for (t, y) in sol.rows() {
+            let speed = -(y[3] * s.phi.cos() + y[4] * s.phi.sin());
+            worst = worst.max((speed - a * t).abs());
+            assert!(y[5].abs() < 1e-12, "no rotation");
+        }
+        eprintln!("down the slope at g (sin φ − μ cos φ) within {worst:.1e} m/s");
+        assert!(worst < 1e-9 * a * 2.0, "{worst:e}");
+    }
+
+    /// A ball dropped from height H onto the ground with restitution e: the first impact
+    /// at √(2H/g), rebounding at e √(2 g H); it comes to rest pressing with `m g`.
+    #[test]
+    fn dropped_ball_bounces_then_rests_with_its_weight() {
+        let s = SpinningBall::default();
+        assert_eq!(SpinningBall::TANGENTS, ["bottom.x"]);
+        let height = 0.2;
+        let q0 = V3::from([0.0, s.r + height, 0.0]);
+        let p = NonSmoothProblem::new(0.0, 3.0, q0, V3::zeros());
+        let h = 1e-4;
+        let sol = contact_time_stepping(&s, &no_input, &p, h).unwrap_or_else(|e| panic!("{e}"));
+        let impacts: Vec<_> = sol
+            .switches
+            .iter()
+            .filter(|sw| sw.kind == filippov::runtime::SwitchKind::Impact)
+            .collect();
+        let first = impacts.first().expect("an impact");
+        let (t1, v1) = ((2.0 * height / s.g).sqrt(), (2.0 * s.g * height).sqrt());
+        assert!((first.t - t1).abs() <= 2.0 * h, "{} against {t1}", first.t);
+        let rebound = first.after[4];
+        assert!(
+            (rebound - s.e * v1).abs() < 2.0 * s.g * h,
+            "{rebound} against {}",
+            s.e * v1
+        );
+        let (_, last) = sol.last().unwrap();
+        let normal = last[sol.column_index("λ_bottom.n").unwrap()];
+        eprintln!(
+            "{} impacts, first at {:.5} (closed form {t1:.5}) rebounding at {rebound:.4} ({:.4}); at rest pressing {normal:.9} N",
+            impacts.len(),
+            first.t,
+            s.e * v1
+        );
+        assert!((normal - s.m * s.g).abs() < 1e-9, "{normal}");
+        assert!(last[3].abs() < 1e-12 && last[4].abs() < 1e-12, "{last:?}");
+        assert!(
+            s.contact_gaps(&V3::from_column_slice(&last[..3]))[0] > -1e-3 * h,
+            "penetration"
+        );
+    }
+}

@@ -17,7 +17,7 @@
 //! selection of their modes (closed or lifting off, stuck or breaking away) is a linear
 //! complementarity problem (`contact`).
 
-#[allow(dead_code)] // the contact integrators that call it come next (issue 31)
+#[allow(dead_code)] // parts of the contact problem the event-driven integrator will read
 mod contact;
 mod event;
 mod integrator;
@@ -29,6 +29,7 @@ mod solve;
 pub use crate::element::{
     Element, ElementKind, Law, Mode, NonSmooth, Relation, Selection, Side, StopKind,
 };
+pub use contact::stepping::contact_time_stepping;
 pub use event::event_driven;
 pub use event::resting::{RESTING_DRIFT, RESTING_PERIODS, resting_periods};
 pub use integrator::{Integrator, NoInput, Stepped};

@@ -1,4 +1,6 @@
 //! Contacts between bodies and planes (`#[contact(…)]`, theory §8): the mode selection
-//! of closed planar contacts as a linear complementarity problem ([`planar`]).
+//! of closed planar contacts as a linear complementarity problem ([`planar`]), and
+//! Moreau–Jean time-stepping with it ([`stepping`]).
 
 pub(crate) mod planar;
+pub(crate) mod stepping;

@@ -1,0 +1,277 @@
+//! Moreau–Jean time-stepping of planar contacts (theory §8): no events, impulses per
+//! step.
+//!
+//! A step of size `h` from `(q, v)`:
+//!
+//! 1. the free velocity `v_free = v + h a(q, v, τ)` (the smooth forces explicit);
+//! 2. the contacts that may close in the step, `g_N(q) + h W_N v_free ≤ 0`, get impulses
+//!    `P` from the velocity-level contact problem: Newton's law
+//!    `W_N v⁺ + e W_N v ≥ 0 ⊥ P_N ≥ 0`, Coulomb's `|P_T| ≤ μ P_N` with `W_T v⁺ = 0`
+//!    inside the cone and opposing `P_T` at its edge — the same complementarity problem
+//!    as the event-driven selection ([`super::planar`]), with velocities for
+//!    accelerations;
+//! 3. `v⁺ = v_free + M⁻¹ (W_Nᵀ P_N + W_Tᵀ P_T)`, `q⁺ = q + h v⁺`.
+//!
+//! Where the contacts that hold (a normal impulse, the tangential one strictly inside
+//! the cone, no rebound) lock every degree of freedom, `v⁺ = 0` is the solution of their
+//! equations, and it is taken as exactly `0`: a box at rest on an incline below its
+//! friction angle does not move by a single rounding.
+//!
+//! The solution's columns are the state, then each contact's normal force `λ_<contact>.n`
+//! and tangential forces `λ_<contact>.<axis>`, as the step's impulses over `h`.
+
+use nalgebra::{DMatrix, DVector, SVector};
+
+use super::planar::{self, Closed, ContactError};
+use crate::contacts::Contacts;
+use crate::element::Mode;
+use crate::input::Input;
+use crate::nonsmooth::NonSmoothProblem;
+use crate::system::{Mechanism, state_names};
+use crate::{ErrorKind, Keep, Solution, SolveError, Switch, SwitchKind};
+
+/// Relative size of the smallest singular value of the holding contacts' rows below
+/// which they are taken not to lock every degree of freedom.
+const LOCK_RANK: f64 = 1e-10;
+
+/// A contact's slip after the step counts as zero below this fraction of the step's
+/// largest velocity component (the contact problem's round-off).
+const SLIP_ROUND_OFF: f64 = 1e-12;
+
+/// The solution's column names for a scene with contacts: the state, then
+/// `λ_<contact>.n` for each contact and `λ_<tangent row>` for each tangent row.
+pub(crate) fn column_names<S, const N: usize, const K: usize, const T: usize>() -> Vec<String>
+where
+    S: Contacts<N, K, T>,
+{
+    let mut names = state_names(&S::JOINTS);
+    names.extend(S::CONTACTS.iter().map(|c| format!("λ_{c}.n")));
+    names.extend(S::TANGENTS.iter().map(|t| format!("λ_{t}")));
+    names
+}
+
+/// Integrates `scene` with its contacts by Moreau–Jean time-stepping with step `h`
+/// (see the module documentation), the input `τ(t, q, v)` on its coordinates.
+///
+/// # Errors
+/// [`ErrorKind::InvalidInput`] for a non-positive step, a non-finite start or invalid
+/// parameters; [`ErrorKind::IllPosedMode`] where the contact problem has no solution
+/// (naming the contacts); [`ErrorKind::NonFinite`]. The rows computed up to the failure
+/// are kept.
+pub fn contact_time_stepping<S, I, const N: usize, const K: usize, const T: usize>(
+    scene: &S,
+    input: &I,
+    problem: &NonSmoothProblem<N>,
+    h: f64,
+) -> Result<Solution, SolveError>
+where
+    S: Mechanism<N> + Contacts<N, K, T>,
+    I: Input<N> + ?Sized,
+{
+    let mut sol = Solution::new(column_names::<S, N, K, T>(), 2 * N, problem.output.clone());
+    let invalid =
+        |sol: Solution, msg: String| Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
+    if !(h > 0.0 && h.is_finite()) {
+        return invalid(sol, format!("the step h = {h} must be positive and finite"));
+    }
+    if !(problem.t0.is_finite() && problem.tf.is_finite() && problem.t0 <= problem.tf) {
+        return invalid(
+            sol,
+            format!(
+                "need finite t0 ≤ tf (t0 = {}, tf = {})",
+                problem.t0, problem.tf
+            ),
+        );
+    }
+    if let Some(i) = problem
+        .q0
+        .iter()
+        .chain(problem.v0.iter())
+        .position(|x| !x.is_finite())
+    {
+        return invalid(sol, format!("the start's component {i} is not finite"));
+    }
+    if let Err(e) = scene.validate() {
+        return invalid(sol, e.to_string());
+    }
+    if let Some(k) = (0..K).find(|&k| S::TANGENT_OF.iter().filter(|&&c| c == k).count() > 1) {
+        return invalid(
+            sol,
+            format!(
+                "contact `{}` can slide in two directions (a spatial contact); only planar contacts \
+                 (one tangent row each) are integrated yet",
+                S::CONTACTS[k]
+            ),
+        );
+    }
+    let (mu, e) = (scene.contact_friction(), scene.contact_restitution());
+    let (mut t, mut q, mut v) = (problem.t0, problem.q0, problem.v0);
+    let mut modes = [Mode::Free; K];
+    let zero_forces = vec![0.0; K + T];
+    let row = |q: &SVector<f64, N>, v: &SVector<f64, N>, f: &[f64]| -> Vec<f64> {
+        q.iter().chain(v.iter()).chain(f.iter()).copied().collect()
+    };
+    let derivative = |v: &SVector<f64, N>, dv: &SVector<f64, N>| -> Vec<f64> {
+        let mut d: Vec<f64> = v.iter().chain(dv.iter()).copied().collect();
+        d.resize(2 * N + K + T, 0.0);
+        d
+    };
+    let a0 = scene.forward_dynamics(&q, &v, &input.forces(t, &q, &v));
+    sol.push_start(t, &row(&q, &v, &zero_forces), &derivative(&v, &a0));
+    let steps = ((problem.tf - problem.t0) / h - 1e-9).ceil().max(0.0) as usize;
+    for n in 0..steps {
+        let t_next = if n + 1 == steps {
+            problem.tf
+        } else {
+            problem.t0 + (n + 1) as f64 * h
+        };
+        let hn = t_next - t;
+        let tau = input.forces(t, &q, &v);
+        let a = scene.forward_dynamics(&q, &v, &tau);
+        let v_free = v + a * hn;
+        let gaps = scene.contact_gaps(&q);
+        let w_n = scene.contact_normal_jacobian(&q);
+        let w_t = scene.contact_tangent_jacobian(&q);
+        let vn = w_n * v;
+        let vn_free = w_n * v_free;
+        let active: Vec<usize> = (0..K)
+            .filter(|&k| gaps[k] + hn * vn_free[k] <= 0.0)
+            .collect();
+        let mut v_next = v_free;
+        let mut forces = vec![0.0; K + T];
+        let mut new_modes = [Mode::Free; K];
+        if !active.is_empty() {
+            let Some(chol) = scene.mass_matrix(&q).cholesky() else {
+                return Err(SolveError::new(
+                    ErrorKind::IllPosedMode {
+                        t,
+                        detail: "the mass matrix is not positive definite".into(),
+                    },
+                    sol,
+                ));
+            };
+            let inverse = chol.inverse();
+            let w = DMatrix::from_fn(N, N, |i, j| inverse[(i, j)]);
+            // One tangent row per contact in the plane (the first of its rows).
+            let tangent_row = |k: usize| S::TANGENT_OF.iter().position(|&c| c == k);
+            let closed: Vec<Closed> = active
+                .iter()
+                .map(|&k| Closed {
+                    normal: DVector::from_iterator(N, w_n.row(k).iter().copied()),
+                    gamma_n: -e[k] * vn[k].min(0.0),
+                    tangent: match tangent_row(k) {
+                        Some(r) => DVector::from_iterator(N, w_t.row(r).iter().copied()),
+                        None => DVector::zeros(N),
+                    },
+                    gamma_t: 0.0,
+                    mu: if tangent_row(k).is_some() { mu[k] } else { 0.0 },
+                    sliding: None,
+                })
+                .collect();
+            let v_free_d = DVector::from_iterator(N, v_free.iter().copied());
+            let out = planar::solve(&w, &v_free_d, &closed).map_err(|err| {
+                let names: Vec<String> = active
+                    .iter()
+                    .map(|&k| format!("`{}`", S::CONTACTS[k]))
+                    .collect();
+                let detail = match err {
+                    ContactError::Painleve { .. } => format!(
+                        "the contact problem of {} has no unique solution (Painlevé)",
+                        names.join(", ")
+                    ),
+                    ContactError::NoSolution => format!(
+                        "the contact problem of {} has no solution",
+                        names.join(", ")
+                    ),
+                };
+                ErrorKind::IllPosedMode { t, detail }
+            });
+            let out = match out {
+                Ok(o) => o,
+                Err(kind) => return Err(SolveError::new(kind, sol)),
+            };
+            v_next = SVector::from_iterator(out.acceleration.iter().copied());
+            // The holding contacts: a normal impulse, no rebound, stuck (no slip beyond
+            // round-off of the step's velocities) inside the cone.
+            let slip_tol = SLIP_ROUND_OFF * v_free.amax().max(v.amax());
+            let mut holding: Vec<DVector<f64>> = Vec::new();
+            for (i, &k) in active.iter().enumerate() {
+                let (pn, pt) = (out.normal[i], out.tangent[i]);
+                forces[k] = pn / hn;
+                if let Some(r) = tangent_row(k) {
+                    forces[K + r] = pt / hn;
+                }
+                let slip = out.tangent_acceleration[i];
+                let stuck = slip.abs() <= slip_tol;
+                new_modes[k] = if pn <= 0.0 {
+                    Mode::Free
+                } else if stuck {
+                    Mode::Stick
+                } else if slip > 0.0 {
+                    Mode::SlipPos(0)
+                } else {
+                    Mode::SlipNeg(0)
+                };
+                if pn > 0.0 && closed[i].gamma_n == 0.0 {
+                    holding.push(closed[i].normal.clone());
+                    if stuck && pt.abs() < mu[k] * pn && tangent_row(k).is_some() {
+                        holding.push(closed[i].tangent.clone());
+                    }
+                }
+            }
+            if holding.len() >= N {
+                let rows = DMatrix::from_fn(holding.len(), N, |i, j| holding[i][j]);
+                let sv = rows.singular_values();
+                let (lo, hi) = (sv.min(), sv.max());
+                if lo > LOCK_RANK * hi {
+                    v_next = SVector::zeros();
+                }
+            }
+        }
+        let q_next = q + v_next * hn;
+        let y = row(&q_next, &v_next, &forces);
+        if let Some(component) = y.iter().position(|x| !x.is_finite()) {
+            return Err(SolveError::new(
+                ErrorKind::NonFinite {
+                    t: t_next,
+                    component,
+                },
+                sol,
+            ));
+        }
+        for k in 0..K {
+            if new_modes[k] != modes[k] {
+                let before = row(&q, &v, &[]);
+                let after = row(&q_next, &v_next, &[]);
+                let impact = modes[k] == Mode::Free && vn[k] < 0.0 && forces[k] > 0.0;
+                let mut s = Switch::of_run(
+                    t_next,
+                    if impact {
+                        SwitchKind::Impact
+                    } else {
+                        SwitchKind::Mode
+                    },
+                    before,
+                    after,
+                );
+                s.element = Some(S::CONTACTS[k].to_string());
+                s.index = Some(k);
+                s.from = Some(modes[k]);
+                s.to = Some(new_modes[k]);
+                s.jump = forces[k] * hn;
+                sol.switches.push(s);
+            }
+        }
+        modes = new_modes;
+        let dv = (v_next - v) / hn;
+        let keep = if n + 1 == steps {
+            Keep::Last
+        } else {
+            Keep::AsAsked
+        };
+        sol.push_step(t_next, &y, &derivative(&v_next, &dv), None, keep);
+        sol.stats.steps += 1;
+        (t, q, v) = (t_next, q_next, v_next);
+    }
+    Ok(sol)
+}

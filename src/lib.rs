@@ -114,8 +114,8 @@
 //! - `#[contact(name: point | sphere(r), body = body, at = […], plane = world | body,
 //!   origin = […], rpy = […], normal = axis, mu = …, restitution = …)]` — a point or
 //!   sphere on a body touching a plane; the derive writes out its gap, normal and
-//!   tangential Jacobians and `γ` terms ([`runtime::contacts::Contacts`]; no integrator
-//!   acts on contacts yet).
+//!   tangential Jacobians and `γ` terms ([`runtime::contacts::Contacts`]); planar
+//!   contacts are integrated by [`runtime::contact_time_stepping`].
 //! - Non-smooth elements: `#[friction(joint, f_crit = …)]` (Coulomb),
 //!   `#[friction(joint, f_static = …, f_kinetic = …)]` (static and kinetic friction: held
 //!   at rest up to `f_static`, slipping at `f_kinetic ≤ f_static`; where rest and slip

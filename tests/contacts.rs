@@ -420,6 +420,53 @@ mod stepping {
         assert!(worst < 1e-9 * a * 2.0, "{worst:e}");
     }
 
+    /// A solid ball set spinning at `ω₀` on the ground without moving: it slips, the
+    /// friction `μ m g` slowing the slip `ẋ + r θ̇` at `(7/2) μ g`, until it rolls at
+    /// `t = 2 r ω₀ / (7 μ g)` with `ẋ = −(2/7) r ω₀` (the angular momentum about the
+    /// contact point kept), and rolls on at that speed.
+    #[test]
+    fn spinning_ball_slips_until_it_rolls() {
+        let s = SpinningBall::default();
+        let omega = 20.0;
+        let (t_roll, v_roll) = (
+            2.0 * s.r * omega / (7.0 * s.mu * s.g),
+            -2.0 / 7.0 * s.r * omega,
+        );
+        for h in [1e-3, 1e-4] {
+            let p = NonSmoothProblem::new(
+                0.0,
+                1.0,
+                V3::from([0.0, s.r, 0.0]),
+                V3::from([0.0, 0.0, omega]),
+            );
+            let sol = contact_time_stepping(&s, &no_input, &p, h).unwrap_or_else(|e| panic!("{e}"));
+            let rolls = sol
+                .rows()
+                .find(|(_, y)| (y[3] + s.r * y[5]).abs() < 1e-12)
+                .map(|(t, _)| t)
+                .expect("it rolls");
+            let (_, last) = sol.last().unwrap();
+            eprintln!(
+                "h = {h}: rolls from {rolls:.5} (closed form {t_roll:.5}) at {:.6} m/s ({v_roll:.6})",
+                last[3]
+            );
+            assert!(
+                (rolls - t_roll).abs() <= 1.01 * h,
+                "{rolls} against {t_roll}"
+            );
+            assert!(
+                (last[3] - v_roll).abs() <= 1.01 * s.mu * s.g * h,
+                "{} against {v_roll}",
+                last[3]
+            );
+            assert!((last[3] + s.r * last[5]).abs() < 1e-12, "rolling");
+            assert!(
+                last[4].abs() < 1e-12 && (last[1] - s.r).abs() < 1e-12,
+                "on the ground"
+            );
+        }
+    }
+
     /// A ball dropped from height H onto the ground with restitution e: the first impact
     /// at √(2H/g), rebounding at e √(2 g H); it comes to rest pressing with `m g`.
     #[test]

@@ -508,3 +508,261 @@ mod stepping {
         );
     }
 }
+
+/// A uniform rod of half-length `l` free in the plane, its end `(−l, 0)` touching the
+/// ground: Painlevé's example.
+#[derive(Mechanism, Clone, Copy)]
+#[mechanism(gravity = [0.0, -9.81, 0.0])]
+#[body(rod_x, mass = 0.0)]
+#[joint(x: prismatic(x), parent = world, child = rod_x)]
+#[body(rod_y, mass = 0.0)]
+#[joint(y: prismatic(y), parent = rod_x, child = rod_y)]
+#[body(rod, mass = 1.0, inertia = rod(1.0, 2.0 * l))]
+#[joint(tilt: revolute(z), parent = rod_y, child = rod)]
+#[contact(end: point, body = rod, at = [-l, 0.0, 0.0], plane = world, normal = y, mu = mu)]
+struct PainleveRod {
+    l: f64,
+    mu: f64,
+}
+
+mod event_driven {
+    use super::PainleveRod;
+    use filippov::prelude::*;
+    use filippov::runtime::{
+        ErrorKind, Method, NonSmoothProblem, Options, SwitchKind, contact_event_driven,
+    };
+    use filippov::scenes::{SlidingBox, SpinningBall};
+
+    type V3 = SVector<f64, 3>;
+
+    fn no_input(_: f64, _: &V3, _: &V3) -> V3 {
+        V3::zeros()
+    }
+
+    fn tight() -> Method {
+        Method::Dopri5(Options {
+            max_steps: 1_000_000,
+            ..Options::tolerances(1e-12, 1e-14)
+        })
+    }
+
+    fn resting(s: &SlidingBox) -> V3 {
+        V3::from([-s.b * s.phi.sin(), s.b * s.phi.cos(), s.phi])
+    }
+
+    #[test]
+    fn box_slides_to_rest_at_its_closed_form_time_and_place() {
+        let s = SlidingBox::default();
+        let v0 = 2.0;
+        let (t_stop, distance) = (v0 / (s.mu * s.g), v0 * v0 / (2.0 * s.mu * s.g));
+        let p = NonSmoothProblem::new(0.0, 1.0, resting(&s), V3::from([v0, 0.0, 0.0]));
+        let sol =
+            contact_event_driven(&s, &no_input, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        let stick = sol
+            .switches
+            .iter()
+            .find(|sw| sw.to == Some(filippov::runtime::Mode::Stick))
+            .expect("it sticks");
+        let (_, last) = sol.last().unwrap();
+        let (rear, front) = (
+            sol.column_index("λ_rear.n").unwrap(),
+            sol.column_index("λ_front.n").unwrap(),
+        );
+        let mut worst_split = 0.0f64;
+        // The rows after the start's mode selection (the first row is the state as
+        // given, before its contacts were closed).
+        for (t, y) in sol.rows().skip(1) {
+            if t < stick.t && y[3] > 0.0 {
+                worst_split =
+                    worst_split.max((y[front] - y[rear] - s.mu * s.b * s.m * s.g / s.a).abs());
+            }
+        }
+        eprintln!(
+            "event-driven: sticks at {:.15} (closed form {t_stop:.15}), at x = {:.15} ({distance:.15}); split within {worst_split:.1e}; {}",
+            stick.t, last[0], sol.stats
+        );
+        assert!(
+            (stick.t - t_stop).abs() < 1e-9,
+            "{} against {t_stop}",
+            stick.t
+        );
+        assert!(
+            (last[0] - distance).abs() < 1e-9,
+            "{} against {distance}",
+            last[0]
+        );
+        assert!(worst_split < 1e-9, "{worst_split:e}");
+        assert!(
+            sol.rows()
+                .filter(|(t, _)| *t > stick.t)
+                .all(|(_, y)| y[0] == last[0] && y[3] == 0.0)
+        );
+    }
+
+    #[test]
+    fn box_on_an_incline_below_its_friction_angle_does_not_move() {
+        let s = SlidingBox {
+            phi: 0.3,
+            ..SlidingBox::default()
+        };
+        let q0 = resting(&s);
+        let p = NonSmoothProblem::new(0.0, 1e4, q0, V3::zeros());
+        let sol =
+            contact_event_driven(&s, &no_input, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        for (t, y) in sol.rows() {
+            assert_eq!(&y[..6], &[q0[0], q0[1], q0[2], 0.0, 0.0, 0.0], "t = {t}");
+        }
+        assert_eq!(sol.last().unwrap().0, 1e4);
+    }
+
+    #[test]
+    fn box_on_an_incline_above_its_friction_angle_slides_at_its_closed_form() {
+        let s = SlidingBox {
+            phi: 0.6,
+            ..SlidingBox::default()
+        };
+        let a = s.g * (s.phi.sin() - s.mu * s.phi.cos());
+        let q0 = resting(&s);
+        let p = NonSmoothProblem::new(0.0, 2.0, q0, V3::zeros());
+        let sol =
+            contact_event_driven(&s, &no_input, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        let mut worst = 0.0f64;
+        for (t, y) in sol.rows() {
+            let along = -((y[0] - q0[0]) * s.phi.cos() + (y[1] - q0[1]) * s.phi.sin());
+            let speed = -(y[3] * s.phi.cos() + y[4] * s.phi.sin());
+            worst = worst
+                .max((along - 0.5 * a * t * t).abs())
+                .max((speed - a * t).abs());
+        }
+        eprintln!("down the incline: position and speed within {worst:.1e} of the closed form");
+        assert!(worst < 1e-9, "{worst:e}");
+    }
+
+    #[test]
+    fn spinning_ball_rolls_at_its_closed_form_time_and_speed() {
+        let s = SpinningBall::default();
+        let omega = 20.0;
+        let (t_roll, v_roll) = (
+            2.0 * s.r * omega / (7.0 * s.mu * s.g),
+            -2.0 / 7.0 * s.r * omega,
+        );
+        let p = NonSmoothProblem::new(
+            0.0,
+            1.0,
+            V3::from([0.0, s.r, 0.0]),
+            V3::from([0.0, 0.0, omega]),
+        );
+        let sol =
+            contact_event_driven(&s, &no_input, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        let stick = sol
+            .switches
+            .iter()
+            .find(|sw| sw.to == Some(filippov::runtime::Mode::Stick))
+            .expect("it rolls");
+        let (_, last) = sol.last().unwrap();
+        eprintln!(
+            "rolls from {:.15} ({t_roll:.15}) at {:.15} ({v_roll:.15})",
+            stick.t, last[3]
+        );
+        assert!((stick.t - t_roll).abs() < 1e-9);
+        assert!((last[3] - v_roll).abs() < 1e-9);
+        assert!(
+            (last[3] + s.r * last[5]).abs() < 1e-12,
+            "rolling without slip"
+        );
+    }
+
+    /// Dropped from H with restitution e: impacts at t₁ = √(2H/g), then every
+    /// 2 eᵏ v₁ / g, accumulating at t₁ + 2 e v₁ / (g (1 − e)); at rest it presses with m g.
+    #[test]
+    fn dropped_ball_bounces_to_its_accumulation_point_and_rests() {
+        let s = SpinningBall::default();
+        let height = 0.2;
+        let p = NonSmoothProblem::new(0.0, 1.5, V3::from([0.0, s.r + height, 0.0]), V3::zeros());
+        let sol =
+            contact_event_driven(&s, &no_input, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        let (t1, v1) = ((2.0 * height / s.g).sqrt(), (2.0 * s.g * height).sqrt());
+        let impacts: Vec<f64> = sol
+            .switches
+            .iter()
+            .filter(|sw| sw.kind == SwitchKind::Impact)
+            .map(|sw| sw.t)
+            .collect();
+        let settled = sol
+            .switches
+            .iter()
+            .find(|sw| sw.kind == SwitchKind::Settled)
+            .unwrap_or_else(|| {
+                panic!(
+                    "it settles: {:?}",
+                    sol.switches
+                        .iter()
+                        .map(|sw| (sw.t, sw.kind, sw.to))
+                        .collect::<Vec<_>>()
+                )
+            });
+        let t_inf = t1 + 2.0 * s.e * v1 / (s.g * (1.0 - s.e));
+        let mut worst = 0.0f64;
+        let mut expected = t1;
+        for (k, &t) in impacts.iter().enumerate() {
+            worst = worst.max((t - expected).abs());
+            expected += 2.0 * s.e.powi(k as i32 + 1) * v1 / s.g;
+        }
+        let (_, last) = sol.last().unwrap();
+        let normal = last[sol.column_index("λ_bottom.n").unwrap()];
+        eprintln!(
+            "{} impacts within {worst:.1e} of their closed-form times; settled at {:.9} (accumulation {t_inf:.9}); pressing {normal}",
+            impacts.len(),
+            settled.t
+        );
+        assert!(worst < 1e-9, "{worst:e}");
+        assert!(
+            (settled.t - t_inf).abs() < 1e-5,
+            "{} against {t_inf}",
+            settled.t
+        );
+        assert!((normal - s.m * s.g).abs() < 1e-9, "{normal}");
+    }
+
+    /// Painlevé's rod sliding on its end at angle θ: above μ_P = (1 + 3 cos²θ) /
+    /// (3 sin θ cos θ) the event-driven integrator says the contact problem has no
+    /// unique solution; below it, it integrates.
+    #[test]
+    fn painleve_rod_is_refused_above_its_threshold_and_not_below() {
+        let (l, theta) = (0.5f64, 0.5f64);
+        let (s, c) = theta.sin_cos();
+        let threshold = (1.0 + 3.0 * c * c) / (3.0 * s * c);
+        let q0 = V3::from([0.0, l * s, theta]);
+        // The end slides towards −x.
+        let v0 = V3::from([-1.0, 0.0, 0.0]);
+        let p = NonSmoothProblem::new(0.0, 0.01, q0, v0);
+        let below = contact_event_driven(
+            &PainleveRod {
+                l,
+                mu: 0.99 * threshold,
+            },
+            &no_input,
+            &p,
+            &tight(),
+        );
+        assert!(below.is_ok(), "{:?}", below.err().map(|e| e.to_string()));
+        match contact_event_driven(
+            &PainleveRod {
+                l,
+                mu: 1.01 * threshold,
+            },
+            &no_input,
+            &p,
+            &tight(),
+        ) {
+            Err(e) => match &e.kind {
+                ErrorKind::IllPosedMode { detail, .. } => assert!(
+                    detail.contains("Painlevé") && detail.contains("`end`"),
+                    "{detail}"
+                ),
+                other => panic!("{other}"),
+            },
+            Ok(_) => panic!("accepted above the threshold"),
+        }
+    }
+}

@@ -112,7 +112,8 @@ pub use liegroup::{
 pub use mechanical::{InputFn, MechanicalSystem, NumericInputFn, NumericSystem};
 pub use method::{Bdf, Dopri5, Method, Rk4, Sdirk4, Stepper};
 pub use nonsmooth::{
-    NonSmoothMethod, NonSmoothProblem, contact_time_stepping, solve_nonsmooth, solve_nonsmooth_with,
+    NonSmoothMethod, NonSmoothProblem, contact_event_driven, contact_time_stepping,
+    solve_nonsmooth, solve_nonsmooth_with,
 };
 pub use numerics::control::PiController;
 pub use numerics::tableau;

@@ -29,6 +29,7 @@ mod solve;
 pub use crate::element::{
     Element, ElementKind, Law, Mode, NonSmooth, Relation, Selection, Side, StopKind,
 };
+pub use contact::event::contact_event_driven;
 pub use contact::stepping::contact_time_stepping;
 pub use event::event_driven;
 pub use event::resting::{RESTING_DRIFT, RESTING_PERIODS, resting_periods};

@@ -50,6 +50,40 @@ where
     names
 }
 
+/// What both contact integrators refuse: a time span or start that is not finite,
+/// invalid parameters, spatial contacts.
+pub(crate) fn check<S, const N: usize, const K: usize, const T: usize>(
+    scene: &S,
+    problem: &NonSmoothProblem<N>,
+) -> Result<(), String>
+where
+    S: Mechanism<N> + Contacts<N, K, T>,
+{
+    if !(problem.t0.is_finite() && problem.tf.is_finite() && problem.t0 <= problem.tf) {
+        return Err(format!(
+            "need finite t0 ≤ tf (t0 = {}, tf = {})",
+            problem.t0, problem.tf
+        ));
+    }
+    if let Some(i) = problem
+        .q0
+        .iter()
+        .chain(problem.v0.iter())
+        .position(|x| !x.is_finite())
+    {
+        return Err(format!("the start's component {i} is not finite"));
+    }
+    scene.validate().map_err(|e| e.to_string())?;
+    if let Some(k) = (0..K).find(|&k| S::TANGENT_OF.iter().filter(|&&c| c == k).count() > 1) {
+        return Err(format!(
+            "contact `{}` can slide in two directions (a spatial contact); only planar contacts \
+             (one tangent row each) are integrated yet",
+            S::CONTACTS[k]
+        ));
+    }
+    Ok(())
+}
+
 /// Integrates `scene` with its contacts by Moreau–Jean time-stepping with step `h`
 /// (see the module documentation), the input `τ(t, q, v)` on its coordinates.
 ///
@@ -68,42 +102,15 @@ where
     S: Mechanism<N> + Contacts<N, K, T>,
     I: Input<N> + ?Sized,
 {
-    let mut sol = Solution::new(column_names::<S, N, K, T>(), 2 * N, problem.output.clone());
-    let invalid =
-        |sol: Solution, msg: String| Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
+    let sol = Solution::new(column_names::<S, N, K, T>(), 2 * N, problem.output.clone());
     if !(h > 0.0 && h.is_finite()) {
-        return invalid(sol, format!("the step h = {h} must be positive and finite"));
+        let msg = format!("the step h = {h} must be positive and finite");
+        return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
     }
-    if !(problem.t0.is_finite() && problem.tf.is_finite() && problem.t0 <= problem.tf) {
-        return invalid(
-            sol,
-            format!(
-                "need finite t0 ≤ tf (t0 = {}, tf = {})",
-                problem.t0, problem.tf
-            ),
-        );
+    if let Err(msg) = check::<S, N, K, T>(scene, problem) {
+        return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
     }
-    if let Some(i) = problem
-        .q0
-        .iter()
-        .chain(problem.v0.iter())
-        .position(|x| !x.is_finite())
-    {
-        return invalid(sol, format!("the start's component {i} is not finite"));
-    }
-    if let Err(e) = scene.validate() {
-        return invalid(sol, e.to_string());
-    }
-    if let Some(k) = (0..K).find(|&k| S::TANGENT_OF.iter().filter(|&&c| c == k).count() > 1) {
-        return invalid(
-            sol,
-            format!(
-                "contact `{}` can slide in two directions (a spatial contact); only planar contacts \
-                 (one tangent row each) are integrated yet",
-                S::CONTACTS[k]
-            ),
-        );
-    }
+    let mut sol = sol;
     let (mu, e) = (scene.contact_friction(), scene.contact_restitution());
     let (mut t, mut q, mut v) = (problem.t0, problem.q0, problem.v0);
     let mut modes = [Mode::Free; K];

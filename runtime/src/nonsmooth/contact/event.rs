@@ -1,0 +1,732 @@
+//! Event-driven integration of planar contacts (theory §8): each contact open, stuck or
+//! sliding; the smooth motion of the current modes integrated by any method, kept on
+//! their constraints by projection; switches located on the dense output and decided by
+//! the contact problem ([`super::planar`]).
+//!
+//! In a mode the closed contacts' normal rows and the stuck ones' tangential rows are
+//! equality constraints at acceleration level (`W v̇ = γ`), a sliding contact's force
+//! `λ_N (w_N − μ s w_T)`. The forces solve `C W D λ = γ − C a₀` (`C` the constraint
+//! rows, `D` the force directions, `W = M⁻¹`; least norm where redundant contacts leave
+//! the split open). After every step the state is projected back onto the closed
+//! contacts' gaps and the constrained velocities (in the mass metric); where the
+//! constraints lock every coordinate, the velocity is set to exactly zero.
+//!
+//! The switching functions, positive while the mode holds: an open contact's gap; a
+//! closed one's `λ_N`; a stuck one's `μ λ_N − |λ_T|`; a sliding one's slip times its
+//! sign. At a switch: an impact (a contact closing at speed) takes the velocity-level
+//! problem (Newton's law with Coulomb's cone on the impulses); a rebound too small to
+//! leave the position tolerance is taken as settled (the Zeno limit of its bounces);
+//! then the modes are chosen by the acceleration-level problem.
+
+use nalgebra::{DMatrix, DVector, SVector};
+
+use super::planar::{self, Closed, ContactError};
+use crate::contacts::Contacts;
+use crate::element::Mode;
+use crate::input::Input;
+use crate::method::{Begin, Eval, Method, Stepper};
+use crate::nonsmooth::NonSmoothProblem;
+use crate::numerics::rootfind::find_root;
+use crate::system::Mechanism;
+use crate::{ErrorKind, Keep, OdeSystem, Solution, SolveError, Switch, SwitchKind};
+
+/// A contact's mode.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum CMode {
+    Open,
+    Stick,
+    /// Sliding with slip sign `s`.
+    Slip(f64),
+}
+
+impl CMode {
+    fn element_mode(self) -> Mode {
+        match self {
+            CMode::Open => Mode::Free,
+            CMode::Stick => Mode::Stick,
+            CMode::Slip(s) if s > 0.0 => Mode::SlipPos(0),
+            CMode::Slip(_) => Mode::SlipNeg(0),
+        }
+    }
+    fn closed(self) -> bool {
+        self != CMode::Open
+    }
+}
+
+/// The scene in one assignment of modes, as an [`OdeSystem`].
+struct InMode<'a, S, I: ?Sized, const N: usize, const K: usize, const T: usize> {
+    scene: &'a S,
+    input: &'a I,
+    modes: [CMode; K],
+    mu: [f64; K],
+    /// The first tangent row of each contact.
+    tangent: [Option<usize>; K],
+}
+
+/// Accelerations and forces at a state: `v̇`, and per contact `(λ_N, λ_T)`.
+struct Dynamics<const N: usize, const K: usize> {
+    a: SVector<f64, N>,
+    normal: [f64; K],
+    tangent: [f64; K],
+}
+
+impl<S, I, const N: usize, const K: usize, const T: usize> InMode<'_, S, I, N, K, T>
+where
+    S: Mechanism<N> + Contacts<N, K, T>,
+    I: Input<N> + ?Sized,
+{
+    fn split(y: &[f64]) -> (SVector<f64, N>, SVector<f64, N>) {
+        (
+            SVector::from_column_slice(&y[..N]),
+            SVector::from_column_slice(&y[N..2 * N]),
+        )
+    }
+
+    fn inverse_mass(&self, q: &SVector<f64, N>) -> DMatrix<f64> {
+        let m = self.scene.mass_matrix(q);
+        let inv = m
+            .cholesky()
+            .map(|c| c.inverse())
+            .unwrap_or_else(|| m.try_inverse().unwrap_or(m * f64::NAN));
+        DMatrix::from_fn(N, N, |i, j| inv[(i, j)])
+    }
+
+    /// The constraint rows of the current modes: `(row, γ)` and, per row, which contact
+    /// and whether it is tangential.
+    fn constraints(
+        &self,
+        q: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+    ) -> Vec<(DVector<f64>, f64, usize, bool)> {
+        let w_n = self.scene.contact_normal_jacobian(q);
+        let w_t = self.scene.contact_tangent_jacobian(q);
+        let g_n = self.scene.contact_normal_gamma(q, v);
+        let g_t = self.scene.contact_tangent_gamma(q, v);
+        let mut rows = Vec::new();
+        for k in 0..K {
+            if self.modes[k].closed() {
+                rows.push((
+                    DVector::from_iterator(N, w_n.row(k).iter().copied()),
+                    g_n[k],
+                    k,
+                    false,
+                ));
+            }
+            if self.modes[k] == CMode::Stick
+                && let Some(r) = self.tangent[k]
+            {
+                rows.push((
+                    DVector::from_iterator(N, w_t.row(r).iter().copied()),
+                    g_t[r],
+                    k,
+                    true,
+                ));
+            }
+        }
+        rows
+    }
+
+    fn dynamics(&self, t: f64, q: &SVector<f64, N>, v: &SVector<f64, N>) -> Dynamics<N, K> {
+        let tau = self.input.forces(t, q, v);
+        let a0 = self.scene.forward_dynamics(q, v, &tau);
+        let rows = self.constraints(q, v);
+        let mut out = Dynamics {
+            a: a0,
+            normal: [0.0; K],
+            tangent: [0.0; K],
+        };
+        if rows.is_empty() {
+            return out;
+        }
+        let w = self.inverse_mass(q);
+        let w_t = self.scene.contact_tangent_jacobian(q);
+        // Force directions: the rows themselves, a sliding contact's normal less its
+        // friction.
+        let dirs: Vec<DVector<f64>> = rows
+            .iter()
+            .map(
+                |(row, _, k, tangential)| match (self.modes[*k], tangential) {
+                    (CMode::Slip(s), false) => {
+                        let r = self.tangent[*k].expect("a sliding contact has a tangent");
+                        let wt = DVector::from_iterator(N, w_t.row(r).iter().copied());
+                        row - wt * (self.mu[*k] * s)
+                    }
+                    _ => row.clone(),
+                },
+            )
+            .collect();
+        let effect: Vec<DVector<f64>> = dirs.iter().map(|d| &w * d).collect();
+        let m = rows.len();
+        let a0d = DVector::from_iterator(N, a0.iter().copied());
+        let lhs = DMatrix::from_fn(m, m, |i, j| rows[i].0.dot(&effect[j]));
+        let rhs = DVector::from_fn(m, |i, _| rows[i].1 - rows[i].0.dot(&a0d));
+        let lambda = lhs
+            .clone()
+            .svd(true, true)
+            .solve(&rhs, 1e-12 * lhs.amax().max(f64::MIN_POSITIVE))
+            .unwrap_or_else(|_| DVector::from_element(m, f64::NAN));
+        let mut a = a0d;
+        for (j, (_, _, k, tangential)) in rows.iter().enumerate() {
+            a += &effect[j] * lambda[j];
+            if *tangential {
+                out.tangent[*k] = lambda[j];
+            } else {
+                out.normal[*k] = lambda[j];
+                if let CMode::Slip(s) = self.modes[*k] {
+                    out.tangent[*k] = -self.mu[*k] * s * lambda[j];
+                }
+            }
+        }
+        out.a = SVector::from_iterator(a.iter().copied());
+        if self.locks(&rows) {
+            // Locked: the accelerations are the constraints' own, `C v̇ = γ` (zero at
+            // rest, exactly), not the round-off of the forces' solve.
+            let c = DMatrix::from_fn(m, N, |i, j| rows[i].0[j]);
+            let gamma = DVector::from_fn(m, |i, _| rows[i].1);
+            if let Ok(x) = c.svd(true, true).solve(&gamma, 0.0) {
+                out.a = SVector::from_iterator(x.iter().copied());
+            }
+        }
+        out
+    }
+
+    /// Whether the constraint rows span every coordinate (the state is locked).
+    fn locks(&self, rows: &[(DVector<f64>, f64, usize, bool)]) -> bool {
+        if rows.len() < N {
+            return false;
+        }
+        let c = DMatrix::from_fn(rows.len(), N, |i, j| rows[i].0[j]);
+        let sv = c.singular_values();
+        sv.min() > 1e-10 * sv.max()
+    }
+
+    /// Onto the closed contacts' gaps (Newton steps, least change in the mass metric)
+    /// and the constrained velocities; locked, the velocity is exactly zero.
+    fn project_state(&self, q: &mut SVector<f64, N>, v: &mut SVector<f64, N>, tol: f64) {
+        let closed: Vec<usize> = (0..K).filter(|&k| self.modes[k].closed()).collect();
+        if closed.is_empty() {
+            return;
+        }
+        for _ in 0..4 {
+            let gaps = self.scene.contact_gaps(q);
+            if closed.iter().all(|&k| gaps[k].abs() <= tol) {
+                break;
+            }
+            let w = self.inverse_mass(q);
+            let w_n = self.scene.contact_normal_jacobian(q);
+            let g = DMatrix::from_fn(closed.len(), N, |i, j| w_n[(closed[i], j)]);
+            let r = DVector::from_fn(closed.len(), |i, _| gaps[closed[i]]);
+            let a = &g * &w * g.transpose();
+            let Ok(x) = a
+                .clone()
+                .svd(true, true)
+                .solve(&r, 1e-12 * a.amax().max(f64::MIN_POSITIVE))
+            else {
+                break;
+            };
+            let dq = &w * g.transpose() * x;
+            *q -= SVector::<f64, N>::from_iterator(dq.iter().copied());
+        }
+        let rows = self.constraints(q, v);
+        if self.locks(&rows) {
+            *v = SVector::zeros();
+            return;
+        }
+        let w = self.inverse_mass(q);
+        let c = DMatrix::from_fn(rows.len(), N, |i, j| rows[i].0[j]);
+        let vd = DVector::from_iterator(N, v.iter().copied());
+        let r = &c * &vd;
+        let a = &c * &w * c.transpose();
+        if let Ok(x) = a
+            .clone()
+            .svd(true, true)
+            .solve(&r, 1e-12 * a.amax().max(f64::MIN_POSITIVE))
+        {
+            let dv = &w * c.transpose() * x;
+            *v -= SVector::<f64, N>::from_iterator(dv.iter().copied());
+        }
+    }
+
+    /// The switching functions (positive while the modes hold), one per contact.
+    fn switching(&self, t: f64, y: &[f64]) -> [f64; K] {
+        let (q, v) = Self::split(y);
+        let d = self.dynamics(t, &q, &v);
+        let gaps = self.scene.contact_gaps(&q);
+        let slips = self.scene.contact_tangent_jacobian(&q) * v;
+        std::array::from_fn(|k| match self.modes[k] {
+            CMode::Open => gaps[k],
+            CMode::Stick => d.normal[k].min(self.mu[k] * d.normal[k] - d.tangent[k].abs()),
+            CMode::Slip(s) => d.normal[k].min(s * self.tangent[k].map_or(0.0, |r| slips[r])),
+        })
+    }
+}
+
+impl<S, I, const N: usize, const K: usize, const T: usize> OdeSystem for InMode<'_, S, I, N, K, T>
+where
+    S: Mechanism<N> + Contacts<N, K, T>,
+    I: Input<N> + ?Sized,
+{
+    fn dim(&self) -> usize {
+        2 * N
+    }
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let (q, v) = Self::split(y);
+        let d = self.dynamics(t, &q, &v);
+        dy[..N].copy_from_slice(v.as_slice());
+        dy[N..].copy_from_slice(d.a.as_slice());
+    }
+    fn second_order(&self) -> Option<usize> {
+        Some(N)
+    }
+    fn dense_positions(&self) -> bool {
+        true
+    }
+}
+
+/// Integrates `scene` with its planar contacts event-driven with `method` (see the
+/// module documentation): the same columns as [`contact_time_stepping`]
+/// (super::stepping::contact_time_stepping), the forces at each row, and a switch log.
+///
+/// # Errors
+/// As [`contact_time_stepping`](super::stepping::contact_time_stepping), and
+/// [`ErrorKind::IllPosedMode`] naming the contacts where no consistent set of modes
+/// exists or several do (Painlevé's paradox), with the rows up to there kept.
+pub fn contact_event_driven<S, I, const N: usize, const K: usize, const T: usize>(
+    scene: &S,
+    input: &I,
+    problem: &NonSmoothProblem<N>,
+    method: &Method,
+) -> Result<Solution, SolveError>
+where
+    S: Mechanism<N> + Contacts<N, K, T>,
+    I: Input<N> + ?Sized,
+{
+    let mut sol = Solution::new(
+        super::stepping::column_names::<S, N, K, T>(),
+        2 * N,
+        problem.output.clone(),
+    )
+    .with_dense_positions(Some(N));
+    if let Err(msg) = super::stepping::check::<S, N, K, T>(scene, problem) {
+        return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
+    }
+    let mut stepper = method.stepper(2 * N);
+    let options = stepper.options();
+    let tangent: [Option<usize>; K] =
+        std::array::from_fn(|k| S::TANGENT_OF.iter().position(|&c| c == k));
+    let mut sys = InMode {
+        scene,
+        input,
+        modes: [CMode::Open; K],
+        mu: scene.contact_friction(),
+        tangent,
+    };
+    let e = scene.contact_restitution();
+    let (mut t, tf) = (problem.t0, problem.tf);
+    let mut y: Vec<f64> = problem
+        .q0
+        .iter()
+        .chain(problem.v0.iter())
+        .copied()
+        .collect();
+    let tol_q = |q: f64| options.atol + options.rtol * q.abs();
+    let run = (|| -> Result<(), ErrorKind> {
+        // Start: the contacts touching the ground choose their modes (an impact if
+        // approaching).
+        let mut armed = [true; K];
+        let mut dy = vec![0.0; 2 * N];
+        sys.rhs(t, &y, &mut dy);
+        let mut first = y.clone();
+        first.extend(std::iter::repeat_n(0.0, K + T));
+        dy.resize(first.len(), 0.0);
+        sol.push_start(t, &first, &dy);
+        // Steps end no later than this: the apex of the latest rebound, where its gap
+        // is back above its level and armed for the next landing.
+        let mut until = switch(&mut sys, &e, t, &mut y, &mut sol, &options, &mut armed)?;
+        let mut fresh = true;
+        loop {
+            let at = Begin {
+                t,
+                y: &y,
+                span: tf - t,
+                fresh,
+            };
+            stepper.begin(&mut Eval::new(&sys, &mut sol.stats), at)?;
+            fresh = false;
+            let mut switched = false;
+            while stepper.t() < tf {
+                let t0 = stepper.t();
+                let g0 = sys.switching(t0, stepper.y());
+                let target = if until > t0 { until.min(tf) } else { tf };
+                stepper.step(&mut Eval::new(&sys, &mut sol.stats), target)?;
+                let t1 = stepper.t();
+                // Back onto the modes' constraints.
+                let mut y1 = stepper.y().to_vec();
+                let (mut q, mut v) = InMode::<S, I, N, K, T>::split(&y1);
+                let scale = q.amax().max(1.0);
+                sys.project_state(&mut q, &mut v, tol_q(scale) * 1e-3);
+                y1[..N].copy_from_slice(q.as_slice());
+                y1[N..].copy_from_slice(v.as_slice());
+                if y1 != stepper.y() {
+                    stepper.nudge(&mut Eval::new(&sys, &mut sol.stats), &y1)?;
+                }
+                let g1 = sys.switching(t1, stepper.y());
+                for k in 0..K {
+                    if !armed[k] && g1[k] > arm_level(&sys, k, &options) {
+                        armed[k] = true;
+                    }
+                }
+                stepper.prepare_dense();
+                let dense = stepper.dense().clone();
+                let mut buf = vec![0.0; 2 * N];
+                // Each function at or below its level at the step's end: a crossing from
+                // the step's start if armed there; else, a function that left its level
+                // inside the step and came back (a small rebound over in one step) is
+                // found by sampling the dense output, and its crossing is after the last
+                // sample above the level.
+                let mut brackets: Vec<(usize, f64, f64)> = Vec::new();
+                for k in (0..K).filter(|&k| g1[k] <= 0.0) {
+                    if armed[k] && g0[k] > 0.0 {
+                        brackets.push((k, t0, g0[k]));
+                        continue;
+                    }
+                    let level = arm_level(&sys, k, &options);
+                    let above = (1..SAMPLES).rev().find_map(|j| {
+                        let s = t0 + (t1 - t0) * j as f64 / SAMPLES as f64;
+                        dense.eval(s, &mut buf);
+                        let g = sys.switching(s, &buf)[k];
+                        (g > level).then_some((s, g))
+                    });
+                    if let Some((s, g)) = above {
+                        armed[k] = true;
+                        brackets.push((k, s, g));
+                    }
+                }
+                if brackets.is_empty() {
+                    push(
+                        &sys,
+                        &mut sol,
+                        t1,
+                        stepper.y(),
+                        Some(&dense),
+                        if t1 >= tf { Keep::Last } else { Keep::AsAsked },
+                    );
+                    continue;
+                }
+                // The earliest root among the crossing functions, on the dense output.
+                let mut first = (t1, 0usize);
+                for &(k, a, ga) in &brackets {
+                    let mut gk = |s: f64| {
+                        dense.eval(s, &mut buf);
+                        sys.switching(s, &buf)[k]
+                    };
+                    let xtol = 4.0 * f64::EPSILON * t1.abs().max(1.0);
+                    let br = find_root(&mut gk, a, t1, ga, g1[k], xtol);
+                    if br.hi < first.0 {
+                        first = (br.hi, k);
+                    }
+                }
+                let te = first.0;
+                let mut cut = dense.clone();
+                cut.truncate(te);
+                let mut ye = vec![0.0; 2 * N];
+                cut.eval(te, &mut ye);
+                push(&sys, &mut sol, te, &ye, Some(&cut), Keep::Event);
+                t = te;
+                y = ye;
+                until = switch(&mut sys, &e, t, &mut y, &mut sol, &options, &mut armed)?;
+                switched = true;
+                break;
+            }
+            if !switched {
+                return Ok(());
+            }
+            if t >= tf {
+                push(&sys, &mut sol, t, &y, None, Keep::Last);
+                return Ok(());
+            }
+        }
+    })();
+    match run {
+        Ok(()) => Ok(sol),
+        Err(kind) => Err(SolveError::new(kind, sol)),
+    }
+}
+
+/// Inner samples of a step's dense output searched for a switching function that left
+/// its level and came back within the step.
+const SAMPLES: usize = 8;
+
+/// The level a switching function must exceed to be armed again after a switch: the
+/// tolerance of what it measures.
+fn arm_level<S, I: ?Sized, const N: usize, const K: usize, const T: usize>(
+    sys: &InMode<'_, S, I, N, K, T>,
+    k: usize,
+    options: &crate::Options,
+) -> f64 {
+    let _ = (sys, k);
+    options.atol
+}
+
+/// Appends the row of `(t, y)` in the current modes: the state, then the forces.
+fn push<S, I, const N: usize, const K: usize, const T: usize>(
+    sys: &InMode<'_, S, I, N, K, T>,
+    sol: &mut Solution,
+    t: f64,
+    y: &[f64],
+    dense: Option<&crate::method::DenseStep>,
+    keep: Keep,
+) where
+    S: Mechanism<N> + Contacts<N, K, T>,
+    I: Input<N> + ?Sized,
+{
+    let (q, v) = InMode::<S, I, N, K, T>::split(y);
+    let d = sys.dynamics(t, &q, &v);
+    let mut row = y.to_vec();
+    row.extend_from_slice(&d.normal);
+    let mut tangential = [0.0; T];
+    for k in 0..K {
+        if let Some(r) = sys.tangent[k] {
+            tangential[r] = d.tangent[k];
+        }
+    }
+    row.extend_from_slice(&tangential);
+    let mut dy: Vec<f64> = v.iter().chain(d.a.iter()).copied().collect();
+    dy.resize(row.len(), 0.0);
+    sol.push_step(t, &row, &dy, dense, keep);
+}
+
+/// The row after a switch at `t`: the state and the forces of the new modes.
+fn jump_row<S, I, const N: usize, const K: usize, const T: usize>(
+    sys: &InMode<'_, S, I, N, K, T>,
+    sol: &mut Solution,
+    t: f64,
+    y: &[f64],
+) where
+    S: Mechanism<N> + Contacts<N, K, T>,
+    I: Input<N> + ?Sized,
+{
+    let (q, v) = InMode::<S, I, N, K, T>::split(y);
+    let d = sys.dynamics(t, &q, &v);
+    let mut row = y.to_vec();
+    row.extend_from_slice(&d.normal);
+    let mut tangential = [0.0; T];
+    for k in 0..K {
+        if let Some(r) = sys.tangent[k] {
+            tangential[r] = d.tangent[k];
+        }
+    }
+    row.extend_from_slice(&tangential);
+    let mut dy: Vec<f64> = v.iter().chain(d.a.iter()).copied().collect();
+    dy.resize(row.len(), 0.0);
+    sol.push_jump(t, &row, &dy);
+}
+
+/// At a switch at `(t, y)`: impacts first (velocity level), then the modes of the
+/// contacts that touch (acceleration level); logs what changed and disarms the
+/// functions that start at their switching level. Returns the time of the earliest
+/// rebound's apex (`t` when there is none), which the next steps must not pass over.
+#[allow(clippy::too_many_arguments)]
+fn switch<S, I, const N: usize, const K: usize, const T: usize>(
+    sys: &mut InMode<'_, S, I, N, K, T>,
+    e: &[f64; K],
+    t: f64,
+    y: &mut Vec<f64>,
+    sol: &mut Solution,
+    options: &crate::Options,
+    armed: &mut [bool; K],
+) -> Result<f64, ErrorKind>
+where
+    S: Mechanism<N> + Contacts<N, K, T>,
+    I: Input<N> + ?Sized,
+{
+    let (q, mut v) = InMode::<S, I, N, K, T>::split(y);
+    let scene = sys.scene;
+    let tol_x = |x: f64| options.atol + options.rtol * x.abs();
+    let gaps = scene.contact_gaps(&q);
+    let w_n = scene.contact_normal_jacobian(&q);
+    let w_t = scene.contact_tangent_jacobian(&q);
+    let scale_q = q.amax().max(1.0);
+    let touching: Vec<usize> = (0..K).filter(|&k| gaps[k] <= tol_x(scale_q)).collect();
+    let row = |m: &nalgebra::SMatrix<f64, K, N>, k: usize| {
+        DVector::from_iterator(N, m.row(k).iter().copied())
+    };
+    let trow = |r: Option<usize>| match r {
+        Some(r) => DVector::from_iterator(N, w_t.row(r).iter().copied()),
+        None => DVector::zeros(N),
+    };
+    let old = sys.modes;
+    let vn = w_n * v;
+    let v_scale = v.amax().max(1.0);
+    let approaching: Vec<usize> = touching
+        .iter()
+        .copied()
+        .filter(|&k| vn[k] < -tol_x(v_scale))
+        .collect();
+    let w = sys.inverse_mass(&q);
+    let mut settled = [false; K];
+    let mut impulses = [0.0; K];
+    // The acceleration pressing each contact into its plane without contact forces.
+    let tau = sys.input.forces(t, &q, &v);
+    let a_free = scene.forward_dynamics(&q, &v, &tau);
+    let pressing = -(w_n * a_free - scene.contact_normal_gamma(&q, &v));
+    if !approaching.is_empty() {
+        // Newton's law with Coulomb's cone on the impulses of the touching contacts.
+        let closed: Vec<Closed> = touching
+            .iter()
+            .map(|&k| {
+                // A rebound that could not rise above the position tolerance under the
+                // pressing acceleration is taken as settled.
+                let rebound = e[k] * (-vn[k]).max(0.0);
+                let settle =
+                    pressing[k] > 0.0 && rebound * rebound <= 2.0 * pressing[k] * tol_x(scale_q);
+                settled[k] = settle && vn[k] < 0.0;
+                Closed {
+                    normal: row(&w_n, k),
+                    gamma_n: if settle { 0.0 } else { -e[k] * vn[k].min(0.0) },
+                    tangent: trow(sys.tangent[k]),
+                    gamma_t: 0.0,
+                    mu: if sys.tangent[k].is_some() {
+                        sys.mu[k]
+                    } else {
+                        0.0
+                    },
+                    sliding: None,
+                }
+            })
+            .collect();
+        let vd = DVector::from_iterator(N, v.iter().copied());
+        let out = planar::solve(&w, &vd, &closed)
+            .map_err(|err| ill_posed(t, &touching, err, &S::CONTACTS))?;
+        let before: Vec<f64> = y.clone();
+        v = SVector::from_iterator(out.acceleration.iter().copied());
+        for (i, &k) in touching.iter().enumerate() {
+            impulses[k] = out.normal[i];
+        }
+        y[N..].copy_from_slice(v.as_slice());
+        for &k in &approaching {
+            let mut s = Switch::of_run(
+                t,
+                if settled[k] {
+                    SwitchKind::Settled
+                } else {
+                    SwitchKind::Impact
+                },
+                before.clone(),
+                y.clone(),
+            );
+            s.element = Some(S::CONTACTS[k].to_string());
+            s.index = Some(k);
+            s.from = Some(old[k].element_mode());
+            s.to = Some(if settled[k] {
+                Mode::Contact
+            } else {
+                Mode::Free
+            });
+            s.jump = impulses[k];
+            sol.switches.push(s);
+        }
+    }
+    // The modes at acceleration level, among the contacts touching with no normal speed.
+    let vn = w_n * v;
+    let slips = w_t * v;
+    let candidates: Vec<usize> = touching
+        .iter()
+        .copied()
+        .filter(|&k| vn[k].abs() <= tol_x(v_scale))
+        .collect();
+    let mut modes = [CMode::Open; K];
+    if !candidates.is_empty() {
+        let tau = sys.input.forces(t, &q, &v);
+        let a0 = scene.forward_dynamics(&q, &v, &tau);
+        let g_n = scene.contact_normal_gamma(&q, &v);
+        let g_t = scene.contact_tangent_gamma(&q, &v);
+        let closed: Vec<Closed> = candidates
+            .iter()
+            .map(|&k| {
+                let slip = sys.tangent[k].map_or(0.0, |r| slips[r]);
+                Closed {
+                    normal: row(&w_n, k),
+                    gamma_n: g_n[k],
+                    tangent: trow(sys.tangent[k]),
+                    gamma_t: sys.tangent[k].map_or(0.0, |r| g_t[r]),
+                    mu: if sys.tangent[k].is_some() {
+                        sys.mu[k]
+                    } else {
+                        0.0
+                    },
+                    sliding: (slip.abs() > tol_x(v_scale)).then(|| slip.signum()),
+                }
+            })
+            .collect();
+        let a0d = DVector::from_iterator(N, a0.iter().copied());
+        let out = planar::solve(&w, &a0d, &closed)
+            .map_err(|err| ill_posed(t, &candidates, err, &S::CONTACTS))?;
+        let a_scale = a0.amax().max(1.0);
+        for (i, &k) in candidates.iter().enumerate() {
+            modes[k] = if out.normal[i] <= 0.0 && out.normal_acceleration[i] > 0.0 {
+                CMode::Open
+            } else if let Some(s) = closed[i].sliding {
+                CMode::Slip(s)
+            } else if sys.tangent[k].is_none() || sys.mu[k] == 0.0 {
+                // Frictionless: slides freely, whichever way.
+                CMode::Slip(if out.tangent_acceleration[i] >= 0.0 {
+                    1.0
+                } else {
+                    -1.0
+                })
+            } else if out.tangent_acceleration[i].abs() <= 1e-12 * a_scale {
+                CMode::Stick
+            } else {
+                CMode::Slip(out.tangent_acceleration[i].signum())
+            };
+        }
+    }
+    // (A frictionless contact "slides" either way: it has no friction to reverse.)
+    sys.modes = modes;
+    for k in 0..K {
+        if modes[k] != old[k] && !approaching.contains(&k) {
+            let mut s = Switch::of_run(t, SwitchKind::Mode, y.clone(), y.clone());
+            s.element = Some(S::CONTACTS[k].to_string());
+            s.index = Some(k);
+            s.from = Some(old[k].element_mode());
+            s.to = Some(modes[k].element_mode());
+            sol.switches.push(s);
+        }
+        // A function that starts at its level waits until it has left it.
+        if modes[k] != old[k] || approaching.contains(&k) {
+            armed[k] = false;
+        }
+    }
+    // Onto the new modes' constraints, and the row after the switch with their forces.
+    let (mut q, mut v) = InMode::<S, I, N, K, T>::split(y);
+    sys.project_state(&mut q, &mut v, tol_x(scale_q) * 1e-3);
+    y[..N].copy_from_slice(q.as_slice());
+    y[N..].copy_from_slice(v.as_slice());
+    jump_row(sys, sol, t, y);
+    // Rebounds: the apex of each, at its normal speed over its pressing acceleration.
+    let vn = scene.contact_normal_jacobian(&q) * v;
+    let apex = approaching
+        .iter()
+        .filter(|&&k| !settled[k] && vn[k] > 0.0 && pressing[k] > 0.0)
+        .map(|&k| t + vn[k] / pressing[k])
+        .fold(f64::INFINITY, f64::min);
+    Ok(if apex.is_finite() { apex } else { t })
+}
+
+fn ill_posed(t: f64, which: &[usize], err: ContactError, names: &[&str]) -> ErrorKind {
+    let names: Vec<String> = which.iter().map(|&k| format!("`{}`", names[k])).collect();
+    let detail = match err {
+        ContactError::Painleve { .. } => format!(
+            "the contact problem of {} has no unique solution: the friction of a sliding contact pulls it \
+             into its plane harder than the normal force can push (Painlevé's paradox); time-stepping \
+             (`contact_time_stepping`) resolves it with an impulse",
+            names.join(", ")
+        ),
+        ContactError::NoSolution => format!(
+            "the contact problem of {} has no solution",
+            names.join(", ")
+        ),
+    };
+    ErrorKind::IllPosedMode { t, detail }
+}

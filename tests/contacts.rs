@@ -724,6 +724,64 @@ mod event_driven {
         assert!((normal - s.m * s.g).abs() < 1e-9, "{normal}");
     }
 
+    /// Housner's rocking block: released tilted on one corner (rough enough not to slip,
+    /// `e = 0`), it rocks from corner to corner, each impact multiplying its angular
+    /// velocity by `1 − (3/2) sin²α` (`α = atan(a/b)`: the momentum about the new corner
+    /// kept, the old corner lifting), Newton's law and the contact problem at both
+    /// corners deciding it; between impacts the energy of a pendulum about the corner.
+    #[test]
+    fn housner_block_rocks_with_its_closed_form_ratio() {
+        let s = SlidingBox {
+            a: 0.2,
+            b: 0.4,
+            mu: 1.0,
+            e: 0.0,
+            ..SlidingBox::default()
+        };
+        let alpha = (s.a / s.b).atan();
+        let ratio = 1.0 - 1.5 * alpha.sin().powi(2);
+        let theta0: f64 = 0.1;
+        // On the rear corner at the origin, turned by θ0.
+        let (st, ct) = theta0.sin_cos();
+        let q0 = V3::from([s.a * ct - s.b * st, s.a * st + s.b * ct, theta0]);
+        let p = NonSmoothProblem::new(0.0, 3.0, q0, V3::zeros());
+        let sol =
+            contact_event_driven(&s, &no_input, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        // The landings that keep it rocking (with e = 0 each is plastic, `Settled` at its
+        // corner); the last entries are the Zeno limit, where it comes to rest.
+        let impacts: Vec<_> = sol
+            .switches
+            .iter()
+            .filter(|sw| {
+                matches!(sw.kind, SwitchKind::Impact | SwitchKind::Settled)
+                    && sw.after[5].abs() > 1e-9
+            })
+            .collect();
+        assert!(
+            impacts.len() >= 4,
+            "{:?}",
+            sol.switches
+                .iter()
+                .map(|sw| (sw.t, sw.kind, sw.element.clone()))
+                .collect::<Vec<_>>()
+        );
+        let mut worst = 0.0f64;
+        for sw in &impacts {
+            // The angle is zero at every impact; the angular velocity drops by the ratio.
+            worst = worst.max((sw.after[5] / sw.before[5] - ratio).abs());
+        }
+        eprintln!(
+            "{} impacts, θ̇⁺/θ̇⁻ within {worst:.1e} of 1 − (3/2) sin²α = {ratio:.12}",
+            impacts.len()
+        );
+        assert!(worst < 1e-12, "{worst:e}");
+        assert!(impacts.len() >= 10, "{} rocking impacts", impacts.len());
+        // At rest, flat on both corners: still, bit for bit, to the end.
+        let (_, last) = sol.last().unwrap();
+        assert_eq!(&last[3..6], &[0.0, 0.0, 0.0]);
+        assert!(last[2].abs() < 1e-12, "flat: {}", last[2]);
+    }
+
     /// Painlevé's rod sliding on its end at angle θ: above μ_P = (1 + 3 cos²θ) /
     /// (3 sin θ cos θ) the event-driven integrator says the contact problem has no
     /// unique solution; below it, it integrates.

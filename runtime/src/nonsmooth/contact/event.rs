@@ -384,11 +384,22 @@ where
                 // inside the step and came back (a small rebound over in one step) is
                 // found by sampling the dense output, and its crossing is after the last
                 // sample above the level.
-                let mut brackets: Vec<(usize, f64, f64)> = Vec::new();
+                let mut brackets: Vec<(usize, f64, f64, f64)> = Vec::new();
                 for k in (0..K).filter(|&k| g1[k] <= 0.0) {
                     if armed[k] && g0[k] > 0.0 {
-                        brackets.push((k, t0, g0[k]));
+                        brackets.push((k, t0, g0[k], 0.0));
                         continue;
+                    }
+                    // An open contact going into its plane beyond the position tolerance
+                    // without having left it (a contact that opened at rest and is
+                    // pressed back): a landing where it passes the tolerance.
+                    if sys.modes[k] == CMode::Open {
+                        let tol =
+                            tol_q(stepper.y()[..N].iter().fold(1.0f64, |m, x| m.max(x.abs())));
+                        if g1[k] < -tol && g0[k] > -tol {
+                            brackets.push((k, t0, g0[k] + tol, tol));
+                            continue;
+                        }
                     }
                     let level = arm_level(&sys, k, &options);
                     let above = (1..SAMPLES).rev().find_map(|j| {
@@ -399,7 +410,7 @@ where
                     });
                     if let Some((s, g)) = above {
                         armed[k] = true;
-                        brackets.push((k, s, g));
+                        brackets.push((k, s, g, 0.0));
                     }
                 }
                 if brackets.is_empty() {
@@ -415,13 +426,13 @@ where
                 }
                 // The earliest root among the crossing functions, on the dense output.
                 let mut first = (t1, 0usize);
-                for &(k, a, ga) in &brackets {
+                for &(k, a, ga, shift) in &brackets {
                     let mut gk = |s: f64| {
                         dense.eval(s, &mut buf);
-                        sys.switching(s, &buf)[k]
+                        sys.switching(s, &buf)[k] + shift
                     };
                     let xtol = 4.0 * f64::EPSILON * t1.abs().max(1.0);
-                    let br = find_root(&mut gk, a, t1, ga, g1[k], xtol);
+                    let br = find_root(&mut gk, a, t1, ga, g1[k] + shift, xtol);
                     if br.hi < first.0 {
                         first = (br.hi, k);
                     }
@@ -431,9 +442,23 @@ where
                 cut.truncate(te);
                 let mut ye = vec![0.0; 2 * N];
                 cut.eval(te, &mut ye);
+                // The located state back on its modes' constraints: the dense output
+                // keeps them only to the method's accuracy, and an impact's outcome
+                // depends on the velocities it meets.
+                let (mut qe, mut ve) = InMode::<S, I, N, K, T>::split(&ye);
+                let tol = tol_q(qe.amax().max(1.0)) * 1e-3;
+                sys.project_state(&mut qe, &mut ve, tol);
+                ye[..N].copy_from_slice(qe.as_slice());
+                ye[N..].copy_from_slice(ve.as_slice());
                 push(&sys, &mut sol, te, &ye, Some(&cut), Keep::Event);
                 t = te;
                 y = ye;
+                // Switches count against the step budget: an accumulation the rules
+                // above do not end is stopped, not followed for ever.
+                sol.stats.events += 1;
+                if sol.stats.steps + sol.stats.events > options.max_steps {
+                    return Err(ErrorKind::MaxSteps { t });
+                }
                 until = switch(&mut sys, &e, t, &mut y, &mut sol, &options, &mut armed)?;
                 switched = true;
                 break;
@@ -596,12 +621,30 @@ where
             })
             .collect();
         let vd = DVector::from_iterator(N, v.iter().copied());
-        let out = planar::solve(&w, &vd, &closed)
-            .map_err(|err| ill_posed(t, &touching, err, &S::CONTACTS))?;
+        // A plastic impact that can hold every touching contact does (the contact
+        // problem of redundant contacts has other solutions too); else the problem
+        // decides which rebound, stick or slide.
+        let plastic = closed.iter().all(|c| c.gamma_n == 0.0);
         let before: Vec<f64> = y.clone();
-        v = SVector::from_iterator(out.acceleration.iter().copied());
-        for (i, &k) in touching.iter().enumerate() {
-            impulses[k] = out.normal[i];
+        match held(&w, &vd, &closed).filter(|_| plastic) {
+            Some(v_held) => {
+                let dv = &v_held - &vd;
+                for (i, &k) in touching.iter().enumerate() {
+                    // The normal impulse along the contact's row: its effect on the
+                    // normal velocity over the row's effective inverse mass.
+                    let wn = &closed[i].normal;
+                    impulses[k] = wn.dot(&dv) / wn.dot(&(&w * wn)).max(f64::MIN_POSITIVE);
+                }
+                v = SVector::from_iterator(v_held.iter().copied());
+            }
+            None => {
+                let out = planar::solve(&w, &vd, &closed)
+                    .map_err(|err| ill_posed(t, &touching, err, &S::CONTACTS))?;
+                v = SVector::from_iterator(out.acceleration.iter().copied());
+                for (i, &k) in touching.iter().enumerate() {
+                    impulses[k] = out.normal[i];
+                }
+            }
         }
         y[N..].copy_from_slice(v.as_slice());
         for &k in &approaching {
@@ -625,6 +668,62 @@ where
             });
             s.jump = impulses[k];
             sol.switches.push(s);
+        }
+    }
+    // A contact leaving its plane so slowly that it would not rise above the position
+    // tolerance before falling back (the last of a rocking block's or a ball's
+    // accumulating bounces) is held on it: the touching contacts' normal velocities
+    // set to zero by the smallest impulse (in the mass metric), the Zeno limit of the
+    // bounces, logged as settled.
+    let vn = w_n * v;
+    let creeping: Vec<usize> = touching
+        .iter()
+        .copied()
+        .filter(|&k| {
+            vn[k] > tol_x(v_scale)
+                && pressing[k] > 0.0
+                && vn[k] * vn[k] <= 2.0 * pressing[k] * tol_x(scale_q)
+        })
+        .collect();
+    if !creeping.is_empty() {
+        // The Zeno limit of the bounces or rocking: every contact that touches and does
+        // not move away faster than that is held, its normal velocity and (with
+        // friction) its slip set to zero by the smallest change in the mass metric.
+        // The impulses this takes need not all press (the rocking's alternate
+        // impacts do, one corner at a time); the energy removed is that of a motion
+        // below the position tolerance.
+        let hold: Vec<usize> = touching
+            .iter()
+            .copied()
+            .filter(|&k| vn[k] <= tol_x(v_scale) || creeping.contains(&k))
+            .collect();
+        let mut held_rows: Vec<DVector<f64>> = Vec::new();
+        for &k in &hold {
+            held_rows.push(row(&w_n, k));
+            if sys.tangent[k].is_some() && sys.mu[k] > 0.0 {
+                held_rows.push(trow(sys.tangent[k]));
+            }
+        }
+        let c = DMatrix::from_fn(held_rows.len(), N, |i, j| held_rows[i][j]);
+        let vd = DVector::from_iterator(N, v.iter().copied());
+        let a = &c * &w * c.transpose();
+        let x = a
+            .clone()
+            .svd(true, true)
+            .solve(&(&c * &vd), 1e-12 * a.amax().max(f64::MIN_POSITIVE))
+            .unwrap_or_else(|_| DVector::zeros(held_rows.len()));
+        let v_new = &vd - &w * c.transpose() * x;
+        let before = y.clone();
+        v = SVector::from_iterator(v_new.iter().copied());
+        y[N..].copy_from_slice(v.as_slice());
+        for &k in &creeping {
+            let mut s = Switch::of_run(t, SwitchKind::Settled, before.clone(), y.clone());
+            s.element = Some(S::CONTACTS[k].to_string());
+            s.index = Some(k);
+            s.from = Some(old[k].element_mode());
+            s.to = Some(Mode::Contact);
+            sol.switches.push(s);
+            settled[k] = true;
         }
     }
     // The modes at acceleration level, among the contacts touching with no normal speed.
@@ -659,12 +758,54 @@ where
                 }
             })
             .collect();
+        // The candidates closed as they are (stuck where not slipping) first: if their
+        // forces are admissible they are the modes. A redundant set of contacts (a
+        // block flat on two corners) has other solutions of the contact problem too
+        // (one corner carrying all, breaking away), which complementary pivoting could
+        // pick; the one that keeps the contacts as they are is the one that continues
+        // the motion.
+        let mut trial = InMode {
+            scene,
+            input: sys.input,
+            modes: [CMode::Open; K],
+            mu: sys.mu,
+            tangent: sys.tangent,
+        };
+        for (i, &k) in candidates.iter().enumerate() {
+            trial.modes[k] = match closed[i].sliding {
+                Some(s) => CMode::Slip(s),
+                None if closed[i].mu > 0.0 => CMode::Stick,
+                None => CMode::Slip(1.0),
+            };
+        }
+        let d = trial.dynamics(t, &q, &v);
+        let f_scale = d
+            .normal
+            .iter()
+            .chain(d.tangent.iter())
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+        let f_tol = 1e-10 * f_scale.max(f64::MIN_POSITIVE);
+        let admissible = candidates.iter().all(|&k| {
+            d.normal[k] >= -f_tol
+                && (trial.modes[k] != CMode::Stick
+                    || d.tangent[k].abs() <= sys.mu[k] * d.normal[k] + f_tol)
+        }) && d.a.iter().all(|x| x.is_finite());
         let a0d = DVector::from_iterator(N, a0.iter().copied());
-        let out = planar::solve(&w, &a0d, &closed)
-            .map_err(|err| ill_posed(t, &candidates, err, &S::CONTACTS))?;
+        let out = if admissible {
+            None
+        } else {
+            Some(
+                planar::solve(&w, &a0d, &closed)
+                    .map_err(|err| ill_posed(t, &candidates, err, &S::CONTACTS))?,
+            )
+        };
         let a_scale = a0.amax().max(1.0);
         for (i, &k) in candidates.iter().enumerate() {
-            modes[k] = if out.normal[i] <= 0.0 && out.normal_acceleration[i] > 0.0 {
+            let Some(out) = &out else {
+                modes[k] = trial.modes[k];
+                continue;
+            };
+            modes[k] = if out.normal[i] <= 0.0 && out.normal_acceleration[i] > 1e-12 * a_scale {
                 CMode::Open
             } else if let Some(s) = closed[i].sliding {
                 CMode::Slip(s)
@@ -685,7 +826,7 @@ where
     // (A frictionless contact "slides" either way: it has no friction to reverse.)
     sys.modes = modes;
     for k in 0..K {
-        if modes[k] != old[k] && !approaching.contains(&k) {
+        if modes[k] != old[k] && !approaching.contains(&k) && !creeping.contains(&k) {
             let mut s = Switch::of_run(t, SwitchKind::Mode, y.clone(), y.clone());
             s.element = Some(S::CONTACTS[k].to_string());
             s.index = Some(k);
@@ -704,14 +845,63 @@ where
     y[..N].copy_from_slice(q.as_slice());
     y[N..].copy_from_slice(v.as_slice());
     jump_row(sys, sol, t, y);
-    // Rebounds: the apex of each, at its normal speed over its pressing acceleration.
-    let vn = scene.contact_normal_jacobian(&q) * v;
-    let apex = approaching
-        .iter()
-        .filter(|&&k| !settled[k] && vn[k] > 0.0 && pressing[k] > 0.0)
-        .map(|&k| t + vn[k] / pressing[k])
+    // Contacts leaving their plane (a rebound, a corner lifting as the other lands):
+    // steps end by half way to the apex of each, where its gap is up and its landing
+    // function armed, so that a landing within one step is not stepped over.
+    let w_n = scene.contact_normal_jacobian(&q);
+    let vn = w_n * v;
+    let gaps = scene.contact_gaps(&q);
+    let d = sys.dynamics(t, &q, &v);
+    let g_n = scene.contact_normal_gamma(&q, &v);
+    let acc = w_n * d.a - g_n;
+    let hold = (0..K)
+        .filter(|&k| {
+            sys.modes[k] == CMode::Open && gaps[k] <= tol_x(scale_q) && vn[k] > 0.0 && acc[k] < 0.0
+        })
+        .map(|k| t + 0.5 * vn[k] / -acc[k])
         .fold(f64::INFINITY, f64::min);
-    Ok(if apex.is_finite() { apex } else { t })
+    let _ = (&settled, &pressing);
+    Ok(if hold.is_finite() { hold } else { t })
+}
+
+/// The velocities after a plastic impact that holds every contact of `closed` (normal
+/// and, with friction, tangential velocity zero), if its impulses are admissible
+/// (pressing, inside the cone): the least-norm impulses where the contacts are
+/// redundant. `None` when some contact would have to pull or slip.
+fn held(w: &DMatrix<f64>, v: &DVector<f64>, closed: &[Closed]) -> Option<DVector<f64>> {
+    let mut rows: Vec<&DVector<f64>> = Vec::new();
+    for c in closed {
+        rows.push(&c.normal);
+        if c.mu > 0.0 {
+            rows.push(&c.tangent);
+        }
+    }
+    let n = v.len();
+    let c = DMatrix::from_fn(rows.len(), n, |i, j| rows[i][j]);
+    let a = &c * w * c.transpose();
+    let p = a
+        .clone()
+        .svd(true, true)
+        .solve(&(-(&c * v)), 1e-12 * a.amax().max(f64::MIN_POSITIVE))
+        .ok()?;
+    let scale = p.amax().max(f64::MIN_POSITIVE);
+    let mut r = 0;
+    for cl in closed {
+        let pn = p[r];
+        r += 1;
+        if pn < -1e-10 * scale {
+            return None;
+        }
+        if cl.mu > 0.0 {
+            let pt = p[r];
+            r += 1;
+            if pt.abs() > cl.mu * pn + 1e-10 * scale {
+                return None;
+            }
+        }
+    }
+    let v_new = v + w * c.transpose() * p;
+    v_new.iter().all(|x| x.is_finite()).then_some(v_new)
 }
 
 fn ill_posed(t: f64, which: &[usize], err: ContactError, names: &[&str]) -> ErrorKind {

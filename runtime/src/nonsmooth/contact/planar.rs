@@ -141,7 +141,10 @@ pub(crate) fn solve(
         Err(LcpError::NoSolution) if !well_posed => {
             return Err(ContactError::Painleve { solved: false });
         }
-        Err(_) => return Err(ContactError::NoSolution),
+        // Redundant contacts with friction make a problem that complementary pivoting
+        // may end on a ray for although it has solutions: a few contacts' modes are
+        // then enumerated.
+        Err(_) => return enumerate(w, a0, contacts).ok_or(ContactError::NoSolution),
     };
     if !well_posed {
         return Err(ContactError::Painleve { solved: true });
@@ -176,6 +179,131 @@ pub(crate) fn solve(
         tangent_acceleration,
         acceleration: acc,
     })
+}
+
+/// Most contacts whose modes [`enumerate`] tries (`4ᵏ` assignments).
+const ENUMERATE_MAX: usize = 6;
+
+/// A solution by trying the contacts' modes (stuck, sliding either way, open), those
+/// that keep more contacts stuck first: each assignment's equalities solved (least norm
+/// where redundant) and checked against every law. `None` if none fits.
+fn enumerate(w: &DMatrix<f64>, a0: &DVector<f64>, contacts: &[Closed]) -> Option<Outcome> {
+    let k = contacts.len();
+    if k > ENUMERATE_MAX {
+        return None;
+    }
+    // Per contact: 0 stuck, 1 slides +, 2 slides −, 3 open (a sliding one keeps its way).
+    let mut assignments: Vec<Vec<u8>> = (0..4usize.pow(k as u32))
+        .map(|mut code| {
+            (0..k)
+                .map(|_| {
+                    let m = (code % 4) as u8;
+                    code /= 4;
+                    m
+                })
+                .collect()
+        })
+        .filter(|m: &Vec<u8>| {
+            m.iter()
+                .zip(contacts)
+                .all(|(&mode, c)| match (mode, c.sliding) {
+                    (0, Some(_)) => false,
+                    (1, Some(s)) => s > 0.0,
+                    (2, Some(s)) => s < 0.0,
+                    (0..=2, None) => c.mu > 0.0,
+                    _ => true,
+                })
+        })
+        .collect();
+    assignments.sort_by_key(|m| m.iter().map(|&x| x as usize).sum::<usize>());
+    let scale = a0.amax().max(w.amax()).max(1.0);
+    for m in assignments {
+        // Unknowns: λ_N of every closed contact, λ_T of the stuck ones.
+        let mut dirs: Vec<DVector<f64>> = Vec::new();
+        let mut rows: Vec<(DVector<f64>, f64)> = Vec::new();
+        let mut which: Vec<(usize, bool)> = Vec::new();
+        for (i, c) in contacts.iter().enumerate() {
+            match m[i] {
+                3 => {}
+                0 => {
+                    dirs.push(c.normal.clone());
+                    rows.push((c.normal.clone(), c.gamma_n));
+                    which.push((i, false));
+                    dirs.push(c.tangent.clone());
+                    rows.push((c.tangent.clone(), c.gamma_t));
+                    which.push((i, true));
+                }
+                mode => {
+                    let s = if mode == 1 { 1.0 } else { -1.0 };
+                    dirs.push(&c.normal - &c.tangent * (c.mu * s));
+                    rows.push((c.normal.clone(), c.gamma_n));
+                    which.push((i, false));
+                }
+            }
+        }
+        let r = rows.len();
+        let effect: Vec<DVector<f64>> = dirs.iter().map(|d| w * d).collect();
+        let lambda = if r == 0 {
+            DVector::zeros(0)
+        } else {
+            let lhs = DMatrix::from_fn(r, r, |i, j| rows[i].0.dot(&effect[j]));
+            let rhs = DVector::from_fn(r, |i, _| rows[i].1 - rows[i].0.dot(a0));
+            match lhs
+                .clone()
+                .svd(true, true)
+                .solve(&rhs, 1e-12 * lhs.amax().max(f64::MIN_POSITIVE))
+            {
+                Ok(x) => x,
+                Err(_) => continue,
+            }
+        };
+        let mut acc = a0.clone();
+        for j in 0..r {
+            acc += &effect[j] * lambda[j];
+        }
+        let tol = 1e-9 * scale * (1.0 + lambda.amax());
+        // The equalities hold (redundant rows consistent).
+        if rows.iter().any(|(row, g)| (row.dot(&acc) - g).abs() > tol) {
+            continue;
+        }
+        let mut normal = vec![0.0; k];
+        let mut tangent = vec![0.0; k];
+        for (j, &(i, tangential)) in which.iter().enumerate() {
+            if tangential {
+                tangent[i] = lambda[j];
+            } else {
+                normal[i] = lambda[j];
+                if m[i] == 1 || m[i] == 2 {
+                    let s = if m[i] == 1 { 1.0 } else { -1.0 };
+                    tangent[i] = -contacts[i].mu * s * lambda[j];
+                }
+            }
+        }
+        let normal_acceleration: Vec<f64> = contacts
+            .iter()
+            .map(|c| c.normal.dot(&acc) - c.gamma_n)
+            .collect();
+        let tangent_acceleration: Vec<f64> = contacts
+            .iter()
+            .map(|c| c.tangent.dot(&acc) - c.gamma_t)
+            .collect();
+        let fits = (0..k).all(|i| match m[i] {
+            3 => normal_acceleration[i] >= -tol,
+            0 => normal[i] >= -tol && tangent[i].abs() <= contacts[i].mu * normal[i] + tol,
+            1 => normal[i] >= -tol && tangent_acceleration[i] >= -tol,
+            _ => normal[i] >= -tol && tangent_acceleration[i] <= tol,
+        });
+        if fits && acc.iter().all(|x| x.is_finite()) {
+            return Some(Outcome {
+                normal,
+                tangent,
+                normal_acceleration,
+                tangent_acceleration,
+                acceleration: acc,
+            });
+        }
+    }
+    None
 }
 
 #[cfg(test)]

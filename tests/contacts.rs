@@ -710,8 +710,10 @@ mod event_driven {
         }
         let (_, last) = sol.last().unwrap();
         let normal = last[sol.column_index("λ_bottom.n").unwrap()];
+        // The settled entry carries the Zeno limit of the rebounds it ends.
+        let limit = settled.accumulation.expect("the accumulation point");
         eprintln!(
-            "{} impacts within {worst:.1e} of their closed-form times; settled at {:.9} (accumulation {t_inf:.9}); pressing {normal}",
+            "{} impacts within {worst:.1e} of their closed-form times; settled at {:.9}, its Zeno limit {limit:.15} (accumulation {t_inf:.15}); pressing {normal}",
             impacts.len(),
             settled.t
         );
@@ -721,6 +723,7 @@ mod event_driven {
             "{} against {t_inf}",
             settled.t
         );
+        assert!((limit - t_inf).abs() < 1e-9, "{limit} against {t_inf}");
         assert!((normal - s.m * s.g).abs() < 1e-9, "{normal}");
     }
 

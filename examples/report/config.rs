@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// The sections' keys for `--only`, in the report's order.
-pub const SECTIONS: [&str; 14] = [
+pub const SECTIONS: [&str; 15] = [
     "smooth",
     "nonsmooth",
     "dense",
@@ -15,6 +15,7 @@ pub const SECTIONS: [&str; 14] = [
     "s9",
     "lie",
     "loops",
+    "contacts",
     "kernels",
     "expansion",
     "compile",

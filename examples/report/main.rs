@@ -19,6 +19,10 @@ mod agreement_support;
 mod chains;
 #[path = "config.rs"]
 mod config;
+#[path = "../support/contact_agreement.rs"]
+mod contact_agreement;
+#[path = "contacts.rs"]
+mod contacts;
 #[path = "dense.rs"]
 mod dense;
 #[path = "flags.rs"]
@@ -169,6 +173,11 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
         "closed loops: Andrews' squeezer, a four-bar, a slider-crank",
         loops::loops(config)
     );
+    let ct = section!(
+        "contacts",
+        "contacts: closed forms and the agreement suite",
+        contacts::contacts(config)
+    );
     let k = section!("kernels", "kernels", kernels::kernels(config));
     let e = section!("expansion", "expansion time", kernels::expansion(config));
     let c = section!("compile", "compile time", kernels::compile_times(config));
@@ -231,6 +240,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     summary.extend(arm.summary.iter().cloned());
     summary.extend(lg.summary.iter().cloned());
     summary.extend(lp.summary.iter().cloned());
+    summary.extend(ct.summary.iter().cloned());
     summary.extend(e.summary.iter().cloned());
     summary.extend(c.summary.iter().cloned());
     summary.extend(sc.summary.iter().cloned());
@@ -246,6 +256,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     page.append(arm.page);
     page.append(lg.page);
     page.append(lp.page);
+    page.append(ct.page);
     page.append(k.page);
     page.append(e.page);
     page.append(c.page);

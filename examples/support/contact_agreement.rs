@@ -4,7 +4,7 @@
 //! time-stepping at two steps, and checked by properties no closed form is needed for:
 //! the energy never rises (no input acts), no contact penetrates beyond the position
 //! tolerance (event-driven), and time-stepping converges to the event-driven run at
-//! first order.
+//! first order (h = 1e-3, 1e-4, 1e-5).
 
 use filippov::nalgebra::SVector;
 use filippov::prelude::*;
@@ -84,8 +84,8 @@ pub struct Checked {
     /// The deepest penetration of any contact over the event-driven run.
     pub penetration: f64,
     /// Time-stepping's largest position difference from the event-driven run over the
-    /// sample times, at h = 1e-3 and 1e-4.
-    pub distance: [f64; 2],
+    /// sample times, at [`STEPS`].
+    pub distance: [f64; 3],
     /// The event-driven run's switches.
     pub switches: usize,
     /// A run's error, if one failed.
@@ -94,17 +94,23 @@ pub struct Checked {
 
 impl Checked {
     /// Passive, not penetrating beyond the tolerance, time-stepping converging at first
-    /// order (or already within round-off of it).
+    /// order over one of the two decades of steps (or already within round-off). One
+    /// decade alone can hide it: two first-order errors of opposite sign (the θ-method's
+    /// lag, a sliding reversal's stuck step) can cancel at one step size.
     pub fn passed(&self) -> bool {
+        let [d1, d2, d3] = self.distance;
         self.failure.is_none()
             && self.energy_rise <= 1e-8
             && self.penetration <= 1e-8
-            && (self.distance[1] <= 0.3 * self.distance[0] || self.distance[1] <= 1e-9)
+            && (d2 <= 0.3 * d1 || d3 <= 0.3 * d2 || d3 <= 1e-9)
     }
 }
 
 /// The horizon of every run.
 pub const HORIZON: f64 = 0.5;
+
+/// Time-stepping's steps, compared with the event-driven run.
+pub const STEPS: [f64; 3] = [1e-3, 1e-4, 1e-5];
 
 fn energy<S, const K: usize, const T: usize>(s: &S, g: f64, m: f64, y: &[f64]) -> f64
 where
@@ -137,7 +143,7 @@ where
         kind,
         energy_rise: 0.0,
         penetration: 0.0,
-        distance: [f64::NAN; 2],
+        distance: [f64::NAN; 3],
         switches: 0,
         failure: None,
     };
@@ -157,7 +163,7 @@ where
         out.penetration = out.penetration.max(-gaps.min());
     }
     let sample = |sol: &Solution, t: f64| sol.at(t).expect("inside the run");
-    for (i, h) in [1e-3, 1e-4].into_iter().enumerate() {
+    for (i, h) in STEPS.into_iter().enumerate() {
         match contact_time_stepping(s, &input, &p, h) {
             Ok(ts) => {
                 out.distance[i] = (0..=50)

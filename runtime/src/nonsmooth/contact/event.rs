@@ -582,6 +582,7 @@ where
     };
     let old = sys.modes;
     let vn = w_n * v;
+    let vn_before = vn;
     let v_scale = v.amax().max(1.0);
     let approaching: Vec<usize> = touching
         .iter()
@@ -667,6 +668,12 @@ where
                 Mode::Free
             });
             s.jump = impulses[k];
+            // The Zeno limit of the rebounds taken as settled: at speed w = e |v⁻| under
+            // the pressing acceleration a, the bounces last 2 w / (a (1 − e)) more.
+            if settled[k] && e[k] < 1.0 && pressing[k] > 0.0 {
+                let w = e[k] * (-vn_before[k]).max(0.0);
+                s.accumulation = Some(t + 2.0 * w / (pressing[k] * (1.0 - e[k])));
+            }
             sol.switches.push(s);
         }
     }

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Peer measurements for the report: Pinocchio, SciPy, SymPy and SUNDIALS IDA (scikit-sundae) in a virtual environment
+# Peer measurements for the report: Pinocchio, SciPy, SymPy, SUNDIALS IDA (scikit-sundae) and MuJoCo in a virtual environment
 # cached at target/peers/venv (PEERS_VENV overrides it). Writes target/report/peers/
 # peers.md and peers.tsv (the report embeds them). The report runs this script itself
 # before its sections (unless --no-peers); by hand it needs the exported models first.
@@ -33,7 +33,7 @@ echo "== pip install -r peers/requirements.txt"
 "$PY" -m pip install -q --disable-pip-version-check -r "$HERE/requirements.txt" || fail "pip install failed"
 "$PY" -c "import pinocchio, scipy, sympy, numpy" || fail "the installed packages do not import"
 
-rm -rf "$RES" "$OUT/peers.md" "$OUT/peers.tsv" "$OUT/ida_andrews.tsv"
+rm -rf "$RES" "$OUT/peers.md" "$OUT/peers.tsv" "$OUT/ida_andrews.tsv" "$OUT/mujoco_contacts.tsv"
 mkdir -p "$BUILD" "$RES"
 
 VERSIONS="$("$PY" -c "import pinocchio, scipy, sympy, numpy, platform; print(f'Python {platform.python_version()}, pin {pinocchio.__version__}, numpy {numpy.__version__}, scipy {scipy.__version__}, sympy {sympy.__version__}')")"
@@ -81,6 +81,11 @@ echo "== SciPy"
 echo "== IDA (scikit-sundae) on Andrews' squeezer"
 "$PY" "$HERE/ida_andrews.py" "$OUT/ida_andrews.tsv" > "$BUILD/ida_andrews.log" 2>&1 \
   || { cat "$BUILD/ida_andrews.log"; echo "peers/run.sh: warning: the IDA peer failed (see $BUILD/ida_andrews.log)" >&2; }
+
+# 2b''. MuJoCo on the contact scenes (the report's section on contacts reads it)
+echo "== MuJoCo on the contact scenes"
+"$PY" "$HERE/mujoco_contacts.py" "$OUT/mujoco_contacts.tsv" > "$BUILD/mujoco_contacts.log" 2>&1 \
+  || { cat "$BUILD/mujoco_contacts.log"; echo "peers/run.sh: warning: the MuJoCo peer failed (see $BUILD/mujoco_contacts.log)" >&2; }
 
 # 2c. SymPy chains n = 2..7, stop once a derivation takes more than 120 s
 echo "== SymPy"

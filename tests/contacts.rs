@@ -293,23 +293,30 @@ fn contact_coefficients_are_validated() {
     assert!(text.contains("restitution of contact `ball`"), "{text}");
 }
 
-mod stepping {
+/// The planar scenes' start and input, shared by the integrators' tests.
+mod planar {
     use filippov::prelude::*;
-    use filippov::runtime::contacts::Contacts;
-    use filippov::runtime::{NonSmoothProblem, contact_time_stepping};
-    use filippov::scenes::{SlidingBox, SpinningBall};
+    use filippov::scenes::SlidingBox;
 
-    type V3 = SVector<f64, 3>;
+    pub type V3 = SVector<f64, 3>;
 
-    fn no_input(_: f64, _: &V3, _: &V3) -> V3 {
+    pub fn no_input(_: f64, _: &V3, _: &V3) -> V3 {
         V3::zeros()
     }
 
     /// The box resting on its ground (tilted by φ): angle φ, centre at `b` along the
     /// normal from the origin.
-    fn resting(s: &SlidingBox) -> V3 {
+    pub fn resting(s: &SlidingBox) -> V3 {
         V3::from([-s.b * s.phi.sin(), s.b * s.phi.cos(), s.phi])
     }
+}
+
+mod stepping {
+    use super::planar::{V3, no_input, resting};
+    use filippov::prelude::*;
+    use filippov::runtime::contacts::Contacts;
+    use filippov::runtime::{NonSmoothProblem, contact_time_stepping};
+    use filippov::scenes::{SlidingBox, SpinningBall};
 
     /// Level ground, launched at `v0`: it slides to rest at `t = v0 / (μ g)` after
     /// `v0² / (2 μ g)`, without turning or lifting, its leading corner carrying
@@ -527,27 +534,17 @@ struct PainleveRod {
 
 mod event_driven {
     use super::PainleveRod;
-    use filippov::prelude::*;
+    use super::planar::{V3, no_input, resting};
     use filippov::runtime::{
         ErrorKind, Method, NonSmoothProblem, Options, SwitchKind, contact_event_driven,
     };
     use filippov::scenes::{SlidingBox, SpinningBall};
-
-    type V3 = SVector<f64, 3>;
-
-    fn no_input(_: f64, _: &V3, _: &V3) -> V3 {
-        V3::zeros()
-    }
 
     fn tight() -> Method {
         Method::Dopri5(Options {
             max_steps: 1_000_000,
             ..Options::tolerances(1e-12, 1e-14)
         })
-    }
-
-    fn resting(s: &SlidingBox) -> V3 {
-        V3::from([-s.b * s.phi.sin(), s.b * s.phi.cos(), s.phi])
     }
 
     #[test]

@@ -317,6 +317,8 @@ pub fn contacts(config: &Config) -> Section {
         }
     }
 
+    mujoco_side_by_side(config, &mut page, &mut summary);
+
     // The randomized agreement suite.
     let count = if config.name == "tiny" { 30 } else { 500 };
     page.h3("Randomized agreement suite");
@@ -377,4 +379,198 @@ pub fn contacts(config: &Config) -> Section {
         failed.len()
     ));
     Section { page, summary }
+}
+
+/// One of MuJoCo's rows (`peers/mujoco_contacts.py`'s TSV): scene, setting, quantity,
+/// value, closed form, seconds per simulated second.
+struct MjRow {
+    scene: String,
+    setting: String,
+    quantity: String,
+    value: f64,
+    cost: f64,
+}
+
+fn read_mujoco(path: &std::path::Path) -> Option<(String, Vec<MjRow>)> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let mut version = String::new();
+    let mut rows = Vec::new();
+    for line in text.lines() {
+        if let Some(v) = line.strip_prefix("# ") {
+            version = v.to_string();
+            continue;
+        }
+        let f: Vec<&str> = line.split('\t').collect();
+        if f.len() == 6 {
+            rows.push(MjRow {
+                scene: f[0].to_string(),
+                setting: f[1].to_string(),
+                quantity: f[2].to_string(),
+                value: f[3].parse().ok()?,
+                cost: f[5].parse().ok()?,
+            });
+        }
+    }
+    Some((version, rows))
+}
+
+/// Ours on MuJoCo's scenes, event-driven at the default tolerance: the same quantities
+/// as `peers/mujoco_contacts.py` measures, with the run time per simulated second.
+fn ours_on_mujoco_scenes(repeats: usize) -> Vec<(&'static str, &'static str, f64, f64, f64)> {
+    let how = How::Event(1e-6);
+    let mut out = Vec::new();
+    // Creep below the friction angle, over 10 s.
+    let below = SlidingBox {
+        phi: 0.3,
+        ..SlidingBox::default()
+    };
+    let q0 = resting(&below);
+    let p = NonSmoothProblem::new(0.0, 10.0, q0, V3::zeros());
+    let (t, sol) = timed(repeats, || run(&below, &p, how));
+    if let Ok(sol) = sol {
+        let moved = sol
+            .rows()
+            .map(|(_, y)| ((y[0] - q0[0]).powi(2) + (y[1] - q0[1]).powi(2)).sqrt())
+            .fold(0.0, f64::max);
+        out.push((
+            "incline below its friction angle",
+            "displacement in 10 s [m]",
+            moved,
+            0.0,
+            t.median / 10.0,
+        ));
+    }
+    // Launched at 2 m/s.
+    let b = SlidingBox::default();
+    let p = NonSmoothProblem::new(0.0, 1.0, resting(&b), V3::from([2.0, 0.0, 0.0]));
+    let (t, sol) = timed(repeats, || run(&b, &p, how));
+    if let Ok(sol) = sol {
+        if let Some(stop) = stuck_at(&sol, 3) {
+            out.push((
+                "box sliding to rest",
+                "stop time [s]",
+                stop,
+                2.0 / (b.mu * b.g),
+                t.median,
+            ));
+        }
+        let d = sol.last().expect("rows").1[0];
+        out.push((
+            "box sliding to rest",
+            "distance [m]",
+            d,
+            4.0 / (2.0 * b.mu * b.g),
+            t.median,
+        ));
+    }
+    // The ball dropped from 0.2 m asking for e = 0.5, then at rest.
+    let ball = SpinningBall::default();
+    let p = NonSmoothProblem::new(0.0, 3.0, V3::from([0.0, ball.r + 0.2, 0.0]), V3::zeros());
+    let (t, sol) = timed(repeats, || run(&ball, &p, how));
+    if let Ok(sol) = sol {
+        if let Some(first) = sol.switches.iter().find(|sw| sw.kind == SwitchKind::Impact) {
+            out.push((
+                "dropped ball",
+                "restitution (e = 0.5 asked)",
+                first.after[4] / -first.before[4],
+                ball.e,
+                t.median / 3.0,
+            ));
+        }
+        // Over the last second, at rest.
+        let heights: Vec<f64> = sol
+            .rows()
+            .filter(|(t, _)| *t >= 2.0)
+            .map(|(_, y)| y[1])
+            .collect();
+        if !heights.is_empty() {
+            let mean = heights.iter().sum::<f64>() / heights.len() as f64;
+            let var =
+                heights.iter().map(|h| (h - mean).powi(2)).sum::<f64>() / heights.len() as f64;
+            out.push((
+                "ball at rest",
+                "penetration [m]",
+                ball.r - mean,
+                0.0,
+                t.median / 3.0,
+            ));
+            out.push((
+                "ball at rest",
+                "height jitter (std) [m]",
+                var.sqrt(),
+                0.0,
+                t.median / 3.0,
+            ));
+        }
+    }
+    out
+}
+
+fn mujoco_side_by_side(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
+    page.h3("Beside MuJoCo");
+    let path = config.out_dir.join("peers").join("mujoco_contacts.tsv");
+    let Some((version, mj)) = read_mujoco(&path) else {
+        page.para(
+            "MuJoCo was not run in this report (`peers/run.sh` runs `peers/mujoco_contacts.py`; `--no-peers` skips it).",
+        );
+        return;
+    };
+    let ours = ours_on_mujoco_scenes(config.repeats);
+    let find = |scene: &str, setting: &str, quantity: &str| {
+        mj.iter()
+            .find(|r| r.scene == scene && r.setting == setting && r.quantity == quantity)
+    };
+    let show = |x: f64| if x == 0.0 { "0".to_string() } else { sci(x) };
+    let mut rows = Vec::new();
+    for (scene, quantity, value, exact, cost) in &ours {
+        let mj_cell = |setting: &str| match find(scene, setting, quantity) {
+            Some(r) => (show(r.value), sci(r.cost)),
+            None => ("—".to_string(), "—".to_string()),
+        };
+        let (d, dc) = mj_cell("default");
+        let (st, sc) = mj_cell("stiff");
+        rows.push(vec![
+            format!("{scene}: {quantity}"),
+            show(*exact),
+            show(*value),
+            sci(*cost),
+            d,
+            dc,
+            st,
+            sc,
+        ]);
+        if let (Some(dr), Some(sr)) = (
+            find(scene, "default", quantity),
+            find(scene, "stiff", quantity),
+        ) {
+            summary.push(format!(
+                "Contacts beside MuJoCo, {scene}, {quantity}: closed form {}, ours {}, MuJoCo {} (default) and {} (stiffest)",
+                show(*exact),
+                show(*value),
+                show(dr.value),
+                show(sr.value)
+            ));
+        }
+    }
+    page.para(&format!(
+        "{version} (`peers/mujoco_contacts.py`) on the same scenes in 3-D: the box 0.4 × 0.2 m (0.1 m deep), the ball \
+         of radius 0.1 m, friction and restitution as ours. Default: MuJoCo's defaults (timestep 2 ms, solref 0.02 1, \
+         pyramidal cone). Stiffest: timestep 0.2 ms, solref 0.0004 1, solimp 0.99 0.999 0.0001, elliptic cone, \
+         impratio 10. Restitution is asked of MuJoCo through solref's negative (stiffness, damping) form, with the \
+         damping that gives e = 0.5 for a linear spring-damper. Ours: event-driven DOPRI5 at the default rtol 1e-6. \
+         Cost = run time per simulated second (one run for MuJoCo, median for ours)."
+    ));
+    page.table(
+        &[
+            "scene: quantity",
+            "closed form",
+            "ours",
+            "ours [s / s]",
+            "MuJoCo default",
+            "[s / s]",
+            "MuJoCo stiffest",
+            "[s / s]",
+        ],
+        &rows,
+    );
 }

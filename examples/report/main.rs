@@ -104,12 +104,12 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
         let _ = peers::diffsol(config);
         log("the diffsol peer built and run", since);
     }
-    // Pinocchio, SciPy, SymPy and IDA: the peer script runs here, before the sections
+    // Pinocchio, SciPy, SymPy, IDA and MuJoCo: the peer script runs here, before the sections
     // that time the peers' programs beside ours or read their results (URDF robots,
-    // planar chains, CPU flags, closed loops, the peers' section). It needs the scene models and the URDF
+    // planar chains, CPU flags, closed loops, contacts, the peers' section). It needs the scene models and the URDF
     // robots' states, written first (the URDF section's export; its page is discarded).
     let peer_script = if config.peers
-        && ["kernels", "chains", "urdf", "flags", "loops"]
+        && ["kernels", "chains", "urdf", "flags", "loops", "contacts"]
             .iter()
             .any(|s| config.runs(s))
     {

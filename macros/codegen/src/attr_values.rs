@@ -1,6 +1,7 @@
 //! Values that several attribute families are read with: vectors, placements
 //! (`origin`/`rpy`), joint kinds and axes, a joint's `parent` and `child`. Below
-//! [`crate::validate`], [`crate::loops`] and [`crate::point_springs`], which all use them.
+//! [`crate::validate`], [`crate::loops`], [`crate::point_springs`] and [`crate::contacts`],
+//! which all use them; and the refusal of a family on trees with spherical or free joints.
 
 use syn::{Expr, Ident};
 
@@ -205,4 +206,22 @@ pub(crate) fn axis(e: &Expr, diag: &mut Diagnostics) -> Option<[f64; 3]> {
         return None;
     }
     Some([v[0] / n, v[1] / n, v[2] / n])
+}
+
+/// Refuses every attribute of `raws`, a family not supported yet on trees with
+/// spherical or free joints, when `links` has one: one error per attribute at its name,
+/// `message(name, joint)` naming the first such joint. Returns whether it refused.
+pub(crate) fn refuse_on_lie_tree(
+    raws: &[RawAttr],
+    links: &[Link],
+    message: impl Fn(&Ident, &str) -> String,
+    diag: &mut Diagnostics,
+) -> bool {
+    let Some(l) = links.iter().find(|l| l.kind.is_lie()) else {
+        return false;
+    };
+    for name in raws.iter().filter_map(|r| r.name.as_ref()) {
+        diag.error_at(name, message(name, &l.joint_name.to_string()));
+    }
+    !raws.is_empty()
 }

@@ -17,7 +17,7 @@
 
 use syn::{Expr, Ident};
 
-use crate::attr_values::{axis, link_list, placement, vec3, zero3};
+use crate::attr_values::{axis, link_list, placement, refuse_on_lie_tree, vec3, zero3};
 use crate::diag::Diagnostics;
 use crate::model::{Contact, Link, PExpr};
 use crate::parse::expr::lower;
@@ -45,22 +45,14 @@ pub fn read(
     diag: &mut Diagnostics,
 ) -> Vec<Contact> {
     let mut out: Vec<Contact> = Vec::new();
-    if !raws.is_empty()
-        && let Some(l) = links.iter().find(|l| l.kind.is_lie())
-    {
-        for raw in &raws {
-            if let Some(name) = &raw.name {
-                diag.error_at(
-                    name,
-                    format_args!(
-                        "contacts are not supported yet in scenes with spherical or free joints (joint `{}`); \
-                         build the tree from revolute and prismatic joints (a planar body free in the plane is \
-                         `x: prismatic(x)`, `y: prismatic(y)`, `angle: revolute(z)`)",
-                        l.joint_name
-                    ),
-                );
-            }
-        }
+    let lie = |_: &Ident, joint: &str| {
+        format!(
+            "contacts are not supported yet in scenes with spherical or free joints (joint `{joint}`); \
+             build the tree from revolute and prismatic joints (a planar body free in the plane is \
+             `x: prismatic(x)`, `y: prismatic(y)`, `angle: revolute(z)`)"
+        )
+    };
+    if refuse_on_lie_tree(&raws, links, lie, diag) {
         return out;
     }
     let body_of = |i: &Ident| links.iter().position(|l| i == &l.name);

@@ -16,7 +16,9 @@
 
 use syn::Ident;
 
-use crate::attr_values::{joint_kind, link_list, placement, placement_at, take_child, take_parent};
+use crate::attr_values::{
+    joint_kind, link_list, placement, placement_at, refuse_on_lie_tree, take_child, take_parent,
+};
 use crate::diag::Diagnostics;
 use crate::model::{JointKind, Link, LoopJoint};
 use crate::parse::RawAttr;
@@ -41,22 +43,14 @@ pub fn read(
     diag: &mut Diagnostics,
 ) -> Vec<LoopJoint> {
     let mut out: Vec<LoopJoint> = Vec::new();
-    if !raws.is_empty()
-        && let Some(l) = links.iter().find(|l| l.kind.is_lie())
-    {
-        for raw in &raws {
-            if let Some(name) = &raw.name {
-                diag.error_at(
-                    name,
-                    format_args!(
-                        "loop joints are not supported yet in scenes with spherical or free tree joints (joint `{}`); \
-                         build the tree from revolute and prismatic joints (a ball joint that closes the loop is fine: \
-                         `{name}: spherical`)",
-                        l.joint_name
-                    ),
-                );
-            }
-        }
+    let lie = |name: &Ident, joint: &str| {
+        format!(
+            "loop joints are not supported yet in scenes with spherical or free tree joints (joint `{joint}`); \
+             build the tree from revolute and prismatic joints (a ball joint that closes the loop is fine: \
+             `{name}: spherical`)"
+        )
+    };
+    if refuse_on_lie_tree(&raws, links, lie, diag) {
         return out;
     }
     // Bodies by link index.

@@ -3,11 +3,10 @@
 //! the contacts' coefficients.
 
 use proc_macro2::{Literal, TokenStream};
-use quote::{format_ident, quote};
+use quote::quote;
 
-use super::FnStats;
 use super::describe::expr;
-use super::function::{Signature, emit};
+use super::{FnStats, Methods, rect_matrix};
 use crate::mech::Kernels;
 use crate::model::Model;
 use crate::sym::{Id, InputKind};
@@ -24,7 +23,13 @@ pub fn contacts_impl(
     let (n, kc, t) = (k.dof, ck.contacts(), ck.tangents());
     let g = &k.graph;
     let ident = &model.ident;
-    let mut helpers = TokenStream::new();
+    let mut out = Methods {
+        graph: g,
+        params: &model.params,
+        dims: (n, n),
+        stats,
+        helpers: TokenStream::new(),
+    };
     let mut methods = TokenStream::new();
     let mut add = |name: &'static str,
                    inputs: Vec<InputKind>,
@@ -32,36 +37,10 @@ pub fn contacts_impl(
                    outs: &[Id],
                    asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
                    doc: &str| {
-        let sig = Signature {
-            vis: quote!(),
-            elements: 0,
-            name: format_ident!("{}", name),
-            inputs,
-            ret,
-            doc: doc.to_string(),
-        };
-        let e = emit(g, &model.params, (n, n), &sig, outs, asm);
-        stats.push(FnStats {
-            name,
-            ops: g.count_ops(outs),
-            lets: e.lets,
-        });
-        helpers.extend(e.helpers);
-        methods.extend(e.method);
+        methods.extend(out.emit(name, inputs, ret, outs, asm, doc));
     };
     let vector = |m: usize| move |o: Vec<TokenStream>| quote!(::filippov::nalgebra::SVector::<f64, #m>::from([#(#o),*]));
-    let matrix = |m: usize| {
-        move |o: Vec<TokenStream>| {
-            // Row-major entries, column-major arrays.
-            let cols: Vec<TokenStream> = (0..n)
-                .map(|j| {
-                    let col: Vec<&TokenStream> = (0..m).map(|i| &o[i * n + j]).collect();
-                    quote!([#(#col),*])
-                })
-                .collect();
-            quote!(::filippov::nalgebra::SMatrix::<f64, #m, #n>::from([#(#cols),*]))
-        }
-    };
+    let matrix = |m: usize| move |o: Vec<TokenStream>| rect_matrix(o, m, n);
     add(
         "contact_gaps",
         vec![InputKind::Q],
@@ -130,5 +109,5 @@ pub fn contacts_impl(
             #methods
         }
     };
-    (code, helpers)
+    (code, out.helpers)
 }

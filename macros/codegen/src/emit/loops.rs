@@ -2,10 +2,9 @@
 //! ([`crate::mech::loops`]), each one straight-line method.
 
 use proc_macro2::{Literal, TokenStream};
-use quote::{format_ident, quote};
+use quote::quote;
 
-use super::FnStats;
-use super::function::{Signature, emit};
+use super::{FnStats, Methods, rect_matrix};
 use crate::mech::Kernels;
 use crate::model::Model;
 use crate::sym::InputKind;
@@ -23,7 +22,13 @@ pub fn loops_impl(
     let (n, m) = (k.dof, lk.rows());
     let g = &k.graph;
     let ident = &model.ident;
-    let mut helpers = TokenStream::new();
+    let mut out = Methods {
+        graph: g,
+        params: &model.params,
+        dims: (n, n),
+        stats,
+        helpers: TokenStream::new(),
+    };
     let mut methods = TokenStream::new();
     let mut add = |name: &'static str,
                    inputs: Vec<InputKind>,
@@ -31,22 +36,7 @@ pub fn loops_impl(
                    outs: &[crate::sym::Id],
                    asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
                    doc: &str| {
-        let sig = Signature {
-            vis: quote!(),
-            elements: 0,
-            name: format_ident!("{}", name),
-            inputs,
-            ret,
-            doc: doc.to_string(),
-        };
-        let e = emit(g, &model.params, (n, n), &sig, outs, asm);
-        stats.push(FnStats {
-            name,
-            ops: g.count_ops(outs),
-            lets: e.lets,
-        });
-        helpers.extend(e.helpers);
-        methods.extend(e.method);
+        methods.extend(out.emit(name, inputs, ret, outs, asm, doc));
     };
     let vec_m =
         |o: Vec<TokenStream>| quote!(::filippov::nalgebra::SVector::<f64, #m>::from([#(#o),*]));
@@ -63,16 +53,7 @@ pub fn loops_impl(
         vec![InputKind::Q],
         quote!(::filippov::nalgebra::SMatrix<f64, #m, #n>),
         &lk.jacobian,
-        &|o: Vec<TokenStream>| {
-            // Row-major entries, column-major arrays.
-            let cols: Vec<TokenStream> = (0..n)
-                .map(|j| {
-                    let col: Vec<&TokenStream> = (0..m).map(|i| &o[i * n + j]).collect();
-                    quote!([#(#col),*])
-                })
-                .collect();
-            quote!(::filippov::nalgebra::SMatrix::<f64, #m, #n>::from([#(#cols),*]))
-        },
+        &|o: Vec<TokenStream>| rect_matrix(o, m, n),
         " The constraint Jacobian `G(q) = ∂Φ/∂q`.",
     );
     add(
@@ -107,5 +88,5 @@ pub fn loops_impl(
             #methods
         }
     };
-    (code, helpers)
+    (code, out.helpers)
 }

@@ -30,6 +30,59 @@ pub(crate) fn vector(outs: Vec<TokenStream>, n: usize) -> TokenStream {
     quote!(::filippov::nalgebra::SVector::<f64, #n>::from([#(#outs),*]))
 }
 
+/// Column-major assembly of a row-major `rows × cols` list of entries.
+pub(crate) fn rect_matrix(outs: Vec<TokenStream>, rows: usize, cols: usize) -> TokenStream {
+    let columns: Vec<TokenStream> = (0..cols)
+        .map(|j| {
+            let col: Vec<&TokenStream> = (0..rows).map(|i| &outs[i * cols + j]).collect();
+            quote!([#(#col),*])
+        })
+        .collect();
+    quote!(::filippov::nalgebra::SMatrix::<f64, #rows, #cols>::from([#(#columns),*]))
+}
+
+/// The methods of one emitted impl, each a straight-line function of the scene's
+/// graph: their code, the helpers they share, and their statistics.
+pub(crate) struct Methods<'a> {
+    pub graph: &'a crate::sym::Graph,
+    pub params: &'a [proc_macro2::Ident],
+    /// `(n, nq)`: velocity and configuration dimensions.
+    pub dims: (usize, usize),
+    pub stats: &'a mut Vec<FnStats>,
+    pub helpers: TokenStream,
+}
+
+impl Methods<'_> {
+    /// Emits method `name` with `inputs`, returning `ret` assembled from `outs` by `asm`;
+    /// returns its code.
+    pub fn emit(
+        &mut self,
+        name: &'static str,
+        inputs: Vec<InputKind>,
+        ret: TokenStream,
+        outs: &[Id],
+        asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
+        doc: &str,
+    ) -> TokenStream {
+        let sig = Signature {
+            vis: quote!(),
+            elements: 0,
+            name: format_ident!("{}", name),
+            inputs,
+            ret,
+            doc: doc.to_string(),
+        };
+        let e = emit(self.graph, self.params, self.dims, &sig, outs, asm);
+        self.stats.push(FnStats {
+            name,
+            ops: self.graph.count_ops(outs),
+            lets: e.lets,
+        });
+        self.helpers.extend(e.helpers);
+        e.method
+    }
+}
+
 /// Column-major assembly of a row-major list of entries.
 pub(crate) fn matrix(outs: Vec<TokenStream>, n: usize) -> TokenStream {
     let cols: Vec<TokenStream> = (0..n)

@@ -493,15 +493,14 @@ fn arm_level<S, I: ?Sized, const N: usize, const K: usize, const T: usize>(
     options.atol
 }
 
-/// Appends the row of `(t, y)` in the current modes: the state, then the forces.
-fn push<S, I, const N: usize, const K: usize, const T: usize>(
+/// The row of `(t, y)` in the current modes: the state, then the contacts' normal and
+/// tangential forces; and its derivative (the forces' stored as zero).
+fn row_of<S, I, const N: usize, const K: usize, const T: usize>(
     sys: &InMode<'_, S, I, N, K, T>,
-    sol: &mut Solution,
     t: f64,
     y: &[f64],
-    dense: Option<&crate::method::DenseStep>,
-    keep: Keep,
-) where
+) -> (Vec<f64>, Vec<f64>)
+where
     S: Mechanism<N> + Contacts<N, K, T>,
     I: Input<N> + ?Sized,
 {
@@ -518,6 +517,22 @@ fn push<S, I, const N: usize, const K: usize, const T: usize>(
     row.extend_from_slice(&tangential);
     let mut dy: Vec<f64> = v.iter().chain(d.a.iter()).copied().collect();
     dy.resize(row.len(), 0.0);
+    (row, dy)
+}
+
+/// Appends the row of `(t, y)` after a step (see [`row_of`]).
+fn push<S, I, const N: usize, const K: usize, const T: usize>(
+    sys: &InMode<'_, S, I, N, K, T>,
+    sol: &mut Solution,
+    t: f64,
+    y: &[f64],
+    dense: Option<&crate::method::DenseStep>,
+    keep: Keep,
+) where
+    S: Mechanism<N> + Contacts<N, K, T>,
+    I: Input<N> + ?Sized,
+{
+    let (row, dy) = row_of(sys, t, y);
     sol.push_step(t, &row, &dy, dense, keep);
 }
 
@@ -531,19 +546,7 @@ fn jump_row<S, I, const N: usize, const K: usize, const T: usize>(
     S: Mechanism<N> + Contacts<N, K, T>,
     I: Input<N> + ?Sized,
 {
-    let (q, v) = InMode::<S, I, N, K, T>::split(y);
-    let d = sys.dynamics(t, &q, &v);
-    let mut row = y.to_vec();
-    row.extend_from_slice(&d.normal);
-    let mut tangential = [0.0; T];
-    for k in 0..K {
-        if let Some(r) = sys.tangent[k] {
-            tangential[r] = d.tangent[k];
-        }
-    }
-    row.extend_from_slice(&tangential);
-    let mut dy: Vec<f64> = v.iter().chain(d.a.iter()).copied().collect();
-    dy.resize(row.len(), 0.0);
+    let (row, dy) = row_of(sys, t, y);
     sol.push_jump(t, &row, &dy);
 }
 

@@ -408,21 +408,7 @@ where
 
     fn validate(&self, problem: &NonSmoothProblem<N>) -> Result<(), String> {
         self.options.validate()?;
-        if !problem.t0.is_finite() || !problem.tf.is_finite() || problem.tf < problem.t0 {
-            return Err(format!(
-                "need finite t0 ≤ tf (t0 = {}, tf = {})",
-                problem.t0, problem.tf
-            ));
-        }
-        if let Some(i) = problem
-            .q0
-            .iter()
-            .chain(problem.v0.iter())
-            .position(|x| !x.is_finite())
-        {
-            let name = &crate::system::state_names(&S::JOINTS)[i];
-            return Err(format!("initial state `{name}` is not finite"));
-        }
+        problem.check_span_and_start(&S::JOINTS)?;
         if !problem.forces0.is_empty() && problem.forces0.len() != self.elements.len() {
             return Err(format!(
                 "forces0 has {} entries for {} elements",

@@ -30,6 +30,27 @@ pub struct NonSmoothProblem<const N: usize> {
 }
 
 impl<const N: usize> NonSmoothProblem<N> {
+    /// A finite time span `t0 ≤ tf` and a finite start, the coordinate that is not named
+    /// by its state column (`joints` the scene's joint names).
+    pub(crate) fn check_span_and_start(&self, joints: &[&str]) -> Result<(), String> {
+        if !self.t0.is_finite() || !self.tf.is_finite() || self.tf < self.t0 {
+            return Err(format!(
+                "need finite t0 ≤ tf (t0 = {}, tf = {})",
+                self.t0, self.tf
+            ));
+        }
+        if let Some(i) = self
+            .q0
+            .iter()
+            .chain(self.v0.iter())
+            .position(|x| !x.is_finite())
+        {
+            let name = &crate::system::state_names(joints)[i];
+            return Err(format!("initial state `{name}` is not finite"));
+        }
+        Ok(())
+    }
+
     pub fn new(t0: f64, tf: f64, q0: SVector<f64, N>, v0: SVector<f64, N>) -> Self {
         NonSmoothProblem {
             t0,

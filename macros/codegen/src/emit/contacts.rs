@@ -9,7 +9,7 @@ use super::describe::expr;
 use super::{FnStats, Methods, rect_matrix};
 use crate::mech::Kernels;
 use crate::model::Model;
-use crate::sym::{Id, InputKind};
+use crate::sym::InputKind;
 
 /// `impl Contacts<N, K, T>`, or nothing for a scene without contacts.
 pub fn contacts_impl(
@@ -29,19 +29,11 @@ pub fn contacts_impl(
         dims: (n, n),
         stats,
         helpers: TokenStream::new(),
-    };
-    let mut methods = TokenStream::new();
-    let mut add = |name: &'static str,
-                   inputs: Vec<InputKind>,
-                   ret: TokenStream,
-                   outs: &[Id],
-                   asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
-                   doc: &str| {
-        methods.extend(out.emit(name, inputs, ret, outs, asm, doc));
+        methods: TokenStream::new(),
     };
     let vector = |m: usize| move |o: Vec<TokenStream>| quote!(::filippov::nalgebra::SVector::<f64, #m>::from([#(#o),*]));
     let matrix = |m: usize| move |o: Vec<TokenStream>| rect_matrix(o, m, n);
-    add(
+    out.add(
         "contact_gaps",
         vec![InputKind::Q],
         quote!(::filippov::nalgebra::SVector<f64, #kc>),
@@ -49,7 +41,7 @@ pub fn contacts_impl(
         &vector(kc),
         " The contacts' gaps `g_N(q)` (positive apart, negative in penetration).",
     );
-    add(
+    out.add(
         "contact_normal_jacobian",
         vec![InputKind::Q],
         quote!(::filippov::nalgebra::SMatrix<f64, #kc, #n>),
@@ -57,7 +49,7 @@ pub fn contacts_impl(
         &matrix(kc),
         " `W_N(q) = ∂g_N/∂q`: the normal velocities are `W_N v`.",
     );
-    add(
+    out.add(
         "contact_normal_gamma",
         vec![InputKind::Q, InputKind::V],
         quote!(::filippov::nalgebra::SVector<f64, #kc>),
@@ -65,7 +57,7 @@ pub fn contacts_impl(
         &vector(kc),
         " `γ_N = −Ẇ_N v`: the normal accelerations are `W_N v̇ − γ_N`.",
     );
-    add(
+    out.add(
         "contact_tangent_jacobian",
         vec![InputKind::Q],
         quote!(::filippov::nalgebra::SMatrix<f64, #t, #n>),
@@ -73,7 +65,7 @@ pub fn contacts_impl(
         &matrix(t),
         " `W_T(q)`: the contact points' relative velocities along the planes' tangents are `W_T v`.",
     );
-    add(
+    out.add(
         "contact_tangent_gamma",
         vec![InputKind::Q, InputKind::V],
         quote!(::filippov::nalgebra::SVector<f64, #t>),
@@ -95,6 +87,7 @@ pub fn contacts_impl(
         .map(|s| Literal::string(s))
         .collect();
     let of = &ck.tangent_of;
+    let methods = &out.methods;
     let code = quote! {
         impl ::filippov::runtime::contacts::Contacts<#n, #kc, #t> for #ident {
             const CONTACTS: [&'static str; #kc] = [#(#names),*];

@@ -28,19 +28,11 @@ pub fn loops_impl(
         dims: (n, n),
         stats,
         helpers: TokenStream::new(),
-    };
-    let mut methods = TokenStream::new();
-    let mut add = |name: &'static str,
-                   inputs: Vec<InputKind>,
-                   ret: TokenStream,
-                   outs: &[crate::sym::Id],
-                   asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
-                   doc: &str| {
-        methods.extend(out.emit(name, inputs, ret, outs, asm, doc));
+        methods: TokenStream::new(),
     };
     let vec_m =
         |o: Vec<TokenStream>| quote!(::filippov::nalgebra::SVector::<f64, #m>::from([#(#o),*]));
-    add(
+    out.add(
         "constraint_residual",
         vec![InputKind::Q],
         quote!(::filippov::nalgebra::SVector<f64, #m>),
@@ -48,7 +40,7 @@ pub fn loops_impl(
         &vec_m,
         " The loop joints' constraint residual `Φ(q)`.",
     );
-    add(
+    out.add(
         "constraint_jacobian",
         vec![InputKind::Q],
         quote!(::filippov::nalgebra::SMatrix<f64, #m, #n>),
@@ -56,7 +48,7 @@ pub fn loops_impl(
         &|o: Vec<TokenStream>| rect_matrix(o, m, n),
         " The constraint Jacobian `G(q) = ∂Φ/∂q`.",
     );
-    add(
+    out.add(
         "constraint_gamma",
         vec![InputKind::Q, InputKind::V],
         quote!(::filippov::nalgebra::SVector<f64, #m>),
@@ -66,7 +58,7 @@ pub fn loops_impl(
     );
     let mut outs = k.forward.clone();
     outs.extend(lo.lambda.iter().copied());
-    add(
+    out.add(
         "constrained_forward_dynamics",
         vec![InputKind::Q, InputKind::V, InputKind::Tau],
         quote!((::filippov::nalgebra::SVector<f64, #n>, ::filippov::nalgebra::SVector<f64, #m>)),
@@ -82,6 +74,7 @@ pub fn loops_impl(
          `M v̇ = τ + τ_p − C v − g + Gᵀ λ` with `G v̇ = γ`.",
     );
     let names: Vec<Literal> = lk.names.iter().map(|s| Literal::string(s)).collect();
+    let methods = &out.methods;
     let code = quote! {
         impl ::filippov::runtime::loops::LoopConstraints<#n, #m> for #ident {
             const CONSTRAINTS: [&'static str; #m] = [#(#names),*];

@@ -50,9 +50,25 @@ pub(crate) struct Methods<'a> {
     pub dims: (usize, usize),
     pub stats: &'a mut Vec<FnStats>,
     pub helpers: TokenStream,
+    /// The methods [`add`](Self::add)ed so far.
+    pub methods: TokenStream,
 }
 
 impl Methods<'_> {
+    /// As [`emit`](Self::emit), the method kept in [`methods`](Self::methods).
+    pub fn add(
+        &mut self,
+        name: &'static str,
+        inputs: Vec<InputKind>,
+        ret: TokenStream,
+        outs: &[Id],
+        asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
+        doc: &str,
+    ) {
+        let method = self.emit(name, inputs, ret, outs, asm, doc);
+        self.methods.extend(method);
+    }
+
     /// Emits method `name` with `inputs`, returning `ret` assembled from `outs` by `asm`;
     /// returns its code.
     pub fn emit(
@@ -83,15 +99,9 @@ impl Methods<'_> {
     }
 }
 
-/// Column-major assembly of a row-major list of entries.
+/// Column-major assembly of a row-major `n × n` list of entries.
 pub(crate) fn matrix(outs: Vec<TokenStream>, n: usize) -> TokenStream {
-    let cols: Vec<TokenStream> = (0..n)
-        .map(|j| {
-            let col: Vec<&TokenStream> = (0..n).map(|i| &outs[i * n + j]).collect();
-            quote!([#(#col),*])
-        })
-        .collect();
-    quote!(::filippov::nalgebra::SMatrix::<f64, #n, #n>::from([#(#cols),*]))
+    rect_matrix(outs, n, n)
 }
 
 pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>) {

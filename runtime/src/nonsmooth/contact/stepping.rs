@@ -59,20 +59,7 @@ pub(crate) fn check<S, const N: usize, const K: usize, const T: usize>(
 where
     S: Mechanism<N> + Contacts<N, K, T>,
 {
-    if !(problem.t0.is_finite() && problem.tf.is_finite() && problem.t0 <= problem.tf) {
-        return Err(format!(
-            "need finite t0 ≤ tf (t0 = {}, tf = {})",
-            problem.t0, problem.tf
-        ));
-    }
-    if let Some(i) = problem
-        .q0
-        .iter()
-        .chain(problem.v0.iter())
-        .position(|x| !x.is_finite())
-    {
-        return Err(format!("the start's component {i} is not finite"));
-    }
+    problem.check_span_and_start(&S::JOINTS)?;
     scene.validate().map_err(|e| e.to_string())?;
     if let Some(k) = (0..K).find(|&k| S::TANGENT_OF.iter().filter(|&&c| c == k).count() > 1) {
         return Err(format!(

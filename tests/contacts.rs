@@ -234,7 +234,7 @@ fn planar_contacts_keep_one_tangent_and_match_closed_forms() {
     for _ in 0..20 {
         let q: SVector<f64, 3> = rng.vector(1.0);
         let v: SVector<f64, 3> = rng.vector(2.0);
-        let (x, y, th) = (q[0], q[1], q[2]);
+        let (y, th) = (q[1], q[2]);
         let (c, sn) = (th.cos(), th.sin());
         let gaps = s.contact_gaps(&q);
         // A corner (±a, −b) of the box: height y ± a sin θ − b cos θ.
@@ -266,7 +266,6 @@ fn planar_contacts_keep_one_tangent_and_match_closed_forms() {
             0.0,
             "rolling on a plane: no γ_T"
         );
-        let _ = x;
     }
     eprintln!("planar closed forms within {worst:.1e}");
     assert!(worst < 1e-13, "{worst:e}");
@@ -313,7 +312,6 @@ mod planar {
 
 mod stepping {
     use super::planar::{V3, no_input, resting};
-    use filippov::prelude::*;
     use filippov::runtime::contacts::Contacts;
     use filippov::runtime::{NonSmoothProblem, contact_time_stepping};
     use filippov::scenes::{SlidingBox, SpinningBall};

@@ -372,7 +372,8 @@ where
                 }
                 let g1 = sys.switching(t1, stepper.y());
                 for k in 0..K {
-                    if !armed[k] && g1[k] > arm_level(&sys, k, &options) {
+                    // A function is armed again once it exceeds the absolute tolerance.
+                    if !armed[k] && g1[k] > options.atol {
                         armed[k] = true;
                     }
                 }
@@ -401,7 +402,7 @@ where
                             continue;
                         }
                     }
-                    let level = arm_level(&sys, k, &options);
+                    let level = options.atol;
                     let above = (1..SAMPLES).rev().find_map(|j| {
                         let s = t0 + (t1 - t0) * j as f64 / SAMPLES as f64;
                         dense.eval(s, &mut buf);
@@ -481,17 +482,6 @@ where
 /// Inner samples of a step's dense output searched for a switching function that left
 /// its level and came back within the step.
 const SAMPLES: usize = 8;
-
-/// The level a switching function must exceed to be armed again after a switch: the
-/// tolerance of what it measures.
-fn arm_level<S, I: ?Sized, const N: usize, const K: usize, const T: usize>(
-    sys: &InMode<'_, S, I, N, K, T>,
-    k: usize,
-    options: &crate::Options,
-) -> f64 {
-    let _ = (sys, k);
-    options.atol
-}
 
 /// The row of `(t, y)` in the current modes: the state, then the contacts' normal and
 /// tangential forces; and its derivative (the forces' stored as zero).
@@ -870,7 +860,6 @@ where
         })
         .map(|k| t + 0.5 * vn[k] / -acc[k])
         .fold(f64::INFINITY, f64::min);
-    let _ = (&settled, &pressing);
     Ok(if hold.is_finite() { hold } else { t })
 }
 

@@ -822,3 +822,194 @@ mod event_driven {
         }
     }
 }
+
+/// Spatial contacts (two tangent rows each) by time-stepping on the isotropic cone.
+mod spatial {
+    use filippov::prelude::*;
+    use filippov::runtime::contacts::Contacts;
+    use filippov::runtime::{
+        Method, NonSmoothProblem, Options, contact_event_driven, contact_time_stepping,
+    };
+    use filippov::scenes::{Puck, Table};
+
+    type V3 = SVector<f64, 3>;
+    type V6 = SVector<f64, 6>;
+
+    fn free3(_: f64, _: &V3, _: &V3) -> V3 {
+        V3::zeros()
+    }
+
+    fn free6(_: f64, _: &V6, _: &V6) -> V6 {
+        V6::zeros()
+    }
+
+    /// The table standing on its ground (tilted by φ about x): centre `d` along the
+    /// plane's normal, rolled by φ.
+    fn standing(s: &Table) -> V6 {
+        V6::from([0.0, -s.d * s.phi.sin(), s.d * s.phi.cos(), 0.0, 0.0, s.phi])
+    }
+
+    /// On level ground a puck launched at `v0` in any direction slides straight to rest:
+    /// the friction impulse opposes the velocity whatever its direction (a pyramid would
+    /// bend the path off the diagonals), each step taking `μ g h` off the speed, so it
+    /// stops at `v0 / (μ g)` after `v0² / (2 μ g)`.
+    #[test]
+    fn puck_slides_straight_to_rest_in_every_direction() {
+        let s = Puck::default();
+        let (v0, h) = (1.5, 1e-3);
+        let (t_stop, distance) = (v0 / (s.mu * s.g), v0 * v0 / (2.0 * s.mu * s.g));
+        for k in 0..12 {
+            let theta = 0.37 + k as f64 * std::f64::consts::TAU / 12.0;
+            let (c, sn) = (theta.cos(), theta.sin());
+            let p = NonSmoothProblem::new(0.0, 1.0, V3::zeros(), V3::from([v0 * c, v0 * sn, 0.0]));
+            let sol = contact_time_stepping(&s, &free3, &p, h).unwrap_or_else(|e| panic!("{e}"));
+            let stopped = sol
+                .rows()
+                .find(|(_, y)| y[3] == 0.0 && y[4] == 0.0)
+                .map(|(t, _)| t)
+                .expect("it stops");
+            let (_, last) = sol.last().unwrap();
+            let along = last[0] * c + last[1] * sn;
+            let across = -last[0] * sn + last[1] * c;
+            assert!((stopped - t_stop).abs() <= 1.01 * h, "{theta}: {stopped}");
+            assert!((along - distance).abs() <= 1.01 * v0 * h, "{theta}: {along}");
+            assert!(across.abs() < 1e-12, "{theta}: off the line by {across:e}");
+            assert!(sol.rows().all(|(_, y)| y[2] == 0.0 && y[5] == 0.0));
+            assert!(sol.stats.contact_residual <= 1e-12, "{}", sol.stats);
+        }
+    }
+
+    /// On an incline with `μ = tan φ`, launched horizontally across it at `v0`: gravity
+    /// along the slope and friction balance, so the acceleration is
+    /// `g sin φ (d − v/|v|)` (`d` downhill) and `v·d + |v|` keeps its start `v0` — the
+    /// speed tends to `v0/2`, the path turning downhill. Time-stepping keeps the
+    /// invariant to first order in `h`.
+    #[test]
+    fn puck_across_an_incline_at_its_friction_angle_keeps_its_invariant() {
+        let phi: f64 = 0.3;
+        let s = Puck {
+            phi,
+            mu: phi.tan(),
+            ..Puck::default()
+        };
+        let v0 = 2.0;
+        let downhill = V3::from([0.0, -phi.cos(), -phi.sin()]);
+        let mut worst = Vec::new();
+        for h in [1e-3, 1e-4] {
+            let p = NonSmoothProblem::new(0.0, 3.0, V3::zeros(), V3::from([v0, 0.0, 0.0]));
+            let sol = contact_time_stepping(&s, &free3, &p, h).unwrap_or_else(|e| panic!("{e}"));
+            let mut w = 0.0f64;
+            for (_, y) in sol.rows() {
+                let v = V3::from([y[3], y[4], y[5]]);
+                let q = V3::from([y[0], y[1], y[2]]);
+                w = w.max((v.dot(&downhill) + v.norm() - v0).abs());
+                // On the plane, moving along it.
+                let normal = V3::from([0.0, -phi.sin(), phi.cos()]);
+                assert!(q.dot(&normal).abs() < 1e-12 && v.dot(&normal).abs() < 1e-12);
+            }
+            let (_, last) = sol.last().unwrap();
+            let speed = V3::from([last[3], last[4], last[5]]).norm();
+            eprintln!("h = {h}: v·d + |v| within {w:.2e} of v0; speed at 3 s {speed:.4} (→ {})", v0 / 2.0);
+            assert!(speed > 0.5 * v0 - w && speed < 0.6 * v0, "{speed}");
+            worst.push(w);
+        }
+        assert!(worst[1] < 0.15 * worst[0], "first order: {worst:?}");
+        assert!(worst[1] < 1e-3 * v0, "{worst:?}");
+    }
+
+    /// Below its friction angle the table stands still, bit for bit, for 10⁴ s, its legs
+    /// carrying its weight: normal forces summing to `m g cos φ`, friction to
+    /// `m g sin φ`, each inside its cone.
+    #[test]
+    fn table_on_an_incline_below_its_friction_angle_does_not_move() {
+        let s = Table {
+            phi: 0.3,
+            ..Table::default()
+        };
+        assert!(s.phi.tan() < s.mu);
+        let q0 = standing(&s);
+        assert!(s.contact_gaps(&q0).amax() < 1e-15);
+        let p = NonSmoothProblem::new(0.0, 1e4, q0, V6::zeros());
+        let sol = contact_time_stepping(&s, &free6, &p, 0.1).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(sol.len(), 100_001);
+        for (t, y) in sol.rows() {
+            assert_eq!(&y[..6], q0.as_slice(), "t = {t}");
+            assert!(y[6..12].iter().all(|&x| x == 0.0), "t = {t}");
+        }
+        let (_, last) = sol.last().unwrap();
+        let col = |name: &str| last[sol.column_index(name).unwrap()];
+        let (mut normal, mut along) = (0.0, [0.0; 2]);
+        for leg in Table::CONTACTS {
+            let n = col(&format!("λ_{leg}.n"));
+            let t = [col(&format!("λ_{leg}.x")), col(&format!("λ_{leg}.y"))];
+            assert!(n > 0.0 && t[0].hypot(t[1]) < s.mu * n, "{leg}: {n} {t:?}");
+            normal += n;
+            along[0] += t[0];
+            along[1] += t[1];
+        }
+        let weight = s.m * s.g;
+        assert!((normal - weight * s.phi.cos()).abs() < 1e-9, "{normal}");
+        assert!(along[0].abs() < 1e-9 && (along[1] - weight * s.phi.sin()).abs() < 1e-9);
+    }
+
+    /// Launched sliding and spinning on level ground, the table loses energy at every
+    /// step, never sinks into the ground, keeps each leg's friction on its cone's edge
+    /// while it slides, comes to rest exactly, and its resting place converges to first
+    /// order in `h`.
+    #[test]
+    fn sliding_spinning_table_is_passive_and_stops() {
+        let s = Table::default();
+        let v0 = V6::from([1.2, -0.7, 0.0, 4.0, 0.0, 0.0]);
+        let weight = s.m * s.g;
+        let mut rests = Vec::new();
+        for h in [1e-3, 1e-4, 1e-5] {
+            let p = NonSmoothProblem::new(0.0, 1.0, standing(&s), v0);
+            let sol = contact_time_stepping(&s, &free6, &p, h).unwrap_or_else(|e| panic!("{e}"));
+            assert!(sol.stats.contact_residual <= 1e-12, "{}", sol.stats);
+            let mut energy = f64::INFINITY;
+            // The step's rows are taken at its start (Moreau–Jean).
+            let mut q_before = standing(&s);
+            for (t, y) in sol.rows() {
+                let q = V6::from_column_slice(&y[..6]);
+                let v = V6::from_column_slice(&y[6..12]);
+                let e = 0.5 * v.dot(&(s.mass_matrix(&q) * v)) + weight * q[2];
+                assert!(e <= energy * (1.0 + 1e-14), "t = {t}: energy rose {energy} → {e}");
+                energy = e;
+                assert!(s.contact_gaps(&q).min() > -1e-12, "t = {t}: sank");
+                let (n, f) = (y[12..15].iter().sum::<f64>(), y[15..21].chunks(2));
+                // Forces are impulses over h: the solver's relative tolerance on the
+                // velocities (1e-12) over h bounds their error.
+                let tol = 1e-12 * weight / h;
+                if t > 0.0 && v.amax() > 0.0 {
+                    assert!((n - weight).abs() < tol, "t = {t}: {n}");
+                    for (k, leg) in f.enumerate() {
+                        let slip = s.contact_tangent_jacobian(&q_before).rows(2 * k, 2) * v;
+                        if slip.norm() > 1e-9 {
+                            let fk = leg[0].hypot(leg[1]);
+                            assert!((fk - s.mu * y[12 + k]).abs() < tol, "t = {t}: {fk}");
+                        }
+                    }
+                }
+                q_before = q;
+            }
+            let (_, last) = sol.last().unwrap();
+            assert!(last[6..12].iter().all(|&x| x == 0.0), "at rest: {last:?}");
+            eprintln!("h = {h}: rests at {:?}; {}", &last[..6], sol.stats);
+            rests.push(V6::from_column_slice(&last[..6]));
+        }
+        let e1 = (rests[0] - rests[2]).amax();
+        let e2 = (rests[1] - rests[2]).amax();
+        assert!(e2 < 0.2 * e1, "first order: {e1:e}, {e2:e}");
+    }
+
+    /// The event-driven integrator takes planar contacts; a spatial one is refused with
+    /// a message naming it and the way through.
+    #[test]
+    fn event_driven_refuses_spatial_contacts_by_name() {
+        let s = Puck::default();
+        let p = NonSmoothProblem::new(0.0, 1.0, V3::zeros(), V3::zeros());
+        let err = contact_event_driven(&s, &free3, &p, &Method::Dopri5(Options::default())).unwrap_err();
+        let text = err.to_string();
+        assert!(text.contains("`bottom`") && text.contains("contact_time_stepping"), "{text}");
+    }
+}

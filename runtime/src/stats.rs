@@ -36,6 +36,16 @@ pub struct Stats {
     /// stiff support"). Zero where no stop rested.
     #[cfg_attr(feature = "serde", serde(default))]
     pub resting_energy_dropped: f64,
+    /// Time-stepping of spatial contacts: Gauss–Seidel sweeps over the contacts, summed
+    /// over the steps.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub contact_sweeps: usize,
+    /// Time-stepping of spatial contacts: the largest residual the contact problem of any
+    /// step was left with — De Saxcé's natural map in velocity units, relative to the
+    /// step's free contact velocities; `0` where every step solved its cone laws
+    /// exactly, at most the solver's tolerance where each converged.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub contact_residual: f64,
 }
 
 impl fmt::Display for Stats {
@@ -56,6 +66,13 @@ impl fmt::Display for Stats {
                 f,
                 ", events {}, mode changes {}, Zeno spans {} (handed over {})",
                 self.events, self.mode_changes, self.zeno_detected, self.zeno_handovers
+            )?;
+        }
+        if self.contact_sweeps > 0 {
+            write!(
+                f,
+                ", contact sweeps {} (residual {:.1e})",
+                self.contact_sweeps, self.contact_residual
             )?;
         }
         if self.resting_energy_dropped != 0.0 {

@@ -74,3 +74,94 @@ impl Default for SpinningBall {
         }
     }
 }
+
+/// A puck (a point mass `m`) on a plane tilted by `phi` about the world x axis (rising
+/// along +y for `phi > 0`), free to slide in both directions along it and to lift off
+/// (`x`, `y`, `z` along the world axes): one spatial contact, friction on the isotropic
+/// cone `mu`, restitution `e` (theory §8, "Spatial contacts").
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(gravity = [0.0, 0.0, -g])]
+#[body(slider_x, mass = 0.0)]
+#[joint(x: prismatic(x), parent = world, child = slider_x)]
+#[body(slider_y, mass = 0.0)]
+#[joint(y: prismatic(y), parent = slider_x, child = slider_y)]
+#[body(puck, mass = m)]
+#[joint(z: prismatic(z), parent = slider_y, child = puck)]
+#[contact(bottom: point, body = puck, plane = world, rpy = [phi, 0.0, 0.0], normal = z,
+          mu = mu, restitution = e)]
+pub struct Puck {
+    pub m: f64,
+    pub mu: f64,
+    pub e: f64,
+    pub phi: f64,
+    pub g: f64,
+}
+
+impl Default for Puck {
+    /// A 1 kg puck on level ground, `μ = 0.4`, no bounce.
+    fn default() -> Self {
+        Puck {
+            m: 1.0,
+            mu: 0.4,
+            e: 0.0,
+            phi: 0.0,
+            g: 9.81,
+        }
+    }
+}
+
+/// A three-legged table: a slab (mass `m`, side `2 a`, thickness `2 c`) standing on
+/// three point legs at radius `r` around its centre and `d` below it, on ground tilted
+/// by `phi` about the world x axis. Six coordinates: `x`, `y`, `z` of the centre, then
+/// `yaw` (z), `pitch` (y), `roll` (x); three spatial contacts with friction `mu` and
+/// restitution `e` (theory §8, "Spatial contacts").
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(gravity = [0.0, 0.0, -g])]
+#[body(slider_x, mass = 0.0)]
+#[joint(x: prismatic(x), parent = world, child = slider_x)]
+#[body(slider_y, mass = 0.0)]
+#[joint(y: prismatic(y), parent = slider_x, child = slider_y)]
+#[body(slider_z, mass = 0.0)]
+#[joint(z: prismatic(z), parent = slider_y, child = slider_z)]
+#[body(yawed, mass = 0.0)]
+#[joint(yaw: revolute(z), parent = slider_z, child = yawed)]
+#[body(pitched, mass = 0.0)]
+#[joint(pitch: revolute(y), parent = yawed, child = pitched)]
+#[body(slab, mass = m, inertia = cuboid(m, 2.0 * a, 2.0 * a, 2.0 * c))]
+#[joint(roll: revolute(x), parent = pitched, child = slab)]
+#[contact(leg_a: point, body = slab, at = [r, 0.0, -d], plane = world, rpy = [phi, 0.0, 0.0],
+          normal = z, mu = mu, restitution = e)]
+#[contact(leg_b: point, body = slab, at = [-0.5 * r, 0.866_025_403_784_438_6 * r, -d],
+          plane = world, rpy = [phi, 0.0, 0.0], normal = z, mu = mu, restitution = e)]
+#[contact(leg_c: point, body = slab, at = [-0.5 * r, -0.866_025_403_784_438_6 * r, -d],
+          plane = world, rpy = [phi, 0.0, 0.0], normal = z, mu = mu, restitution = e)]
+pub struct Table {
+    pub m: f64,
+    pub a: f64,
+    pub c: f64,
+    pub r: f64,
+    pub d: f64,
+    pub mu: f64,
+    pub e: f64,
+    pub phi: f64,
+    pub g: f64,
+}
+
+impl Default for Table {
+    /// A 4 kg slab 0.6 m square and 0.04 m thick, legs 0.25 m from its centre and 0.15 m
+    /// below it, on level ground, `μ = 0.5`, no bounce. (With legs much longer than
+    /// `r / (2 μ)` the friction's moment tips it onto two legs when it slides.)
+    fn default() -> Self {
+        Table {
+            m: 4.0,
+            a: 0.3,
+            c: 0.02,
+            r: 0.25,
+            d: 0.15,
+            mu: 0.5,
+            e: 0.0,
+            phi: 0.0,
+            g: 9.81,
+        }
+    }
+}

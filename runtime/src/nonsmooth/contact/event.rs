@@ -310,6 +310,15 @@ where
     if let Err(msg) = super::stepping::check::<S, N, K, T>(scene, problem) {
         return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
     }
+    if let Some(k) = super::stepping::spatial_contact::<S, N, K, T>() {
+        let msg = format!(
+            "contact `{}` can slide in two directions (a spatial contact); the event-driven \
+             integrator takes planar contacts (one tangent row each): integrate spatial \
+             contacts with `contact_time_stepping`",
+            S::CONTACTS[k]
+        );
+        return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
+    }
     let mut stepper = method.stepper(2 * N);
     let options = stepper.options();
     let tangent: [Option<usize>; K] =

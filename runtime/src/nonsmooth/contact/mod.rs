@@ -3,6 +3,7 @@
 //! Moreau–Jean time-stepping with it ([`stepping`]), and event-driven integration with
 //! exact switching ([`event`]).
 
+pub(crate) mod cone;
 pub(crate) mod event;
 pub(crate) mod planar;
 pub(crate) mod stepping;

@@ -22,6 +22,7 @@
 
 use nalgebra::{DMatrix, DVector, SVector};
 
+use super::cone::{self, ConeContact};
 use super::planar::{self, Closed, ContactError};
 use crate::contacts::Contacts;
 use crate::element::Mode;
@@ -33,6 +34,17 @@ use crate::{ErrorKind, Keep, Solution, SolveError, Switch, SwitchKind};
 /// Relative size of the smallest singular value of the holding contacts' rows below
 /// which they are taken not to lock every degree of freedom.
 const LOCK_RANK: f64 = 1e-10;
+
+/// Relative tolerance of the spatial contact problem's residual
+/// ([`Stats::contact_residual`](crate::Stats::contact_residual)).
+const CONE_TOLERANCE: f64 = 1e-12;
+
+/// Most Gauss–Seidel sweeps over the contacts per step.
+const CONE_SWEEPS: usize = 5000;
+
+/// A spatial contact's friction impulse counts as strictly inside the cone below
+/// `(1 − CONE_EDGE) μ P_N` (a sliding impulse is on the edge to round-off).
+const CONE_EDGE: f64 = 1e-9;
 
 /// A contact's slip after the step counts as zero below this fraction of the step's
 /// largest velocity component (the contact problem's round-off).
@@ -51,7 +63,7 @@ where
 }
 
 /// What both contact integrators refuse: a time span or start that is not finite,
-/// invalid parameters, spatial contacts.
+/// invalid parameters.
 pub(crate) fn check<S, const N: usize, const K: usize, const T: usize>(
     scene: &S,
     problem: &NonSmoothProblem<N>,
@@ -60,15 +72,25 @@ where
     S: Mechanism<N> + Contacts<N, K, T>,
 {
     problem.check_span_and_start(&S::JOINTS)?;
-    scene.validate().map_err(|e| e.to_string())?;
-    if let Some(k) = (0..K).find(|&k| S::TANGENT_OF.iter().filter(|&&c| c == k).count() > 1) {
-        return Err(format!(
-            "contact `{}` can slide in two directions (a spatial contact); only planar contacts \
-             (one tangent row each) are integrated yet",
-            S::CONTACTS[k]
-        ));
+    scene.validate().map_err(|e| e.to_string())
+}
+
+/// The first contact that can slide in two directions (two tangent rows), if any.
+pub(crate) fn spatial_contact<S, const N: usize, const K: usize, const T: usize>() -> Option<usize>
+where
+    S: Contacts<N, K, T>,
+{
+    (0..K).find(|&k| S::TANGENT_OF.iter().filter(|&&c| c == k).count() > 1)
+}
+
+/// Whether `rows` (constraints `rowᵀ v = 0`) leave no velocity but `0`.
+fn locks<const N: usize>(rows: &[DVector<f64>]) -> bool {
+    if rows.len() < N {
+        return false;
     }
-    Ok(())
+    let m = DMatrix::from_fn(rows.len(), N, |i, j| rows[i][j]);
+    let sv = m.singular_values();
+    sv.min() > LOCK_RANK * sv.max()
 }
 
 /// Integrates `scene` with its contacts by Moreau–Jean time-stepping with step `h`
@@ -101,6 +123,10 @@ where
     let (mu, e) = (scene.contact_friction(), scene.contact_restitution());
     let (mut t, mut q, mut v) = (problem.t0, problem.q0, problem.v0);
     let mut modes = [Mode::Free; K];
+    let spatial = spatial_contact::<S, N, K, T>().is_some();
+    let tangent_rows = |k: usize| (0..T).filter(move |&r| S::TANGENT_OF[r] == k);
+    // The last step's impulses of each contact, to start the next step's solver from.
+    let mut warm: Vec<Vec<f64>> = vec![Vec::new(); K];
     let zero_forces = vec![0.0; K + T];
     let row = |q: &SVector<f64, N>, v: &SVector<f64, N>, f: &[f64]| -> Vec<f64> {
         q.iter().chain(v.iter()).chain(f.iter()).copied().collect()
@@ -163,63 +189,133 @@ where
                 })
                 .collect();
             let v_free_d = DVector::from_iterator(N, v_free.iter().copied());
-            let out = planar::solve(&w, &v_free_d, &closed).map_err(|err| {
-                let names: Vec<String> = active
+            if spatial {
+                let rows_of = |k: usize| -> Vec<DVector<f64>> {
+                    std::iter::once(DVector::from_iterator(N, w_n.row(k).iter().copied()))
+                        .chain(
+                            tangent_rows(k)
+                                .map(|r| DVector::from_iterator(N, w_t.row(r).iter().copied())),
+                        )
+                        .collect()
+                };
+                let cones: Vec<ConeContact> = active
                     .iter()
-                    .map(|&k| format!("`{}`", S::CONTACTS[k]))
+                    .map(|&k| ConeContact {
+                        rows: rows_of(k),
+                        gamma: -e[k] * vn[k].min(0.0),
+                        mu: mu[k],
+                    })
                     .collect();
-                let detail = match err {
-                    ContactError::Painleve { .. } => format!(
-                        "the contact problem of {} has no unique solution (Painlevé)",
-                        names.join(", ")
-                    ),
-                    ContactError::NoSolution => format!(
-                        "the contact problem of {} has no solution",
-                        names.join(", ")
-                    ),
-                };
-                ErrorKind::IllPosedMode { t, detail }
-            });
-            let out = match out {
-                Ok(o) => o,
-                Err(kind) => return Err(SolveError::new(kind, sol)),
-            };
-            v_next = SVector::from_iterator(out.acceleration.iter().copied());
-            // The holding contacts: a normal impulse, no rebound, stuck (no slip beyond
-            // round-off of the step's velocities) inside the cone.
-            let slip_tol = SLIP_ROUND_OFF * v_free.amax().max(v.amax());
-            let mut holding: Vec<DVector<f64>> = Vec::new();
-            for (i, &k) in active.iter().enumerate() {
-                let (pn, pt) = (out.normal[i], out.tangent[i]);
-                forces[k] = pn / hn;
-                if let Some(r) = tangent_row(k) {
-                    forces[K + r] = pt / hn;
-                }
-                let slip = out.tangent_acceleration[i];
-                let stuck = slip.abs() <= slip_tol;
-                new_modes[k] = if pn <= 0.0 {
-                    Mode::Free
-                } else if stuck {
-                    Mode::Stick
-                } else if slip > 0.0 {
-                    Mode::SlipPos(0)
-                } else {
-                    Mode::SlipNeg(0)
-                };
-                if pn > 0.0 && closed[i].gamma_n == 0.0 {
-                    holding.push(closed[i].normal.clone());
-                    if stuck && pt.abs() < mu[k] * pn && tangent_row(k).is_some() {
-                        holding.push(closed[i].tangent.clone());
+                let start: Vec<Vec<f64>> = active.iter().map(|&k| warm[k].clone()).collect();
+                let out =
+                    match cone::solve(&w, &v_free_d, &cones, &start, CONE_TOLERANCE, CONE_SWEEPS) {
+                        Ok(out) => out,
+                        Err(cone::NoLocalSolution { contact }) => {
+                            let detail = format!(
+                                "the contact problem of `{}` has no solution: its friction drives \
+                             it into the plane in every sliding direction",
+                                S::CONTACTS[active[contact]]
+                            );
+                            return Err(SolveError::new(
+                                ErrorKind::IllPosedMode { t, detail },
+                                sol,
+                            ));
+                        }
+                    };
+                sol.stats.contact_sweeps += out.sweeps;
+                sol.stats.contact_residual = sol.stats.contact_residual.max(out.residual);
+                v_next = SVector::from_iterator(out.velocity.iter().copied());
+                let slip_tol = SLIP_ROUND_OFF * v_free.amax().max(v.amax());
+                let mut holding: Vec<DVector<f64>> = Vec::new();
+                for (i, &k) in active.iter().enumerate() {
+                    let p = &out.impulses[i];
+                    forces[k] = p[0] / hn;
+                    for (j, r) in tangent_rows(k).enumerate() {
+                        forces[K + r] = p[1 + j] / hn;
                     }
+                    let friction = p[1..].iter().map(|x| x * x).sum::<f64>().sqrt();
+                    let slip = out.local[i][1..].iter().map(|x| x * x).sum::<f64>().sqrt();
+                    // Strictly inside the cone is stuck (a sliding impulse is on its edge
+                    // to round-off).
+                    let inside = friction < mu[k] * p[0] * (1.0 - CONE_EDGE);
+                    let stuck = slip <= slip_tol || (p[0] > 0.0 && inside);
+                    new_modes[k] = if p[0] <= 0.0 {
+                        Mode::Free
+                    } else if stuck {
+                        Mode::Stick
+                    } else {
+                        Mode::SlipPos(0)
+                    };
+                    if p[0] > 0.0 && cones[i].gamma == 0.0 {
+                        holding.push(cones[i].rows[0].clone());
+                        if stuck && inside {
+                            holding.extend(cones[i].rows[1..].iter().cloned());
+                        }
+                    }
+                    warm[k] = p.clone();
                 }
-            }
-            if holding.len() >= N {
-                let rows = DMatrix::from_fn(holding.len(), N, |i, j| holding[i][j]);
-                let sv = rows.singular_values();
-                let (lo, hi) = (sv.min(), sv.max());
-                if lo > LOCK_RANK * hi {
+                if locks::<N>(&holding) {
                     v_next = SVector::zeros();
                 }
+            } else {
+                let out = planar::solve(&w, &v_free_d, &closed).map_err(|err| {
+                    let names: Vec<String> = active
+                        .iter()
+                        .map(|&k| format!("`{}`", S::CONTACTS[k]))
+                        .collect();
+                    let detail = match err {
+                        ContactError::Painleve { .. } => format!(
+                            "the contact problem of {} has no unique solution (Painlevé)",
+                            names.join(", ")
+                        ),
+                        ContactError::NoSolution => format!(
+                            "the contact problem of {} has no solution",
+                            names.join(", ")
+                        ),
+                    };
+                    ErrorKind::IllPosedMode { t, detail }
+                });
+                let out = match out {
+                    Ok(o) => o,
+                    Err(kind) => return Err(SolveError::new(kind, sol)),
+                };
+                v_next = SVector::from_iterator(out.acceleration.iter().copied());
+                // The holding contacts: a normal impulse, no rebound, stuck (no slip beyond
+                // round-off of the step's velocities) inside the cone.
+                let slip_tol = SLIP_ROUND_OFF * v_free.amax().max(v.amax());
+                let mut holding: Vec<DVector<f64>> = Vec::new();
+                for (i, &k) in active.iter().enumerate() {
+                    let (pn, pt) = (out.normal[i], out.tangent[i]);
+                    forces[k] = pn / hn;
+                    if let Some(r) = tangent_row(k) {
+                        forces[K + r] = pt / hn;
+                    }
+                    let slip = out.tangent_acceleration[i];
+                    let stuck = slip.abs() <= slip_tol;
+                    new_modes[k] = if pn <= 0.0 {
+                        Mode::Free
+                    } else if stuck {
+                        Mode::Stick
+                    } else if slip > 0.0 {
+                        Mode::SlipPos(0)
+                    } else {
+                        Mode::SlipNeg(0)
+                    };
+                    if pn > 0.0 && closed[i].gamma_n == 0.0 {
+                        holding.push(closed[i].normal.clone());
+                        if stuck && pt.abs() < mu[k] * pn && tangent_row(k).is_some() {
+                            holding.push(closed[i].tangent.clone());
+                        }
+                    }
+                }
+                if locks::<N>(&holding) {
+                    v_next = SVector::zeros();
+                }
+            }
+        }
+        for k in 0..K {
+            if !active.contains(&k) {
+                warm[k].clear();
             }
         }
         let q_next = q + v_next * hn;

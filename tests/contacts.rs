@@ -6,6 +6,8 @@
 //! rolling ball).
 
 mod common;
+#[path = "../examples/support/contact_closed_forms.rs"]
+mod contact_closed_forms;
 
 use filippov::nalgebra::{DVector, Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use filippov::prelude::*;
@@ -780,6 +782,129 @@ mod event_driven {
         assert!(last[2].abs() < 1e-12, "flat: {}", last[2]);
     }
 
+    /// Housner's block released at θ₀ rocks with impact times, speeds before impact and
+    /// amplitudes after it as the energy equation gives them by quadrature (the
+    /// closed-form module), to 1e-9 at rtol 1e-12.
+    #[test]
+    fn housner_block_rocks_at_its_closed_form_times_and_amplitudes() {
+        let s = SlidingBox {
+            a: 0.2,
+            b: 0.4,
+            mu: 1.0,
+            e: 0.0,
+            ..SlidingBox::default()
+        };
+        let theta0: f64 = 0.1;
+        let (st, ct) = theta0.sin_cos();
+        let q0 = V3::from([s.a * ct - s.b * st, s.a * st + s.b * ct, theta0]);
+        let p = NonSmoothProblem::new(0.0, 3.0, q0, V3::zeros());
+        let sol =
+            contact_event_driven(&s, &no_input, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        let mut times: Vec<(f64, f64)> = Vec::new();
+        for sw in &sol.switches {
+            let rocking = matches!(sw.kind, SwitchKind::Impact | SwitchKind::Settled)
+                && sw.after[5].abs() > 1e-9;
+            if rocking && times.last().is_none_or(|&(t, _)| sw.t > t) {
+                times.push((sw.t, sw.before[5].abs()));
+            }
+        }
+        let housner = super::contact_closed_forms::Housner::new(s.a, s.b, s.g);
+        let n = times.len().min(8);
+        assert!(n >= 8, "{times:?}");
+        let reference = housner.impacts(theta0, n);
+        let (mut dt, mut dv, mut da) = (0.0f64, 0.0f64, 0.0f64);
+        for (&(t, speed), imp) in times.iter().zip(&reference) {
+            dt = dt.max((t - imp.t).abs());
+            dv = dv.max((speed - imp.speed).abs());
+            let apex = sol.at(imp.apex).expect("inside the run");
+            da = da.max((apex[2].abs() - imp.amplitude).abs());
+        }
+        eprintln!(
+            "{n} impacts: times within {dt:.1e} s, speeds {dv:.1e} rad/s, amplitudes {da:.1e} rad \
+             of the quadrature's (first at {:.6} s, amplitude after it {:.6})",
+            reference[0].t, reference[0].amplitude
+        );
+        assert!(dt < 1e-9 && dv < 1e-9 && da < 1e-9, "{dt:e} {dv:e} {da:e}");
+    }
+
+    /// A rod stood on its foot at θ₀ off the vertical pivots on it, stuck, until the
+    /// friction it needs reaches `μ N` at the closed-form angle; then its foot slips,
+    /// against the lean where the ground pushed it towards the lean. At rtol 1e-12 the
+    /// angle is met to 1e-9; at the default tolerance to 100·rtol.
+    #[test]
+    fn falling_rod_slips_at_its_closed_form_angle() {
+        use filippov::runtime::Mode;
+        use filippov::scenes::FallingRod;
+        let theta0: f64 = 0.05;
+        for (mu, method, tol) in [
+            (0.3, tight(), 1e-9),
+            (0.5, tight(), 1e-9),
+            (
+                0.3,
+                Method::Dopri5(Options::default()),
+                100.0 * Options::default().rtol,
+            ),
+        ] {
+            let s = FallingRod {
+                mu,
+                ..FallingRod::default()
+            };
+            let (angle, push) =
+                super::contact_closed_forms::rod_slip_angle(mu, theta0).expect("slips");
+            let l = s.l;
+            let q0 = V3::from([-l * theta0.sin(), l * theta0.cos(), theta0]);
+            let p = NonSmoothProblem::new(0.0, 2.0, q0, V3::zeros());
+            let sol =
+                contact_event_driven(&s, &no_input, &p, &method).unwrap_or_else(|e| panic!("{e}"));
+            let slip = sol
+                .switches
+                .iter()
+                .find(|sw| {
+                    sw.element.as_deref() == Some("foot")
+                        && matches!(sw.to, Some(Mode::SlipPos(_) | Mode::SlipNeg(_)))
+                })
+                .unwrap_or_else(|| {
+                    panic!(
+                        "the foot slips: {:?}",
+                        sol.switches
+                            .iter()
+                            .map(|sw| (
+                                sw.t,
+                                sw.kind,
+                                sw.element.clone(),
+                                sw.from,
+                                sw.to,
+                                sw.after[2]
+                            ))
+                            .collect::<Vec<_>>()
+                    )
+                });
+            let lean = slip.after[2];
+            eprintln!(
+                "μ = {mu}: slips at {lean:.12} rad (closed form {angle:.12}), {:?}",
+                slip.to
+            );
+            assert!((lean - angle).abs() < tol, "{lean} against {angle}");
+            // Pushed towards the lean (−x), the foot gives way towards +x.
+            let expected = if push > 0.0 {
+                Mode::SlipPos(0)
+            } else {
+                Mode::SlipNeg(0)
+            };
+            assert_eq!(slip.to, Some(expected), "μ = {mu}");
+            // Stuck before: the foot where it was put (to a thousandth of the angle's
+            // tolerance, the contact's projection tolerance).
+            for (t, y) in sol.rows().take_while(|(t, _)| *t < slip.t) {
+                let foot = [y[0] + l * y[2].sin(), y[1] - l * y[2].cos()];
+                let pinned = 1e-3 * tol;
+                assert!(
+                    foot[0].abs() < pinned && foot[1].abs() < pinned,
+                    "t = {t}: {foot:?}"
+                );
+            }
+        }
+    }
+
     /// Painlevé's rod sliding on its end at angle θ: above μ_P = (1 + 3 cos²θ) /
     /// (3 sin θ cos θ) the event-driven integrator says the contact problem has no
     /// unique solution; below it, it integrates.
@@ -872,7 +997,10 @@ mod spatial {
             let along = last[0] * c + last[1] * sn;
             let across = -last[0] * sn + last[1] * c;
             assert!((stopped - t_stop).abs() <= 1.01 * h, "{theta}: {stopped}");
-            assert!((along - distance).abs() <= 1.01 * v0 * h, "{theta}: {along}");
+            assert!(
+                (along - distance).abs() <= 1.01 * v0 * h,
+                "{theta}: {along}"
+            );
             assert!(across.abs() < 1e-12, "{theta}: off the line by {across:e}");
             assert!(sol.rows().all(|(_, y)| y[2] == 0.0 && y[5] == 0.0));
             assert!(sol.stats.contact_residual <= 1e-12, "{}", sol.stats);
@@ -909,7 +1037,10 @@ mod spatial {
             }
             let (_, last) = sol.last().unwrap();
             let speed = V3::from([last[3], last[4], last[5]]).norm();
-            eprintln!("h = {h}: v·d + |v| within {w:.2e} of v0; speed at 3 s {speed:.4} (→ {})", v0 / 2.0);
+            eprintln!(
+                "h = {h}: v·d + |v| within {w:.2e} of v0; speed at 3 s {speed:.4} (→ {})",
+                v0 / 2.0
+            );
             assert!(speed > 0.5 * v0 - w && speed < 0.6 * v0, "{speed}");
             worst.push(w);
         }
@@ -973,7 +1104,10 @@ mod spatial {
                 let q = V6::from_column_slice(&y[..6]);
                 let v = V6::from_column_slice(&y[6..12]);
                 let e = 0.5 * v.dot(&(s.mass_matrix(&q) * v)) + weight * q[2];
-                assert!(e <= energy * (1.0 + 1e-14), "t = {t}: energy rose {energy} → {e}");
+                assert!(
+                    e <= energy * (1.0 + 1e-14),
+                    "t = {t}: energy rose {energy} → {e}"
+                );
                 energy = e;
                 assert!(s.contact_gaps(&q).min() > -1e-12, "t = {t}: sank");
                 let (n, f) = (y[12..15].iter().sum::<f64>(), y[15..21].chunks(2));
@@ -1008,8 +1142,12 @@ mod spatial {
     fn event_driven_refuses_spatial_contacts_by_name() {
         let s = Puck::default();
         let p = NonSmoothProblem::new(0.0, 1.0, V3::zeros(), V3::zeros());
-        let err = contact_event_driven(&s, &free3, &p, &Method::Dopri5(Options::default())).unwrap_err();
+        let err =
+            contact_event_driven(&s, &free3, &p, &Method::Dopri5(Options::default())).unwrap_err();
         let text = err.to_string();
-        assert!(text.contains("`bottom`") && text.contains("contact_time_stepping"), "{text}");
+        assert!(
+            text.contains("`bottom`") && text.contains("contact_time_stepping"),
+            "{text}"
+        );
     }
 }

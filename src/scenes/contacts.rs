@@ -165,3 +165,41 @@ impl Default for Table {
         }
     }
 }
+
+/// A rod of half-length `l` in the x–y plane (`x`, `y` of its centre, `lean` from the
+/// vertical, positive towards −x) with both ends touching level ground as contacts
+/// `foot` (at −l along the rod) and `head` (at +l), friction `mu`, restitution `e`.
+/// Stood on its foot slightly off the vertical it tips over, pivoting on the foot until
+/// friction cannot hold it, then slips (theory §8).
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(gravity = [0.0, -g, 0.0])]
+#[body(slider_x, mass = 0.0)]
+#[joint(x: prismatic(x), parent = world, child = slider_x)]
+#[body(slider_y, mass = 0.0)]
+#[joint(y: prismatic(y), parent = slider_x, child = slider_y)]
+#[body(rod, mass = m, inertia = diag(m * l * l / 3.0, 0.0, m * l * l / 3.0))]
+#[joint(lean: revolute(z), parent = slider_y, child = rod)]
+#[contact(foot: point, body = rod, at = [0.0, -l, 0.0], plane = world, normal = y, mu = mu,
+          restitution = e)]
+#[contact(head: point, body = rod, at = [0.0, l, 0.0], plane = world, normal = y, mu = mu,
+          restitution = e)]
+pub struct FallingRod {
+    pub m: f64,
+    pub l: f64,
+    pub mu: f64,
+    pub e: f64,
+    pub g: f64,
+}
+
+impl Default for FallingRod {
+    /// A 1 kg rod 1 m long, `μ = 0.3`, no bounce.
+    fn default() -> Self {
+        FallingRod {
+            m: 1.0,
+            l: 0.5,
+            mu: 0.3,
+            e: 0.0,
+            g: 9.81,
+        }
+    }
+}

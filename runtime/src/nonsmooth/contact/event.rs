@@ -749,7 +749,7 @@ where
         let a0 = scene.forward_dynamics(&q, &v, &tau);
         let g_n = scene.contact_normal_gamma(&q, &v);
         let g_t = scene.contact_tangent_gamma(&q, &v);
-        let closed: Vec<Closed> = candidates
+        let mut closed: Vec<Closed> = candidates
             .iter()
             .map(|&k| {
                 let slip = sys.tangent[k].map_or(0.0, |r| slips[r]);
@@ -787,13 +787,24 @@ where
                 None => CMode::Slip(1.0),
             };
         }
-        let d = trial.dynamics(t, &q, &v);
+        let mut d = trial.dynamics(t, &q, &v);
         let f_scale = d
             .normal
             .iter()
             .chain(d.tangent.iter())
             .fold(0.0f64, |m, x| m.max(x.abs()));
         let f_tol = 1e-10 * f_scale.max(f64::MIN_POSITIVE);
+        // On the edge of a mode (a stuck contact's friction at `μ λ_N`, a closed one's
+        // normal force at 0) both modes give the same forces at this instant; the one
+        // that continues is decided by where the force goes next.
+        if leave_edges(&mut trial, &candidates, &d, t, &q, &v, EDGE * f_scale) {
+            d = trial.dynamics(t, &q, &v);
+            for (i, &k) in candidates.iter().enumerate() {
+                if let CMode::Slip(s) = trial.modes[k] {
+                    closed[i].sliding = Some(s);
+                }
+            }
+        }
         let admissible = candidates.iter().all(|&k| {
             d.normal[k] >= -f_tol
                 && (trial.modes[k] != CMode::Stick
@@ -870,6 +881,67 @@ where
         .map(|k| t + 0.5 * vn[k] / -acc[k])
         .fold(f64::INFINITY, f64::min);
     Ok(if hold.is_finite() { hold } else { t })
+}
+
+/// How close (relative to the largest contact force) a force must be to the edge of its
+/// mode for [`leave_edges`] to look at where it goes.
+const EDGE: f64 = 1e-8;
+
+/// The contacts of `trial` whose forces `d` sit on the edge of their mode — a stuck one
+/// with `|λ_T| = μ λ_N`, a closed one with `λ_N = 0` — where both modes give the same
+/// forces at `t`: each is moved to the mode the motion continues in, by the forces a
+/// moment either side of `t` along the trial modes' motion. Friction growing past the
+/// cone: it slides, against its friction. The normal force falling through zero: it
+/// opens. Returns whether a mode changed.
+fn leave_edges<S, I, const N: usize, const K: usize, const T: usize>(
+    trial: &mut InMode<'_, S, I, N, K, T>,
+    candidates: &[usize],
+    d: &Dynamics<N, K>,
+    t: f64,
+    q: &SVector<f64, N>,
+    v: &SVector<f64, N>,
+    edge: f64,
+) -> bool
+where
+    S: Mechanism<N> + Contacts<N, K, T>,
+    I: Input<N> + ?Sized,
+{
+    let on_edge = |k: usize| match trial.modes[k] {
+        CMode::Stick => {
+            d.normal[k].abs() <= edge
+                || (trial.mu[k] * d.normal[k] - d.tangent[k].abs()).abs() <= edge
+        }
+        CMode::Slip(_) => d.normal[k].abs() <= edge,
+        CMode::Open => false,
+    };
+    let edges: Vec<usize> = candidates.iter().copied().filter(|&k| on_edge(k)).collect();
+    if edges.is_empty() {
+        return false;
+    }
+    // A moment: a millionth of the motion's own time scale (the time to move, or to
+    // accelerate across, the configuration's size).
+    let scale = q.amax().max(1.0);
+    let time = (scale / v.amax().max(f64::MIN_POSITIVE))
+        .min((scale / d.a.amax().max(f64::MIN_POSITIVE)).sqrt());
+    let delta = 1e-6 * if time.is_finite() { time } else { 1.0 };
+    let at = |s: f64| {
+        let (qs, vs) = (q + v * s + d.a * (0.5 * s * s), v + d.a * s);
+        trial.dynamics(t + s, &qs, &vs)
+    };
+    let (before, after) = (at(-delta), at(delta));
+    let mut changed = false;
+    for k in edges {
+        let falling = after.normal[k] < before.normal[k] && d.normal[k].abs() <= edge;
+        let margin = |x: &Dynamics<N, K>| trial.mu[k] * x.normal[k] - x.tangent[k].abs();
+        if falling {
+            trial.modes[k] = CMode::Open;
+            changed = true;
+        } else if trial.modes[k] == CMode::Stick && margin(&after) < margin(&before) {
+            trial.modes[k] = CMode::Slip(-d.tangent[k].signum());
+            changed = true;
+        }
+    }
+    changed
 }
 
 /// The velocities after a plastic impact that holds every contact of `closed` (normal

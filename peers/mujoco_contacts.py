@@ -18,7 +18,9 @@ Restitution is asked for through solref's negative form (-stiffness, -damping), 
 the damping that gives e for the linear spring-damper MuJoCo's contact is.
 
 Writes TSV rows: scene, setting, quantity, value, closed form, seconds per simulated
-second.
+second; then the traces the report plots beside ours, as rows `trace`, trace name,
+setting, time, value (recorded in separate, untimed runs): the box's displacement on
+the incline, the launched box's position, the dropped ball's height above the ground.
 """
 
 import math
@@ -81,6 +83,44 @@ def run(model, data, seconds, each=None):
     return (time.perf_counter() - start) / seconds
 
 
+def trace(model, data, seconds, every, value):
+    """(t, value(data)) every `every` seconds of a run of `seconds`."""
+    steps = int(round(seconds / model.opt.timestep))
+    stride = max(1, int(round(every / model.opt.timestep)))
+    out = [(data.time, value(data))]
+    for i in range(steps):
+        mujoco.mj_step(model, data)
+        if (i + 1) % stride == 0:
+            out.append((data.time, value(data)))
+    return out
+
+
+def traces(name, s):
+    rows = []
+    m = mujoco.MjModel.from_xml_string(box_xml(s, 0.3, 0.5))
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    p0 = d.qpos[:3].copy()
+    for t, x in trace(m, d, 10.0, 0.02, lambda data: float(np.linalg.norm(data.qpos[:3] - p0))):
+        rows.append(("incline", name, t, x))
+    m = mujoco.MjModel.from_xml_string(box_xml(s, 0.0, 0.5))
+    d = mujoco.MjData(m)
+    d.qvel[0] = 2.0
+    mujoco.mj_forward(m, d)
+    x0 = d.qpos[0]
+    for t, x in trace(m, d, 1.0, 0.005, lambda data: float(data.qpos[0] - x0)):
+        rows.append(("box", name, t, x))
+    e = 0.5
+    zeta = -math.log(e) / math.sqrt(math.pi**2 + math.log(e) ** 2)
+    k = (2 * math.pi / (10 * s["timestep"])) ** 2
+    m = mujoco.MjModel.from_xml_string(ball_xml(s, f"{-k} {-2 * zeta * math.sqrt(k)}"))
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    for t, z in trace(m, d, 1.5, 0.002, lambda data: float(data.qpos[2] - 0.1)):
+        rows.append(("ball", name, t, z))
+    return rows
+
+
 def main(out):
     rows = []
     for name, s in settings().items():
@@ -141,10 +181,13 @@ def main(out):
         z = np.array(z)
         rows.append(("ball at rest", name, "penetration [m]", float(0.1 - z.mean()), 0.0, cost))
         rows.append(("ball at rest", name, "height jitter (std) [m]", float(z.std()), 0.0, cost))
+    traced = [r for name, s in settings().items() for r in traces(name, s)]
     with open(out, "w") as f:
         f.write(f"# MuJoCo {mujoco.__version__}\n")
         for r in rows:
             f.write("\t".join(str(x) for x in r) + "\n")
+        for r in traced:
+            f.write("\t".join(["trace"] + [str(x) for x in r]) + "\n")
 
 
 if __name__ == "__main__":

@@ -7,11 +7,13 @@ use filippov::runtime::{
     Method, Mode, NonSmoothProblem, Options, Solution, SwitchKind, contact_event_driven,
     contact_time_stepping,
 };
-use filippov_scenes::{SlidingBox, SpinningBall};
+use filippov_scenes::{FallingRod, Puck, SlidingBox, SpinningBall, Table};
 
 use super::config::Config;
 use super::contact_agreement;
+use super::contact_closed_forms::{Housner, rod_slip_angle};
 use super::markdown::{Page, sci};
+use super::support::{Scale, Series, line_plot};
 use super::timing::timed;
 use super::workprecision::Section;
 
@@ -297,6 +299,68 @@ pub fn contacts(config: &Config) -> Section {
             worst.map(|x| (x, t)),
         );
     }
+    // Its impact times and amplitudes, from the energy equation by quadrature.
+    let housner = Housner::new(block.a, block.b, block.g);
+    let reference = housner.impacts(theta0, 8);
+    let last = reference[7];
+    for how in [How::Event(1e-12), How::Event(1e-6)] {
+        let (t, sol) = timed(repeats, || run(&block, &p, how));
+        let times: Result<Vec<f64>, String> = sol.as_ref().map_err(Clone::clone).map(|s| {
+            let mut times: Vec<f64> = Vec::new();
+            for sw in &s.switches {
+                let rocking = matches!(sw.kind, SwitchKind::Impact | SwitchKind::Settled)
+                    && sw.after[5].abs() > 1e-9;
+                if rocking && times.last().is_none_or(|&x| sw.t > x) {
+                    times.push(sw.t);
+                }
+            }
+            times
+        });
+        let eighth = times.and_then(|x| x.get(7).copied().ok_or("fewer than 8 impacts".into()));
+        add(
+            "Housner block: 8th impact time [s]",
+            last.t,
+            how,
+            eighth.map(|x| (x, t)),
+        );
+        let amplitude = sol.and_then(|s| {
+            s.at(last.apex)
+                .map(|y| y[2].abs())
+                .ok_or("the apex is outside the run".to_string())
+        });
+        add(
+            "Housner block: amplitude after the 8th impact [rad]",
+            last.amplitude,
+            how,
+            amplitude.map(|x| (x, t)),
+        );
+    }
+    // A rod tipping over on rough ground: the angle where its foot starts to slip.
+    let rod = FallingRod::default();
+    let lean0: f64 = 0.05;
+    if let Some((angle, _)) = rod_slip_angle(rod.mu, lean0) {
+        let q0 = V3::from([-rod.l * lean0.sin(), rod.l * lean0.cos(), lean0]);
+        let p = NonSmoothProblem::new(0.0, 1.0, q0, V3::zeros());
+        for how in hows {
+            let (t, sol) = timed(repeats, || run(&rod, &p, how));
+            let slip = sol.and_then(|s| {
+                s.switches
+                    .iter()
+                    .find(|sw| {
+                        sw.element.as_deref() == Some("foot")
+                            && matches!(sw.to, Some(Mode::SlipPos(_) | Mode::SlipNeg(_)))
+                    })
+                    .map(|sw| sw.after[2])
+                    .ok_or("the foot never slips".to_string())
+            });
+            add(
+                "rod tipping on rough ground (μ = 0.3): slip-start angle [rad]",
+                angle,
+                how,
+                slip.map(|x| (x, t)),
+            );
+        }
+    }
     page.table(
         &[
             "scene and quantity",
@@ -308,6 +372,7 @@ pub fn contacts(config: &Config) -> Section {
         ],
         &rows,
     );
+    spatial(config, &mut page, &mut summary);
     for r in &rows {
         if r[1].contains("1e-12") && !r[4].is_empty() {
             summary.push(format!(
@@ -381,6 +446,178 @@ pub fn contacts(config: &Config) -> Section {
     Section { page, summary }
 }
 
+/// Twelve decimals, or powers of ten below a thousandth.
+fn fixed(x: f64) -> String {
+    if x != 0.0 && x.abs() < 1e-3 {
+        sci(x)
+    } else {
+        format!("{x:.12}")
+    }
+}
+
+/// Spatial contacts by time-stepping on the exact cone: the puck and the table against
+/// closed forms and invariants.
+fn spatial(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
+    type V6 = SVector<f64, 6>;
+    page.h3("Spatial contacts");
+    page.para(
+        "Contacts that can slide in two directions, by Moreau–Jean time-stepping with Coulomb's isotropic cone \
+         (`contact_time_stepping`; each step's contact problem solved by Gauss–Seidel over the contacts, each \
+         contact's own problem exactly, to a natural-map residual of 1e-12 that the solution's statistics \
+         report). The puck is a point mass on a plane (`Puck`); the table a slab on three point legs with six \
+         coordinates (`Table`). Time = median (min–max) of repeated runs.",
+    );
+    let repeats = config.repeats;
+    let mut rows: Vec<Vec<String>> = Vec::new();
+    let mut row =
+        |what: &str, h: f64, exact: f64, got: f64, t: super::timing::Timing, note: String| {
+            rows.push(vec![
+                what.to_string(),
+                format!("{h:.0e}"),
+                fixed(exact),
+                fixed(got),
+                sci((got - exact).abs()),
+                t.scaled(1e3).show(2),
+                note,
+            ]);
+        };
+    let free3 = |_: f64, _: &V3, _: &V3| V3::zeros();
+    let free6 = |_: f64, _: &V6, _: &V6| V6::zeros();
+    // The puck launched in twelve directions on level ground.
+    let puck = Puck::default();
+    let v0 = 1.5;
+    let h = 1e-3;
+    let (t, worst) = timed(repeats, || {
+        let mut worst = (0.0f64, 0.0f64);
+        for k in 0..12 {
+            let th = 0.37 + k as f64 * std::f64::consts::TAU / 12.0;
+            let (sn, c) = th.sin_cos();
+            let p = NonSmoothProblem::new(0.0, 1.0, V3::zeros(), V3::from([v0 * c, v0 * sn, 0.0]));
+            if let Ok(sol) = contact_time_stepping(&puck, &free3, &p, h) {
+                let y = sol.last().expect("rows").1;
+                let along = y[0] * c + y[1] * sn;
+                let across = (-y[0] * sn + y[1] * c).abs();
+                let exact = v0 * v0 / (2.0 * puck.mu * puck.g);
+                worst.0 = worst.0.max((along - exact).abs());
+                worst.1 = worst.1.max(across);
+            } else {
+                worst = (f64::NAN, f64::NAN);
+            }
+        }
+        worst
+    });
+    row(
+        "puck launched in 12 directions: largest distance off its line [m]",
+        h,
+        0.0,
+        worst.1,
+        t,
+        format!("stop distance within {} of v0²/(2μg)", sci(worst.0)),
+    );
+    // Across an incline at its friction angle: v·d + |v| = v0.
+    let phi: f64 = 0.3;
+    let incline = Puck {
+        phi,
+        mu: phi.tan(),
+        ..Puck::default()
+    };
+    let down = V3::from([0.0, -phi.cos(), -phi.sin()]);
+    for h in [1e-3, 1e-4] {
+        let p = NonSmoothProblem::new(0.0, 3.0, V3::zeros(), V3::from([2.0, 0.0, 0.0]));
+        let (t, sol) = timed(repeats, || contact_time_stepping(&incline, &free3, &p, h));
+        if let Ok(sol) = sol {
+            let worst = sol
+                .rows()
+                .map(|(_, y)| {
+                    let v = V3::from([y[3], y[4], y[5]]);
+                    v.dot(&down) + v.norm()
+                })
+                .max_by(|a, b| (a - 2.0).abs().total_cmp(&(b - 2.0).abs()))
+                .unwrap_or(f64::NAN);
+            row(
+                "puck across an incline at μ = tan φ: v·d + |v|, its farthest from v0 [m/s]",
+                h,
+                2.0,
+                worst,
+                t,
+                String::new(),
+            );
+        }
+    }
+    // The table below its friction angle, 10⁴ s.
+    let table = Table {
+        phi: 0.3,
+        ..Table::default()
+    };
+    let q0 = V6::from([
+        0.0,
+        -table.d * table.phi.sin(),
+        table.d * table.phi.cos(),
+        0.0,
+        0.0,
+        table.phi,
+    ]);
+    let p = NonSmoothProblem::new(0.0, 1e4, q0, V6::zeros());
+    let (t, sol) = timed(1, || contact_time_stepping(&table, &free6, &p, 1e-2));
+    if let Ok(sol) = sol {
+        let moved = sol
+            .rows()
+            .map(|(_, y)| (0..6).map(|j| (y[j] - q0[j]).abs()).fold(0.0, f64::max))
+            .fold(0.0, f64::max);
+        row(
+            "table on an incline below its friction angle: largest displacement over 10⁴ s",
+            1e-2,
+            0.0,
+            moved,
+            t,
+            format!("{}", sol.stats),
+        );
+        summary.push(format!(
+            "Spatial contacts: the three-legged table below its friction angle moves {} over 10⁴ s (time-stepping, exact cone)",
+            sci(moved)
+        ));
+    }
+    // Sliding and spinning to rest: the solver's residual and sweeps.
+    let flat = Table::default();
+    let start = V6::from([0.0, 0.0, flat.d, 0.0, 0.0, 0.0]);
+    let p = NonSmoothProblem::new(0.0, 1.0, start, V6::from([1.2, -0.7, 0.0, 4.0, 0.0, 0.0]));
+    for h in [1e-3, 1e-4] {
+        let (t, sol) = timed(repeats, || contact_time_stepping(&flat, &free6, &p, h));
+        if let Ok(sol) = sol {
+            let y = sol.last().expect("rows").1;
+            let still = y[6..12].iter().all(|&x| x == 0.0);
+            row(
+                "table sliding and spinning to rest: largest residual of a step's contact problem",
+                h,
+                0.0,
+                sol.stats.contact_residual,
+                t,
+                format!(
+                    "{:.1} sweeps per step; {}",
+                    sol.stats.contact_sweeps as f64 / sol.stats.steps.max(1) as f64,
+                    if still {
+                        "at rest, exactly"
+                    } else {
+                        "still moving"
+                    }
+                ),
+            );
+        }
+    }
+    page.table(
+        &[
+            "scene and quantity",
+            "h",
+            "exact",
+            "computed",
+            "error",
+            "time [ms]",
+            "notes",
+        ],
+        &rows,
+    );
+}
+
 /// One of MuJoCo's rows (`peers/mujoco_contacts.py`'s TSV): scene, setting, quantity,
 /// value, closed form, seconds per simulated second.
 struct MjRow {
@@ -391,17 +628,28 @@ struct MjRow {
     cost: f64,
 }
 
-fn read_mujoco(path: &std::path::Path) -> Option<(String, Vec<MjRow>)> {
+/// MuJoCo's traces: (trace, setting) → points.
+type Traces = Vec<((String, String), Vec<(f64, f64)>)>;
+
+fn read_mujoco(path: &std::path::Path) -> Option<(String, Vec<MjRow>, Traces)> {
     let text = std::fs::read_to_string(path).ok()?;
     let mut version = String::new();
     let mut rows = Vec::new();
+    let mut traces: Traces = Vec::new();
     for line in text.lines() {
         if let Some(v) = line.strip_prefix("# ") {
             version = v.to_string();
             continue;
         }
         let f: Vec<&str> = line.split('\t').collect();
-        if f.len() == 6 {
+        if f.len() == 5 && f[0] == "trace" {
+            let key = (f[1].to_string(), f[2].to_string());
+            let point = (f[3].parse().ok()?, f[4].parse().ok()?);
+            match traces.iter_mut().find(|(k, _)| *k == key) {
+                Some((_, points)) => points.push(point),
+                None => traces.push((key, vec![point])),
+            }
+        } else if f.len() == 6 {
             rows.push(MjRow {
                 scene: f[0].to_string(),
                 setting: f[1].to_string(),
@@ -411,7 +659,7 @@ fn read_mujoco(path: &std::path::Path) -> Option<(String, Vec<MjRow>)> {
             });
         }
     }
-    Some((version, rows))
+    Some((version, rows, traces))
 }
 
 /// Ours on MuJoCo's scenes, event-driven at the default tolerance: the same quantities
@@ -509,7 +757,7 @@ fn ours_on_mujoco_scenes(repeats: usize) -> Vec<(&'static str, &'static str, f64
 fn mujoco_side_by_side(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
     page.h3("Beside MuJoCo");
     let path = config.out_dir.join("peers").join("mujoco_contacts.tsv");
-    let Some((version, mj)) = read_mujoco(&path) else {
+    let Some((version, mj, traces)) = read_mujoco(&path) else {
         page.para(
             "MuJoCo was not run in this report (`peers/run.sh` runs `peers/mujoco_contacts.py`; `--no-peers` skips it).",
         );
@@ -582,4 +830,114 @@ fn mujoco_side_by_side(config: &Config, page: &mut Page, summary: &mut Vec<Strin
         ],
         &rows,
     );
+    plot_beside_mujoco(config, page, &traces);
+}
+
+/// Ours and MuJoCo's traces on the same axes: the box on the incline below its friction
+/// angle, the box launched on level ground, the dropped ball.
+fn plot_beside_mujoco(config: &Config, page: &mut Page, traces: &Traces) {
+    let how = How::Event(1e-6);
+    let grid =
+        |t1: f64, n: usize| -> Vec<f64> { (0..=n).map(|i| t1 * i as f64 / n as f64).collect() };
+    let theirs = |trace: &str, scale: f64| -> Vec<Series> {
+        traces
+            .iter()
+            .filter(|((name, _), _)| name == trace)
+            .map(|((_, setting), points)| {
+                let label = if setting == "stiff" {
+                    "MuJoCo, stiffest".to_string()
+                } else {
+                    format!("MuJoCo, {setting}")
+                };
+                Series::new(label, points.iter().map(|&(t, x)| (t, x * scale)).collect())
+            })
+            .collect()
+    };
+    // Each: the trace, our scene's run, the quantity from our row, the axis.
+    let below = SlidingBox {
+        phi: 0.3,
+        ..SlidingBox::default()
+    };
+    let q0 = resting(&below);
+    let ball = SpinningBall::default();
+    let level = SlidingBox::default();
+    let plots: [(&str, &str, &str, f64, Vec<(f64, f64)>); 3] = [
+        (
+            "incline",
+            "Box on an incline below its friction angle",
+            "displacement [mm]",
+            1e3,
+            run(
+                &below,
+                &NonSmoothProblem::new(0.0, 10.0, q0, V3::zeros()),
+                how,
+            )
+            .ok()
+            .and_then(|s| {
+                let ts = grid(10.0, 500);
+                s.sample(&ts).map(|ys| {
+                    ts.iter()
+                        .zip(ys)
+                        .map(|(&t, y)| (t, 1e3 * (y[0] - q0[0]).hypot(y[1] - q0[1])))
+                        .collect()
+                })
+            })
+            .unwrap_or_default(),
+        ),
+        (
+            "box",
+            "Box launched at 2 m/s on level ground",
+            "position [m]",
+            1.0,
+            run(
+                &level,
+                &NonSmoothProblem::new(0.0, 1.0, resting(&level), V3::from([2.0, 0.0, 0.0])),
+                how,
+            )
+            .ok()
+            .and_then(|s| {
+                let ts = grid(1.0, 400);
+                s.sample(&ts)
+                    .map(|ys| ts.iter().zip(ys).map(|(&t, y)| (t, y[0])).collect())
+            })
+            .unwrap_or_default(),
+        ),
+        (
+            "ball",
+            "Ball dropped from 0.2 m, e = 0.5",
+            "height above the ground [m]",
+            1.0,
+            run(
+                &ball,
+                &NonSmoothProblem::new(0.0, 1.5, V3::from([0.0, ball.r + 0.2, 0.0]), V3::zeros()),
+                how,
+            )
+            .ok()
+            .and_then(|s| {
+                let ts = grid(1.5, 1500);
+                s.sample(&ts).map(|ys| {
+                    ts.iter()
+                        .zip(ys)
+                        .map(|(&t, y)| (t, y[1] - ball.r))
+                        .collect()
+                })
+            })
+            .unwrap_or_default(),
+        ),
+    ];
+    for (trace, title, y_label, scale, ours) in plots {
+        let mut series = vec![Series::new("ours (event-driven, rtol 1e-6)", ours)];
+        series.extend(theirs(trace, scale));
+        let file = format!("contacts_{trace}_mujoco.svg");
+        line_plot(
+            &config.out_dir.join(&file),
+            title,
+            "t [s]",
+            y_label,
+            &series,
+            Scale::Linear,
+            Scale::Linear,
+        );
+        page.image(title, &file);
+    }
 }

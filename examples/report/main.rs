@@ -21,6 +21,8 @@ mod chains;
 mod config;
 #[path = "../support/contact_agreement.rs"]
 mod contact_agreement;
+#[path = "../support/contact_closed_forms.rs"]
+mod contact_closed_forms;
 #[path = "contacts.rs"]
 mod contacts;
 #[path = "dense.rs"]

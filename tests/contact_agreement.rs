@@ -1,5 +1,6 @@
 //! The randomized agreement suite for contacts (`examples/support/contact_agreement.rs`):
-//! random boxes launched along inclines and balls dropped spinning, event-driven against
+//! random boxes launched along inclines, balls dropped spinning and rods tipping over,
+//! event-driven against
 //! time-stepping at three steps, passivity and no penetration.
 
 #[path = "../examples/support/contact_agreement.rs"]

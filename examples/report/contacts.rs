@@ -405,7 +405,8 @@ pub fn contacts(config: &Config) -> Section {
     let median = ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN);
     page.para(&format!(
         "{count} random scenes (`examples/support/contact_agreement.rs`: boxes of random size, mass, friction and \
-         restitution launched along inclines of random angle, balls dropped spinning), each integrated \
+         restitution launched along inclines of random angle, balls dropped spinning, rods tipping over or dropped on \
+         an end), each integrated \
          event-driven (rtol 1e-10) and by time-stepping at h = 1e-3, 1e-4 and 1e-5 over {} s. A scene passes when \
          its energy never rises by more than 1e-8 of its scale, no contact penetrates deeper than 1e-8, and \
          time-stepping's largest position difference from the event-driven run shrinks at least 0.3× over one of \

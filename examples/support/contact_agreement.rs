@@ -1,5 +1,6 @@
 //! Random planar contact scenes, shared by `tests/contact_agreement.rs` and the report:
-//! boxes launched along level ground or inclines and balls dropped spinning, each with
+//! boxes launched along level ground or inclines, balls dropped spinning, and rods
+//! tipping over or dropped on an end (sticking, slipping both ways, landing), each with
 //! random sizes, masses, friction and restitution, integrated event-driven and by
 //! time-stepping at two steps, and checked by properties no closed form is needed for:
 //! the energy never rises (no input acts), no contact penetrates beyond the position
@@ -12,7 +13,7 @@ use filippov::runtime::contacts::Contacts;
 use filippov::runtime::{
     Method, NonSmoothProblem, Options, Solution, contact_event_driven, contact_time_stepping,
 };
-use filippov::scenes::{SlidingBox, SpinningBall};
+use filippov::scenes::{FallingRod, SlidingBox, SpinningBall};
 
 type V3 = SVector<f64, 3>;
 
@@ -21,6 +22,7 @@ type V3 = SVector<f64, 3>;
 pub enum Scene {
     Box(SlidingBox, V3, V3),
     Ball(SpinningBall, V3, V3),
+    Rod(FallingRod, V3, V3),
 }
 
 /// SplitMix64 in `[lo, hi)`.
@@ -37,10 +39,29 @@ impl Draw {
     }
 }
 
-/// Scene number `seed`: even seeds boxes, odd seeds balls.
+/// Scene number `seed`: boxes, balls and rods in turn.
 pub fn scene(seed: u64) -> Scene {
     let mut d = Draw(seed.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ 0x5EED);
-    if seed % 2 == 0 {
+    if seed % 3 == 2 {
+        // A rod on its foot (or just above it), leaning, turning; friction below
+        // Painlevé's least threshold 4/3, so the contact problem is always well posed.
+        let s = FallingRod {
+            m: d.uniform(0.2, 2.0),
+            l: d.uniform(0.1, 0.6),
+            mu: d.uniform(0.1, 0.8),
+            e: d.uniform(0.0, 0.5),
+            g: 9.81,
+        };
+        let lean = d.uniform(0.1, 1.2);
+        let lift = if d.uniform(0.0, 1.0) < 0.5 {
+            d.uniform(0.0, 0.05)
+        } else {
+            0.0
+        };
+        let q0 = V3::from([-s.l * lean.sin(), s.l * lean.cos() + lift, lean]);
+        let v0 = V3::from([0.0, 0.0, d.uniform(-1.0, 3.0)]);
+        Scene::Rod(s, q0, v0)
+    } else if seed % 3 == 0 {
         // A box wider than μ times its height, so that it slides without tipping.
         let a = d.uniform(0.1, 0.4);
         let mu = d.uniform(0.1, 0.8);
@@ -188,5 +209,6 @@ pub fn run(seed: u64) -> Checked {
     match scene(seed) {
         Scene::Box(s, q0, v0) => check_scene(&s, (s.g, s.m), q0, v0, seed, "box"),
         Scene::Ball(s, q0, v0) => check_scene(&s, (s.g, s.m), q0, v0, seed, "ball"),
+        Scene::Rod(s, q0, v0) => check_scene(&s, (s.g, s.m), q0, v0, seed, "rod"),
     }
 }

@@ -366,6 +366,13 @@ where
             while stepper.t() < tf {
                 let t0 = stepper.t();
                 let g0 = sys.switching(t0, stepper.y());
+                // A function that starts a step above its level is armed (one that a
+                // switch left at its level waits until it has left it).
+                for k in 0..K {
+                    if !armed[k] && g0[k] > options.atol {
+                        armed[k] = true;
+                    }
+                }
                 let target = if until > t0 { until.min(tf) } else { tf };
                 stepper.step(&mut Eval::new(&sys, &mut sol.stats), target)?;
                 let t1 = stepper.t();

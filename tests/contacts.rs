@@ -905,6 +905,69 @@ mod event_driven {
         }
     }
 
+    /// A cart on a rail with a pendulum swinging below it: the rail's friction is μ
+    /// times the skids' load, and that load is not the weight — it carries the
+    /// pendulum's swing. Checked by Newton's law for the whole system (no kernel writes
+    /// it): the skids' normal forces less the weight are the vertical momentum's rate
+    /// (cart and bob accelerations from the solution's own derivative rows), their
+    /// friction the horizontal one's; sliding, the friction is μ times the load.
+    #[test]
+    fn cart_on_a_rail_carries_its_pendulum_load_into_its_friction() {
+        use filippov::scenes::CartOnRail;
+        type V4 = filippov::nalgebra::SVector<f64, 4>;
+        let s = CartOnRail::default();
+        let q0 = V4::from([0.0, s.b, 0.0, 1.2]);
+        let p = NonSmoothProblem::new(0.0, 3.0, q0, V4::zeros());
+        let free = |_: f64, _: &V4, _: &V4| V4::zeros();
+        let sol = contact_event_driven(&s, &free, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        let col = |name: &str| sol.column_index(name).unwrap();
+        let (nr, nf, tr, tf) = (
+            col("λ_rear.n"),
+            col("λ_front.n"),
+            col("λ_rear.x"),
+            col("λ_front.x"),
+        );
+        let weight = (s.mc + s.mp) * s.g;
+        let (mut worst, mut load_range, mut sliding_rows) = (0.0f64, (f64::MAX, f64::MIN), 0);
+        for i in 1..sol.len() {
+            let y = sol.state(i);
+            let a = &sol.derivative(i)[4..8];
+            let phi = y[2] + y[3];
+            let (dphi, ddphi) = (y[6] + y[7], a[2] + a[3]);
+            let bob = [
+                a[0] + s.l * (ddphi * phi.cos() - dphi * dphi * phi.sin()),
+                a[1] + s.l * (ddphi * phi.sin() + dphi * dphi * phi.cos()),
+            ];
+            let load = y[nr] + y[nf];
+            let friction = y[tr] + y[tf];
+            worst = worst
+                .max((load - weight - s.mc * a[1] - s.mp * bob[1]).abs())
+                .max((friction - s.mc * a[0] - s.mp * bob[0]).abs());
+            load_range = (load_range.0.min(load), load_range.1.max(load));
+            if y[4].abs() > 1e-9 {
+                sliding_rows += 1;
+                assert!(
+                    (friction.abs() - s.mu * load).abs() < 1e-9 * weight,
+                    "t = {}",
+                    sol.times()[i]
+                );
+            }
+        }
+        let switches = sol
+            .switches
+            .iter()
+            .filter(|sw| sw.kind == SwitchKind::Mode)
+            .count();
+        eprintln!(
+            "Newton's law within {worst:.1e} N; the skids' load between {:.3} and {:.3} N (weight {weight:.3}); \
+             {sliding_rows} sliding rows, {switches} mode switches",
+            load_range.0, load_range.1
+        );
+        assert!(worst < 1e-8 * weight, "{worst:e}");
+        assert!(sliding_rows > 0 && switches >= 2);
+        assert!(load_range.1 - load_range.0 > 0.2 * weight, "{load_range:?}");
+    }
+
     /// Painlevé's rod sliding on its end at angle θ: above μ_P = (1 + 3 cos²θ) /
     /// (3 sin θ cos θ) the event-driven integrator says the contact problem has no
     /// unique solution; below it, it integrates.

@@ -19,6 +19,18 @@ where
     }
 }
 
+/// No applied forces: `τ = 0` on any number of coordinates. A closure written inline
+/// without its argument types (`&|_, _, _| SVector::zeros()`) is not taken as an input
+/// for every borrow of the state (Rust infers one lifetime for it); `&Unforced` is.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Unforced;
+
+impl<const N: usize> Input<N> for Unforced {
+    fn forces(&self, _: f64, _: &SVector<f64, N>, _: &SVector<f64, N>) -> SVector<f64, N> {
+        SVector::zeros()
+    }
+}
+
 /// A function plus a value held constant between the times it is set (a zero-order
 /// hold): `τ = function(t, q, v) + held`.
 #[derive(Clone, Debug)]

@@ -104,7 +104,7 @@ pub use conservative::{Conservative, ENERGY_SCALE_LIMIT};
 pub use element::{Mode, NonSmooth};
 pub use error::{ErrorKind, SolveError};
 pub use events::{Event, EventDirection, EventHit, Reset};
-pub use input::Input;
+pub use input::{Input, Unforced};
 pub use liegroup::{
     FnLieSystem, LieEvent, LieEventHit, LieInputFn, LieMechanical, LieMechanism, LieProblem,
     LieSdirk, LieState, LieSystem, LieTrajectory, Rkmk5, UnitQuat,

@@ -203,3 +203,47 @@ impl Default for FallingRod {
         }
     }
 }
+
+/// A cart on a rail with a pendulum hanging from it: the cart (mass `mc`, half-length
+/// `a`, its skids `b` below its centre) rests on the rail on two skids, contacts `rear`
+/// and `front` with friction `mu`; the pendulum (a point mass `mp` on a massless rod of
+/// length `l`, `swing` from hanging straight down) hangs from the cart's centre. Four
+/// coordinates: `x`, `y`, `pitch` of the cart, `swing`. The rail's friction is `μ`
+/// times the skids' normal forces, which carry the swinging pendulum's load (theory §8).
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(gravity = [0.0, -g, 0.0])]
+#[body(slider_x, mass = 0.0)]
+#[joint(x: prismatic(x), parent = world, child = slider_x)]
+#[body(slider_y, mass = 0.0)]
+#[joint(y: prismatic(y), parent = slider_x, child = slider_y)]
+#[body(cart, mass = mc, inertia = cuboid(mc, 2.0 * a, 2.0 * b, 0.2))]
+#[joint(pitch: revolute(z), parent = slider_y, child = cart)]
+#[body(bob, mass = mp, com = [0.0, -l, 0.0])]
+#[joint(swing: revolute(z), parent = cart, child = bob)]
+#[contact(rear: point, body = cart, at = [-a, -b, 0.0], plane = world, normal = y, mu = mu)]
+#[contact(front: point, body = cart, at = [a, -b, 0.0], plane = world, normal = y, mu = mu)]
+pub struct CartOnRail {
+    pub mc: f64,
+    pub mp: f64,
+    pub a: f64,
+    pub b: f64,
+    pub l: f64,
+    pub mu: f64,
+    pub g: f64,
+}
+
+impl Default for CartOnRail {
+    /// A 2 kg cart 0.6 m long on skids 0.1 m below its centre, a 1 kg pendulum 0.5 m
+    /// long, `μ = 0.2`.
+    fn default() -> Self {
+        CartOnRail {
+            mc: 2.0,
+            mp: 1.0,
+            a: 0.3,
+            b: 0.1,
+            l: 0.5,
+            mu: 0.2,
+            g: 9.81,
+        }
+    }
+}

@@ -21,7 +21,7 @@ mod s9;
 mod tree;
 
 pub use arm3::PlanarArm3;
-pub use contacts::{FallingRod, Puck, SlidingBox, SpinningBall, Table};
+pub use contacts::{CartOnRail, FallingRod, Puck, SlidingBox, SpinningBall, Table};
 pub use double_pendulum::DoublePendulum;
 pub use lie::{BallChain, EulerBody, FreeBody, Satellite, SphericalBody};
 pub use loops::{AndrewsSqueezer, Delta, FourBar, SliderCrank};

@@ -1214,3 +1214,156 @@ mod spatial {
         );
     }
 }
+
+/// Contacts beside joint elements in one scene: a block on the ground (contact `bottom`,
+/// friction `μ`) whose rail adds Coulomb friction `fc` on `x` and ends at a rigid stop.
+mod beside_elements {
+    use filippov::nalgebra::SVector;
+    use filippov::prelude::*;
+    use filippov::runtime::{
+        ErrorKind, Method, Mode, NonSmoothMethod, NonSmoothProblem, Options, Unforced,
+        contact_event_driven, contact_time_stepping, solve_nonsmooth,
+    };
+
+    type V2 = SVector<f64, 2>;
+
+    #[derive(Mechanism, Clone, Copy)]
+    #[mechanism(gravity = [0.0, -g, 0.0])]
+    #[body(slider_x, mass = 0.0)]
+    #[joint(x: prismatic(x), parent = world, child = slider_x)]
+    #[body(block, mass = m)]
+    #[joint(y: prismatic(y), parent = slider_x, child = block)]
+    #[friction(x, f_crit = fc)]
+    #[stop(x, max = wall, restitution = e)]
+    #[contact(bottom: point, body = block, plane = world, normal = y, mu = mu)]
+    struct BlockOnRail {
+        m: f64,
+        g: f64,
+        fc: f64,
+        wall: f64,
+        e: f64,
+        mu: f64,
+    }
+
+    const BLOCK: BlockOnRail = BlockOnRail {
+        m: 2.0,
+        g: 9.81,
+        fc: 3.0,
+        wall: 0.5,
+        e: 0.5,
+        mu: 0.3,
+    };
+
+    /// Launched at `V` towards the wall: the ground's μ m g and the rail's `fc` slow it at
+    /// `a = (μ m g + fc)/m`; it hits the wall at `v = √(V² − 2 a L)`, rebounds at `e v`
+    /// and stops `(e v)²/(2a)` short of the wall, `e v / a` later. Time-stepping meets
+    /// these to first order; at rest it does not move by a rounding.
+    #[test]
+    fn block_slowed_by_ground_and_rail_rebounds_off_the_wall_and_stops() {
+        let s = BLOCK;
+        let speed = 3.0;
+        let a = (s.mu * s.m * s.g + s.fc) / s.m;
+        let hit = (speed * speed - 2.0 * a * s.wall).sqrt();
+        let t_hit = (speed - hit) / a;
+        let (rest_x, rest_t) = (
+            s.wall - (s.e * hit).powi(2) / (2.0 * a),
+            t_hit + s.e * hit / a,
+        );
+        let mut errors = Vec::new();
+        for h in [1e-3, 1e-4] {
+            let p = NonSmoothProblem::new(0.0, 2.0, V2::zeros(), V2::from([speed, 0.0]));
+            let sol = contact_time_stepping(&s, &Unforced, &p, h).unwrap_or_else(|e| panic!("{e}"));
+            let names = sol.names().to_vec();
+            assert!(names.iter().any(|n| n.starts_with("f_")), "{names:?}");
+            let impact = sol
+                .switches
+                .iter()
+                .find(|sw| sw.to == Some(Mode::Contact))
+                .expect("it hits the wall");
+            let stopped = sol
+                .rows()
+                .find(|(t, y)| *t > impact.t && y[2] == 0.0)
+                .map(|(t, _)| t)
+                .expect("it stops");
+            let (_, last) = sol.last().unwrap();
+            eprintln!(
+                "h = {h}: hits at {:.5} ({t_hit:.5}), rebounds at {:.5} (−e v = {:.5}), rests at \
+                 x = {:.5} ({rest_x:.5}) from {stopped:.5} ({rest_t:.5})",
+                impact.t,
+                impact.after[2],
+                -s.e * hit,
+                last[0]
+            );
+            assert!((impact.t - t_hit).abs() <= 2.0 * h);
+            assert!((last[0] - rest_x).abs() <= 2.0 * speed * h, "{}", last[0]);
+            assert!((stopped - rest_t).abs() <= 2.0 * h, "{stopped}");
+            assert!(
+                last[1].abs() < 1e-15 && last[3] == 0.0,
+                "on the ground: {last:?}"
+            );
+            // At rest with nothing pushing, neither friction holds a force.
+            assert!(last[5].abs() < 1e-9 && last[6].abs() < 1e-9, "{last:?}");
+            let after: Vec<_> = sol.rows().filter(|(t, _)| *t >= stopped).collect();
+            assert!(after.iter().all(|(_, y)| y[0] == last[0] && y[2] == 0.0));
+            errors.push((last[0] - rest_x).abs() + (impact.t - t_hit).abs());
+        }
+        assert!(
+            errors[1] < 0.2 * errors[0] + 1e-12,
+            "first order: {errors:?}"
+        );
+    }
+
+    /// While it slides, the rail's friction column is `fc` against the motion, the
+    /// ground's tangential force `μ` times its normal force `m g`.
+    #[test]
+    fn sliding_forces_are_the_laws() {
+        let s = BLOCK;
+        let p = NonSmoothProblem::new(0.0, 0.1, V2::zeros(), V2::from([3.0, 0.0]));
+        let sol = contact_time_stepping(&s, &Unforced, &p, 1e-3).unwrap_or_else(|e| panic!("{e}"));
+        let rail = sol
+            .names()
+            .iter()
+            .position(|n| n.starts_with("f_") && n.contains("friction"))
+            .expect("the rail's friction column");
+        let (n, t) = (
+            sol.column_index("λ_bottom.n").unwrap(),
+            sol.column_index("λ_bottom.x").unwrap(),
+        );
+        for (time, y) in sol.rows().skip(1) {
+            assert!((y[rail] - s.fc).abs() < 1e-9, "t = {time}: {}", y[rail]);
+            assert!((y[n] - s.m * s.g).abs() < 1e-9, "t = {time}: {}", y[n]);
+            assert!(
+                (y[t] + s.mu * s.m * s.g).abs() < 1e-9,
+                "t = {time}: {}",
+                y[t]
+            );
+        }
+    }
+
+    /// The element integrators do not integrate contacts and say so, naming them; the
+    /// event-driven contact integrator does not integrate joint elements and says so.
+    #[test]
+    fn integrators_that_cannot_take_both_say_so() {
+        let p = NonSmoothProblem::new(0.0, 1.0, V2::zeros(), V2::from([1.0, 0.0]));
+        let err = solve_nonsmooth(
+            &BLOCK,
+            &|_: f64, _: &V2, _: &V2| V2::zeros(),
+            &p,
+            &NonSmoothMethod::default(),
+        )
+        .unwrap_err();
+        let text = err.to_string();
+        assert!(matches!(err.kind, ErrorKind::InvalidInput(_)), "{text}");
+        assert!(
+            text.contains("`bottom`") && text.contains("contact_time_stepping"),
+            "{text}"
+        );
+        let err = contact_event_driven(&BLOCK, &Unforced, &p, &Method::Dopri5(Options::default()))
+            .unwrap_err();
+        let text = err.to_string();
+        assert!(
+            text.contains("joint elements") && text.contains("contact_time_stepping"),
+            "{text}"
+        );
+    }
+}

@@ -11,6 +11,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use crate::element::Element;
 use crate::system::Mechanism;
 
 /// The contacts of a mechanism: `K` contacts on `N` coordinates with `T` tangent rows.
@@ -42,4 +43,10 @@ pub trait Contacts<const N: usize, const K: usize, const T: usize>: Mechanism<N>
     fn contact_tangent_jacobian(&self, q: &SVector<f64, N>) -> SMatrix<f64, T, N>;
     /// `γ_T(q, v) = −Ẇ_T v`.
     fn contact_tangent_gamma(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> SVector<f64, T>;
+
+    /// The non-smooth elements on joint coordinates (`#[friction]`, `#[stop]`, …) the
+    /// scene declares beside its contacts, with their parameters evaluated.
+    fn joint_elements(&self) -> Vec<Element> {
+        Vec::new()
+    }
 }

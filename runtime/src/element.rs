@@ -93,6 +93,11 @@ pub trait NonSmooth<const N: usize>: Mechanism<N> + Energy<N> {
     /// Number of elements.
     const ELEMENTS: usize;
 
+    /// The contacts (`#[contact]`) the scene also declares. The element integrators
+    /// (`solve_nonsmooth`, `event_driven`, `time_stepping`) do not integrate contacts
+    /// and refuse such a scene, naming them; `contact_time_stepping` takes both.
+    const DECLARED_CONTACTS: &'static [&'static str] = &[];
+
     /// Element `e` with its parameters evaluated (`e < ELEMENTS`).
     fn element(&self, e: usize) -> Element;
 
@@ -191,6 +196,23 @@ impl Mode {
             Mode::PlateauNeg(i)
         }
     }
+}
+
+/// The element integrators' refusal of a scene that also declares contacts.
+pub(crate) fn refuse_contacts<S: NonSmooth<N>, const N: usize>() -> Result<(), String> {
+    if S::DECLARED_CONTACTS.is_empty() {
+        return Ok(());
+    }
+    let names: Vec<String> = S::DECLARED_CONTACTS
+        .iter()
+        .map(|c| format!("`{c}`"))
+        .collect();
+    Err(format!(
+        "the scene also declares contacts ({}), which this integrator does not integrate: \
+         integrate the scene with `contact_time_stepping`, which takes its contacts and its \
+         joint elements together",
+        names.join(", ")
+    ))
 }
 
 /// How a message names coordinate `c`: its joint as the scene declares it (`` `rail` ``),

@@ -408,6 +408,7 @@ where
 
     fn validate(&self, problem: &NonSmoothProblem<N>) -> Result<(), String> {
         self.options.validate()?;
+        crate::element::refuse_contacts::<S, N>()?;
         problem.check_span_and_start(&S::JOINTS)?;
         if !problem.forces0.is_empty() && problem.forces0.len() != self.elements.len() {
             return Err(format!(

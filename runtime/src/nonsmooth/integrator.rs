@@ -130,9 +130,11 @@ where
     ) -> Result<Self, SolveError> {
         // Parameters first: a non-positive mass or a negative critical force is reported
         // by name before anything is integrated.
-        if let Err(e) = system.validate() {
+        if let Err(e) = crate::element::refuse_contacts::<S, N>()
+            .and_then(|()| system.validate().map_err(|e| e.to_string()))
+        {
             return Err(SolveError::new(
-                ErrorKind::InvalidInput(e.to_string()),
+                ErrorKind::InvalidInput(e),
                 Solution::new(
                     crate::element::column_names::<S, N>(system),
                     2 * N,

@@ -836,6 +836,7 @@ fn validate<S: NonSmooth<N>, const N: usize>(
     if !(0.0..=1.0).contains(&theta) {
         return Err(format!("θ = {theta} must lie in [0, 1]"));
     }
+    crate::element::refuse_contacts::<S, N>()?;
     if !(problem.t0.is_finite() && problem.tf.is_finite() && problem.tf >= problem.t0) {
         return Err(format!(
             "time span [{}, {}] must be finite with tf ≥ t0",

@@ -88,6 +88,20 @@ pub fn contacts_impl(
         .collect();
     let of = &ck.tangent_of;
     let methods = &out.methods;
+    // Beside joint elements: they are the NonSmooth impl's, listed for the contact
+    // time-stepper.
+    let elements = if model.elements.is_empty() {
+        TokenStream::new()
+    } else {
+        quote! {
+            fn joint_elements(&self) -> ::std::vec::Vec<::filippov::runtime::nonsmooth::Element> {
+                let count = <Self as ::filippov::runtime::nonsmooth::NonSmooth<#n>>::ELEMENTS;
+                (0..count)
+                    .map(|e| <Self as ::filippov::runtime::nonsmooth::NonSmooth<#n>>::element(self, e))
+                    .collect()
+            }
+        }
+    };
     let code = quote! {
         impl ::filippov::runtime::contacts::Contacts<#n, #kc, #t> for #ident {
             const CONTACTS: [&'static str; #kc] = [#(#names),*];
@@ -100,6 +114,7 @@ pub fn contacts_impl(
                 [#(#e),*]
             }
             #methods
+            #elements
         }
     };
     (code, out.helpers)

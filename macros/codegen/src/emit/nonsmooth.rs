@@ -165,9 +165,16 @@ pub fn nonsmooth_impl(
             }
         }
     };
+    let declared = if model.contacts.is_empty() {
+        TokenStream::new()
+    } else {
+        let names = model.contacts.iter().map(|c| Literal::string(&c.name));
+        quote!(const DECLARED_CONTACTS: &'static [&'static str] = &[#(#names),*];)
+    };
     let imp = quote! {
         impl #rt::NonSmooth<#n> for #ident {
             const ELEMENTS: usize = #count;
+            #declared
             #[allow(clippy::all)]
             fn element(&self, element: usize) -> #rt::Element {
                 match element {

@@ -21,15 +21,29 @@
 
 use nalgebra::{DMatrix, DVector};
 
-/// One contact that may close in the step.
+/// One contact that may close in the step, or a friction element on one coordinate.
 #[derive(Clone, Debug)]
 pub(crate) struct ConeContact {
-    /// `w_N`, then the tangent rows (zero, one or two).
+    /// `w_N`, then the tangent rows (zero, one or two); a friction element's one row.
     pub rows: Vec<DVector<f64>>,
     /// `γ`: the normal law is `u_N ≥ γ` (`γ = −e u_N⁻`).
     pub gamma: f64,
     /// Friction coefficient.
     pub mu: f64,
+    /// A friction element instead of a contact: its row's impulse is bounded, not
+    /// unilateral.
+    pub friction: Option<Friction>,
+}
+
+/// The law of a friction element over one step, on its row's impulse `P` and velocity
+/// `u`: stuck (`u = 0`) while `|P| ≤ stick`; slipping, `P = −sgn(u) (slip + damping |u|)`
+/// (Coulomb: `slip = stick = h f_crit`, no damping; static and kinetic friction:
+/// `stick = h f_static`, `slip = h f_kinetic`; linear Bingham: `damping = h η`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Friction {
+    pub stick: f64,
+    pub slip: f64,
+    pub damping: f64,
 }
 
 /// The impulses and velocity after the step.
@@ -106,8 +120,17 @@ pub(crate) fn solve(
     let local = |v: &DVector<f64>, i: usize| -> Vec<f64> {
         let c = &contacts[i];
         let mut u: Vec<f64> = c.rows.iter().map(|r| r.dot(v)).collect();
-        u[0] -= c.gamma;
+        if c.friction.is_none() {
+            u[0] -= c.gamma;
+        }
         u
+    };
+    // The local problem's solution from its free velocity `c`.
+    let local_law = |i: usize, c: &[f64]| -> Option<Vec<f64>> {
+        match contacts[i].friction {
+            Some(f) => Some(vec![friction_solve(blocks[i][(0, 0)], c[0], f)]),
+            None => local_solve(&blocks[i], c, contacts[i].mu),
+        }
     };
     let mut sweeps = 0;
     let mut residual = f64::INFINITY;
@@ -122,7 +145,7 @@ pub(crate) fn solve(
                     .map(|s| a[(r, s)] * impulses[i][s])
                     .sum::<f64>();
             }
-            let p = local_solve(a, &c, contacts[i].mu).ok_or(NoLocalSolution { contact: i })?;
+            let p = local_law(i, &c).ok_or(NoLocalSolution { contact: i })?;
             for (s, col) in wh[i].iter().enumerate() {
                 let dp = p[s] - impulses[i][s];
                 if dp != 0.0 {
@@ -132,7 +155,16 @@ pub(crate) fn solve(
             impulses[i] = p;
         }
         residual = (0..k)
-            .map(|i| natural_map(&impulses[i], &local(&v, i), contacts[i].mu, &blocks[i]))
+            .map(|i| match contacts[i].friction {
+                // A friction element: how far its law would move its impulse, in
+                // velocity units.
+                Some(f) => {
+                    let a = blocks[i][(0, 0)];
+                    let c = local(&v, i)[0] - a * impulses[i][0];
+                    (friction_solve(a, c, f) - impulses[i][0]).abs() * a
+                }
+                None => natural_map(&impulses[i], &local(&v, i), contacts[i].mu, &blocks[i]),
+            })
             .fold(0.0, f64::max)
             / scale;
         if residual <= tolerance {
@@ -147,6 +179,19 @@ pub(crate) fn solve(
         sweeps,
         residual,
     })
+}
+
+/// A friction element's impulse for its free velocity `c` and Delassus entry `a`
+/// (`u = a P + c`): stuck if `−c/a` is within the stick bound, else slipping the way `c`
+/// goes, `u = (c − a s slip) / (1 + a damping)`.
+fn friction_solve(a: f64, c: f64, f: Friction) -> f64 {
+    let stuck = -c / a;
+    if stuck.abs() <= f.stick {
+        return stuck;
+    }
+    let s = c.signum();
+    let u = (c - a * s * f.slip) / (1.0 + a * f.damping);
+    -s * (f.slip + f.damping * u.abs())
 }
 
 /// De Saxcé's natural map `P − proj_K(P − ρ ũ)` with `ũ = u + (μ‖u_T‖, 0, 0)`, over `ρ`
@@ -292,6 +337,7 @@ mod tests {
                 rows,
                 gamma: 0.0,
                 mu,
+                friction: None,
             },
         )
     }

@@ -310,6 +310,17 @@ where
     if let Err(msg) = super::stepping::check::<S, N, K, T>(scene, problem) {
         return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
     }
+    let elements = scene.joint_elements();
+    if !elements.is_empty() {
+        let names: Vec<String> = elements.iter().map(|el| format!("`{}`", el.name)).collect();
+        let msg = format!(
+            "the scene has joint elements ({}) beside its contacts; the event-driven contact \
+             integrator does not integrate them yet: integrate the scene with \
+             `contact_time_stepping`, which takes both",
+            names.join(", ")
+        );
+        return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
+    }
     if let Some(k) = super::stepping::spatial_contact::<S, N, K, T>() {
         let msg = format!(
             "contact `{}` can slide in two directions (a spatial contact); the event-driven \

@@ -22,10 +22,10 @@
 
 use nalgebra::{DMatrix, DVector, SVector};
 
-use super::cone::{self, ConeContact};
+use super::cone::{self, ConeContact, Friction};
 use super::planar::{self, Closed, ContactError};
 use crate::contacts::Contacts;
-use crate::element::Mode;
+use crate::element::{Element, ElementKind, Law, Mode, Side, StopKind};
 use crate::input::Input;
 use crate::nonsmooth::NonSmoothProblem;
 use crate::system::{Mechanism, state_names};
@@ -60,6 +60,90 @@ where
     names.extend(S::CONTACTS.iter().map(|c| format!("λ_{c}.n")));
     names.extend(S::TANGENTS.iter().map(|t| format!("λ_{t}")));
     names
+}
+
+/// The joint elements acting over a step from `q` with free velocity `v_free`: every
+/// friction element (its row `e_c` and its law over `h`), and the rigid stops that may
+/// close in the step (their row, pointing into the admissible side).
+fn acting_elements<const N: usize>(
+    elements: &[Element],
+    q: &SVector<f64, N>,
+    v_free: &SVector<f64, N>,
+    h: f64,
+) -> Vec<(usize, DVector<f64>, Option<Friction>)> {
+    let unit = |c: usize, s: f64| DVector::from_fn(N, |i, _| if i == c { s } else { 0.0 });
+    elements
+        .iter()
+        .enumerate()
+        .filter_map(|(i, el)| {
+            let c = el.coordinate;
+            match el.kind {
+                ElementKind::DashPot { law, f_crit } => {
+                    let (slip, damping) = match law {
+                        Law::StaticKinetic { f_kinetic } => (f_kinetic, 0.0),
+                        Law::BinghamLinear { eta } => (f_crit, eta),
+                        _ => (f_crit, 0.0),
+                    };
+                    let friction = Friction {
+                        stick: h * f_crit,
+                        slip: h * slip,
+                        damping: h * damping,
+                    };
+                    Some((i, unit(c, 1.0), Some(friction)))
+                }
+                ElementKind::Stop { side, position, .. } => {
+                    // Upper (q ≤ position): gap position − q, row −e_c.
+                    let s = match side {
+                        Side::Upper => -1.0,
+                        Side::Lower => 1.0,
+                    };
+                    let gap = s * (q[c] - position);
+                    (gap + h * s * v_free[c] <= 0.0).then(|| (i, unit(c, s), None))
+                }
+            }
+        })
+        .collect()
+}
+
+/// A rigid stop's coefficient of restitution (`0` for anything else).
+fn stop_restitution(element: &Element) -> f64 {
+    match element.kind {
+        ElementKind::Stop {
+            kind: StopKind::Rigid { restitution },
+            ..
+        } => restitution,
+        _ => 0.0,
+    }
+}
+
+/// The joint elements contact time-stepping takes: Coulomb, static–kinetic and linear
+/// Bingham friction, rigid stops. Others are refused by name.
+fn check_elements<const N: usize>(elements: &[Element], joints: &[&str]) -> Result<(), String> {
+    for el in elements {
+        let supported = match el.kind {
+            ElementKind::DashPot { law, .. } => matches!(
+                law,
+                Law::Coulomb | Law::StaticKinetic { .. } | Law::BinghamLinear { .. }
+            ),
+            ElementKind::Stop { kind, .. } => matches!(kind, StopKind::Rigid { .. }),
+        };
+        if !supported {
+            return Err(format!(
+                "element `{}` on {} is not integrated beside contacts yet: contact \
+                 time-stepping takes Coulomb, static–kinetic and linear Bingham friction and \
+                 rigid stops",
+                el.name,
+                crate::element::joint_name(joints, el.coordinate)
+            ));
+        }
+        if el.coordinate >= N {
+            return Err(format!(
+                "element `{}` acts on coordinate {} but the mechanism has {N}",
+                el.name, el.coordinate
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// What both contact integrators refuse: a time span or start that is not finite,
@@ -111,29 +195,40 @@ where
     S: Mechanism<N> + Contacts<N, K, T>,
     I: Input<N> + ?Sized,
 {
-    let sol = Solution::new(column_names::<S, N, K, T>(), 2 * N, problem.output.clone());
+    // The scene's joint elements, their forces `f_<element>` after the contacts'.
+    let elements = scene.joint_elements();
+    let mut names = column_names::<S, N, K, T>();
+    names.extend(elements.iter().map(|el| format!("f_{}", el.name)));
+    let sol = Solution::new(names, 2 * N, problem.output.clone());
     if !(h > 0.0 && h.is_finite()) {
         let msg = format!("the step h = {h} must be positive and finite");
         return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
     }
-    if let Err(msg) = check::<S, N, K, T>(scene, problem) {
+    if let Err(msg) = check::<S, N, K, T>(scene, problem)
+        .and_then(|()| check_elements::<N>(&elements, &S::JOINTS))
+    {
         return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
     }
     let mut sol = sol;
     let (mu, e) = (scene.contact_friction(), scene.contact_restitution());
     let (mut t, mut q, mut v) = (problem.t0, problem.q0, problem.v0);
     let mut modes = [Mode::Free; K];
-    let spatial = spatial_contact::<S, N, K, T>().is_some();
+    // Each joint element's last impulse and mode.
+    let mut warm_elements: Vec<Vec<f64>> = vec![Vec::new(); elements.len()];
+    let mut element_modes: Vec<Mode> = vec![Mode::Free; elements.len()];
+    // Spatial contacts or joint elements: the Gauss–Seidel problem of `cone`; planar
+    // contacts alone: the complementarity problem of `planar`.
+    let general = spatial_contact::<S, N, K, T>().is_some() || !elements.is_empty();
     let tangent_rows = |k: usize| (0..T).filter(move |&r| S::TANGENT_OF[r] == k);
     // The last step's impulses of each contact, to start the next step's solver from.
     let mut warm: Vec<Vec<f64>> = vec![Vec::new(); K];
-    let zero_forces = vec![0.0; K + T];
+    let zero_forces = vec![0.0; K + T + elements.len()];
     let row = |q: &SVector<f64, N>, v: &SVector<f64, N>, f: &[f64]| -> Vec<f64> {
         q.iter().chain(v.iter()).chain(f.iter()).copied().collect()
     };
     let derivative = |v: &SVector<f64, N>, dv: &SVector<f64, N>| -> Vec<f64> {
         let mut d: Vec<f64> = v.iter().chain(dv.iter()).copied().collect();
-        d.resize(2 * N + K + T, 0.0);
+        d.resize(2 * N + K + T + elements.len(), 0.0);
         d
     };
     let a0 = scene.forward_dynamics(&q, &v, &input.forces(t, &q, &v));
@@ -157,10 +252,18 @@ where
         let active: Vec<usize> = (0..K)
             .filter(|&k| gaps[k] + hn * vn_free[k] <= 0.0)
             .collect();
+        let acting = acting_elements(&elements, &q, &v_free, hn);
+        let v_d = DVector::from_iterator(N, v.iter().copied());
         let mut v_next = v_free;
-        let mut forces = vec![0.0; K + T];
+        let mut forces = vec![0.0; K + T + elements.len()];
         let mut new_modes = [Mode::Free; K];
-        if !active.is_empty() {
+        let element_modes_before = element_modes.clone();
+        for (i, m) in element_modes.iter_mut().enumerate() {
+            if !acting.iter().any(|&(el, _, _)| el == i) {
+                *m = Mode::Free;
+            }
+        }
+        if !active.is_empty() || !acting.is_empty() {
             let Some(chol) = scene.mass_matrix(&q).cholesky() else {
                 return Err(SolveError::new(
                     ErrorKind::IllPosedMode {
@@ -189,7 +292,7 @@ where
                 })
                 .collect();
             let v_free_d = DVector::from_iterator(N, v_free.iter().copied());
-            if spatial {
+            if general {
                 let rows_of = |k: usize| -> Vec<DVector<f64>> {
                     std::iter::once(DVector::from_iterator(N, w_n.row(k).iter().copied()))
                         .chain(
@@ -198,30 +301,54 @@ where
                         )
                         .collect()
                 };
-                let cones: Vec<ConeContact> = active
+                // The local problems: the contacts that may close, then the elements that
+                // act in the step.
+                let mut locals: Vec<ConeContact> = active
                     .iter()
                     .map(|&k| ConeContact {
                         rows: rows_of(k),
                         gamma: -e[k] * vn[k].min(0.0),
                         mu: mu[k],
+                        friction: None,
                     })
                     .collect();
-                let start: Vec<Vec<f64>> = active.iter().map(|&k| warm[k].clone()).collect();
-                let out =
-                    match cone::solve(&w, &v_free_d, &cones, &start, CONE_TOLERANCE, CONE_SWEEPS) {
-                        Ok(out) => out,
-                        Err(cone::NoLocalSolution { contact }) => {
-                            let detail = format!(
-                                "the contact problem of `{}` has no solution: its friction drives \
-                             it into the plane in every sliding direction",
-                                S::CONTACTS[active[contact]]
-                            );
-                            return Err(SolveError::new(
-                                ErrorKind::IllPosedMode { t, detail },
-                                sol,
-                            ));
-                        }
-                    };
+                locals.extend(acting.iter().map(|&(i, ref row, law)| match law {
+                    Some(friction) => ConeContact {
+                        rows: vec![row.clone()],
+                        gamma: 0.0,
+                        mu: 0.0,
+                        friction: Some(friction),
+                    },
+                    None => ConeContact {
+                        rows: vec![row.clone()],
+                        gamma: -stop_restitution(&elements[i]) * row.dot(&v_d).min(0.0),
+                        mu: 0.0,
+                        friction: None,
+                    },
+                }));
+                let start: Vec<Vec<f64>> = active
+                    .iter()
+                    .map(|&k| warm[k].clone())
+                    .chain(acting.iter().map(|&(i, _, _)| warm_elements[i].clone()))
+                    .collect();
+                let out = match cone::solve(
+                    &w,
+                    &v_free_d,
+                    &locals,
+                    &start,
+                    CONE_TOLERANCE,
+                    CONE_SWEEPS,
+                ) {
+                    Ok(out) => out,
+                    Err(cone::NoLocalSolution { contact }) => {
+                        let detail = format!(
+                            "the contact problem of `{}` has no solution: its friction drives \
+                                 it into the plane in every sliding direction",
+                            S::CONTACTS[active[contact]]
+                        );
+                        return Err(SolveError::new(ErrorKind::IllPosedMode { t, detail }, sol));
+                    }
+                };
                 sol.stats.contact_sweeps += out.sweeps;
                 sol.stats.contact_residual = sol.stats.contact_residual.max(out.residual);
                 v_next = SVector::from_iterator(out.velocity.iter().copied());
@@ -243,16 +370,58 @@ where
                         Mode::Free
                     } else if stuck {
                         Mode::Stick
+                    } else if tangent_rows(k).count() == 1 && out.local[i][1] < 0.0 {
+                        Mode::SlipNeg(0)
                     } else {
                         Mode::SlipPos(0)
                     };
-                    if p[0] > 0.0 && cones[i].gamma == 0.0 {
-                        holding.push(cones[i].rows[0].clone());
+                    if p[0] > 0.0 && locals[i].gamma == 0.0 {
+                        holding.push(locals[i].rows[0].clone());
                         if stuck && inside {
-                            holding.extend(cones[i].rows[1..].iter().cloned());
+                            holding.extend(locals[i].rows[1..].iter().cloned());
                         }
                     }
+                    // The next step starts from these impulses; a sliding contact's from
+                    // its normal one only, so that where redundant frictions (two stuck
+                    // contacts, a contact and a joint's friction) come to rest together
+                    // they do not keep the opposite pair of forces that stopped them.
                     warm[k] = p.clone();
+                    if !stuck {
+                        warm[k][1..].iter_mut().for_each(|x| *x = 0.0);
+                    }
+                }
+                for (j, &(el, ref row, law)) in acting.iter().enumerate() {
+                    let i = active.len() + j;
+                    let (p, u) = (out.impulses[i][0], out.local[i][0]);
+                    // Sliding, the next step starts its friction from zero (as a
+                    // contact's above).
+                    warm_elements[el] = vec![if law.is_some() && u != 0.0 { 0.0 } else { p }];
+                    match law {
+                        Some(friction) => {
+                            // The element's force resists: the momentum gets −f h.
+                            forces[K + T + el] = -p / hn;
+                            let stuck =
+                                u.abs() <= slip_tol || p.abs() < friction.stick * (1.0 - CONE_EDGE);
+                            element_modes[el] = if stuck {
+                                Mode::Stick
+                            } else if u > 0.0 {
+                                Mode::SlipPos(0)
+                            } else {
+                                Mode::SlipNeg(0)
+                            };
+                            if stuck {
+                                holding.push(row.clone());
+                            }
+                        }
+                        None => {
+                            // A stop pushes its coordinate back: `f = side · λ`.
+                            forces[K + T + el] = -row.sum() * p / hn;
+                            element_modes[el] = if p > 0.0 { Mode::Contact } else { Mode::Free };
+                            if p > 0.0 && locals[i].gamma == 0.0 {
+                                holding.push(row.clone());
+                            }
+                        }
+                    }
                 }
                 if locks::<N>(&holding) {
                     v_next = SVector::zeros();
@@ -349,6 +518,28 @@ where
                 s.from = Some(modes[k]);
                 s.to = Some(new_modes[k]);
                 s.jump = forces[k] * hn;
+                sol.switches.push(s);
+            }
+        }
+        for (i, el) in elements.iter().enumerate() {
+            if element_modes[i] != element_modes_before[i] {
+                let impact =
+                    element_modes_before[i] == Mode::Free && element_modes[i] == Mode::Contact;
+                let mut s = Switch::of_run(
+                    t_next,
+                    if impact {
+                        SwitchKind::Impact
+                    } else {
+                        SwitchKind::Mode
+                    },
+                    row(&q, &v, &[]),
+                    row(&q_next, &v_next, &[]),
+                );
+                s.element = Some(el.name.to_string());
+                s.index = Some(K + i);
+                s.from = Some(element_modes_before[i]);
+                s.to = Some(element_modes[i]);
+                s.jump = forces[K + T + i] * hn;
                 sol.switches.push(s);
             }
         }

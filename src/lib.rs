@@ -112,10 +112,12 @@
 //!   dynamics ([`runtime::loops::LoopConstraints`]), and every integrator keeps on them
 //!   ([`runtime::loops`]; trees with spherical or free joints are not closed yet).
 //! - `#[contact(name: point | sphere(r), body = body, at = […], plane = world | body,
-//!   origin = […], rpy = […], normal = axis, mu = …, restitution = …)]` — a point or
-//!   sphere on a body touching a plane; the derive writes out its gap, normal and
-//!   tangential Jacobians and `γ` terms ([`runtime::contacts::Contacts`]); planar
-//!   contacts are integrated by [`runtime::contact_time_stepping`].
+//!   origin = […], rpy = […], normal = axis, mu = …, mu_static = …, restitution = …)]`
+//!   — a point or sphere on a body touching a plane (`mu_static ≥ mu`: static and
+//!   kinetic friction); the derive writes out its gap, normal and tangential Jacobians
+//!   and `γ` terms ([`runtime::contacts::Contacts`]); contacts are integrated by
+//!   [`runtime::contact_event_driven`] (planar) and [`runtime::contact_time_stepping`]
+//!   (planar and spatial, beside joint friction and stops).
 //! - Non-smooth elements: `#[friction(joint, f_crit = …)]` (Coulomb),
 //!   `#[friction(joint, f_static = …, f_kinetic = …)]` (static and kinetic friction: held
 //!   at rest up to `f_static`, slipping at `f_kinetic ≤ f_static`; where rest and slip

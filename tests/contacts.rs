@@ -1367,3 +1367,143 @@ mod beside_elements {
         );
     }
 }
+
+/// Static and kinetic friction on contacts (`mu_static ≥ mu`): a box on an incline
+/// steeper than its kinetic friction angle but not its static one.
+mod static_kinetic {
+    use filippov::nalgebra::SVector;
+    use filippov::prelude::*;
+    use filippov::runtime::{
+        Method, Mode, NonSmoothProblem, Options, Unforced, contact_event_driven,
+        contact_time_stepping,
+    };
+
+    type V3 = SVector<f64, 3>;
+
+    #[derive(Mechanism, Clone, Copy)]
+    #[mechanism(gravity = [0.0, -g, 0.0])]
+    #[body(slider_x, mass = 0.0)]
+    #[joint(x: prismatic(x), parent = world, child = slider_x)]
+    #[body(slider_y, mass = 0.0)]
+    #[joint(y: prismatic(y), parent = slider_x, child = slider_y)]
+    #[body(block, mass = m, inertia = cuboid(m, 2.0 * a, 2.0 * b, 0.1))]
+    #[joint(angle: revolute(z), parent = slider_y, child = block)]
+    #[contact(rear: point, body = block, at = [-a, -b, 0.0], plane = world,
+              rpy = [0.0, 0.0, phi], normal = y, mu = mu_k, mu_static = mu_s)]
+    #[contact(front: point, body = block, at = [a, -b, 0.0], plane = world,
+              rpy = [0.0, 0.0, phi], normal = y, mu = mu_k, mu_static = mu_s)]
+    struct StickyBox {
+        m: f64,
+        a: f64,
+        b: f64,
+        mu_k: f64,
+        mu_s: f64,
+        phi: f64,
+        g: f64,
+    }
+
+    /// tan φ = 0.309: between μ_k = 0.2 and μ_s = 0.5.
+    const BOX: StickyBox = StickyBox {
+        m: 1.0,
+        a: 0.2,
+        b: 0.1,
+        mu_k: 0.2,
+        mu_s: 0.5,
+        phi: 0.3,
+        g: 9.81,
+    };
+
+    fn resting(s: &StickyBox) -> V3 {
+        V3::from([-s.b * s.phi.sin(), s.b * s.phi.cos(), s.phi])
+    }
+
+    fn tight() -> Method {
+        Method::Dopri5(Options {
+            max_steps: 1_000_000,
+            ..Options::tolerances(1e-12, 1e-14)
+        })
+    }
+
+    /// Put down still, the static friction holds it, bit for bit, by both integrators.
+    #[test]
+    fn held_by_static_friction_it_does_not_move() {
+        let s = BOX;
+        let q0 = resting(&s);
+        let p = NonSmoothProblem::new(0.0, 100.0, q0, V3::zeros());
+        let ed =
+            contact_event_driven(&s, &Unforced, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        let ts = contact_time_stepping(&s, &Unforced, &p, 1e-2).unwrap_or_else(|e| panic!("{e}"));
+        for sol in [&ed, &ts] {
+            for (t, y) in sol.rows() {
+                assert_eq!(&y[..6], &[q0[0], q0[1], q0[2], 0.0, 0.0, 0.0], "t = {t}");
+            }
+        }
+    }
+
+    /// Launched up the slope at `v0` it slows at `g (sin φ + μ_k cos φ)`, stops after
+    /// `v0² / (2 a)` at `v0 / a`, and the static friction holds it there; launched down,
+    /// it speeds up at `g (sin φ − μ_k cos φ)` and never stops.
+    #[test]
+    fn kinetic_friction_while_sliding_static_once_stopped() {
+        let s = BOX;
+        let (sp, cp) = s.phi.sin_cos();
+        let up = s.g * (sp + s.mu_k * cp);
+        let down = s.g * (sp - s.mu_k * cp);
+        let v0 = 1.5;
+        let along = |y: &[f64]| (y[0] - resting(&s)[0]) * cp + (y[1] - resting(&s)[1]) * sp;
+        let speed = |y: &[f64]| y[3] * cp + y[4] * sp;
+        // Up: stops and stays.
+        let p = NonSmoothProblem::new(0.0, 2.0, resting(&s), V3::from([v0 * cp, v0 * sp, 0.0]));
+        let sol =
+            contact_event_driven(&s, &Unforced, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        let stick = sol
+            .switches
+            .iter()
+            .find(|sw| sw.to == Some(Mode::Stick) && sw.t > 0.0)
+            .expect("it sticks");
+        let (_, last) = sol.last().unwrap();
+        eprintln!(
+            "up: sticks at {:.12} (closed form {:.12}) after {:.12} m ({:.12})",
+            stick.t,
+            v0 / up,
+            along(last),
+            v0 * v0 / (2.0 * up)
+        );
+        assert!((stick.t - v0 / up).abs() < 1e-9);
+        assert!((along(last) - v0 * v0 / (2.0 * up)).abs() < 1e-9);
+        assert_eq!(&last[3..6], &[0.0, 0.0, 0.0]);
+        // Down: slides on at the kinetic law.
+        let p = NonSmoothProblem::new(0.0, 2.0, resting(&s), V3::from([-v0 * cp, -v0 * sp, 0.0]));
+        let sol =
+            contact_event_driven(&s, &Unforced, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        let worst = sol
+            .rows()
+            .map(|(t, y)| (speed(y) + v0 + down * t).abs())
+            .fold(0.0, f64::max);
+        eprintln!("down: speed within {worst:.1e} of −(v0 + g (sin φ − μ_k cos φ) t)");
+        assert!(worst < 1e-9, "{worst:e}");
+        // Time-stepping, up: stops within a step of the closed form and stays.
+        let p = NonSmoothProblem::new(0.0, 2.0, resting(&s), V3::from([v0 * cp, v0 * sp, 0.0]));
+        let h = 1e-4;
+        let sol = contact_time_stepping(&s, &Unforced, &p, h).unwrap_or_else(|e| panic!("{e}"));
+        let stopped = sol
+            .rows()
+            .find(|(t, y)| *t > 0.0 && speed(y) == 0.0)
+            .map(|(t, _)| t)
+            .expect("it stops");
+        assert!((stopped - v0 / up).abs() <= 1.01 * h, "{stopped}");
+        let (_, last) = sol.last().unwrap();
+        assert_eq!(&last[3..6], &[0.0, 0.0, 0.0]);
+    }
+
+    /// `mu_static` below `mu` is refused at run time, naming the contact.
+    #[test]
+    fn static_below_kinetic_is_refused() {
+        let bad = StickyBox { mu_s: 0.1, ..BOX };
+        let text = bad.validate().expect_err("μ_s < μ_k").to_string();
+        assert!(
+            text.contains("`rear`") && text.contains("mu_static"),
+            "{text}"
+        );
+    }
+}

@@ -32,6 +32,12 @@ pub trait Contacts<const N: usize, const K: usize, const T: usize>: Mechanism<N>
     fn contact_friction(&self) -> [f64; K];
     /// Newton's coefficients of restitution `e`, one per contact.
     fn contact_restitution(&self) -> [f64; K];
+    /// Static friction coefficients `μ_s ≥ μ`, one per contact: a stuck contact holds
+    /// while `|λ_T| ≤ μ_s λ_N`, a sliding one carries `μ λ_N`. `μ` where a contact gives
+    /// no `mu_static`.
+    fn contact_static_friction(&self) -> [f64; K] {
+        self.contact_friction()
+    }
 
     /// The gaps `g_N(q)`: positive apart, zero touching, negative in penetration.
     fn contact_gaps(&self, q: &SVector<f64, N>) -> SVector<f64, K>;

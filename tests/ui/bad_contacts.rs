@@ -18,6 +18,7 @@ use filippov::Mechanism;
 #[contact(hollow: sphere(-0.1), body = block, normal = y)]
 #[contact(slide: point, body = block, normal = y)]
 #[contact(typo: point, body = block, normal = y, muu = 0.3)]
+#[contact(grippy: point, body = block, normal = y, mu = 0.5, mu_static = 0.3)]
 struct Box2 {
     m: f64,
 }

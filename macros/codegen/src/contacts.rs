@@ -12,8 +12,9 @@
 //! `normal` is the plane's normal in that frame, a coordinate axis (`x`, `-y`, …), and
 //! the other two axes of the frame are its tangent directions. The sphere's centre (the
 //! point, for `point`) is `at` in the body's frame. `mu` (Coulomb friction coefficient,
-//! default 0: frictionless) and `restitution` (Newton's coefficient `e`, default 0) are
-//! expressions in the fields like any parameter.
+//! default 0: frictionless; the kinetic one where `mu_static` is given), `mu_static`
+//! (the static coefficient, at least `mu`; default `mu`) and `restitution` (Newton's
+//! coefficient `e`, default 0) are expressions in the fields like any parameter.
 
 use syn::{Expr, Ident};
 
@@ -24,7 +25,7 @@ use crate::parse::expr::lower;
 use crate::parse::{RawAttr, ident_of, strip};
 
 /// The keys a contact takes.
-const KEYS: [&str; 8] = [
+const KEYS: [&str; 9] = [
     "body",
     "at",
     "plane",
@@ -32,6 +33,7 @@ const KEYS: [&str; 8] = [
     "rpy",
     "normal",
     "mu",
+    "mu_static",
     "restitution",
 ];
 
@@ -185,12 +187,41 @@ pub fn read(
             Some(value)
         };
         let mu = coefficient("mu", "the friction coefficient", None, &mut raw);
+        let static_key = raw.args.iter().any(|(k, _)| k == "mu_static");
+        let mu_static = if static_key {
+            coefficient(
+                "mu_static",
+                "the static friction coefficient",
+                None,
+                &mut raw,
+            )
+        } else {
+            Some(PExpr::zero())
+        };
         let restitution = coefficient(
             "restitution",
             "the coefficient of restitution",
             Some(1.0),
             &mut raw,
         );
+        // The static coefficient holds at least what the kinetic one does.
+        let mu_static = match (static_key, &mu, mu_static) {
+            (false, _, Some(_)) => Some(None),
+            (true, Some(m), Some(ms)) => match (m.as_const(), ms.as_const()) {
+                (Some(k), Some(st)) if st < k => {
+                    diag.error_at(
+                        &name,
+                        format_args!(
+                            "contact `{name}`: `mu_static` = {st} is below `mu` = {k}; the static \
+                             friction coefficient must be at least the kinetic one (`mu`)"
+                        ),
+                    );
+                    None
+                }
+                _ => Some(Some(ms)),
+            },
+            _ => None,
+        };
         raw.reject_rest(&KEYS, diag);
         if let (
             true,
@@ -200,9 +231,19 @@ pub fn read(
             Some(plane),
             Some(normal),
             Some(mu),
+            Some(mu_static),
             Some(restitution),
-        ) = (ok, radius, body, at, plane, normal, mu, restitution)
-        {
+        ) = (
+            ok,
+            radius,
+            body,
+            at,
+            plane,
+            normal,
+            mu,
+            mu_static,
+            restitution,
+        ) {
             out.push(Contact {
                 name: name.to_string(),
                 body,
@@ -213,6 +254,7 @@ pub fn read(
                 rpy,
                 normal,
                 mu,
+                mu_static,
                 restitution,
             });
         }

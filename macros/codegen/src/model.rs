@@ -343,8 +343,11 @@ pub struct Contact {
     pub origin: Vec3,
     pub rpy: Vec3,
     pub normal: [f64; 3],
-    /// Coulomb friction coefficient (`0`: frictionless).
+    /// Coulomb friction coefficient (`0`: frictionless); the kinetic one where
+    /// `mu_static` is given.
     pub mu: PExpr,
+    /// The static friction coefficient (`≥ mu`), where it differs from `mu`.
+    pub mu_static: Option<PExpr>,
     /// Newton's coefficient of restitution.
     pub restitution: PExpr,
 }

@@ -75,6 +75,20 @@ pub fn contacts_impl(
     );
     let p = &model.params;
     let mu: Vec<TokenStream> = model.contacts.iter().map(|c| expr(&c.mu, p)).collect();
+    // Static coefficients, where a contact gives one.
+    let static_friction = if model.contacts.iter().any(|c| c.mu_static.is_some()) {
+        let ms = model
+            .contacts
+            .iter()
+            .map(|c| expr(c.mu_static.as_ref().unwrap_or(&c.mu), p));
+        quote! {
+            fn contact_static_friction(&self) -> [f64; #kc] {
+                [#(#ms),*]
+            }
+        }
+    } else {
+        TokenStream::new()
+    };
     let e: Vec<TokenStream> = model
         .contacts
         .iter()
@@ -113,6 +127,7 @@ pub fn contacts_impl(
             fn contact_restitution(&self) -> [f64; #kc] {
                 [#(#e),*]
             }
+            #static_friction
             #methods
             #elements
         }

@@ -101,6 +101,19 @@ pub fn validate_fn(model: &Model) -> TokenStream {
             &c.mu,
             Check::NonNegative,
         );
+        if let Some(ms) = &c.mu_static {
+            if ms.as_const().is_none() || c.mu.as_const().is_none() {
+                let (k, st) = (expr(&c.mu, p), expr(ms, p));
+                let what = format!(
+                    "friction coefficient `mu` of contact `{}` (`{}`), above its `mu_static`",
+                    c.name,
+                    c.mu.display(p)
+                );
+                kinetic_checks.push(quote! {
+                    if let Some(why) = #ck::at_most(#k, #st) { problems.push((#what.to_string(), why)); }
+                });
+            }
+        }
         scalar(
             format!("restitution of contact `{}`", c.name),
             &c.restitution,

@@ -58,7 +58,10 @@ struct InMode<'a, S, I: ?Sized, const N: usize, const K: usize, const T: usize> 
     scene: &'a S,
     input: &'a I,
     modes: [CMode; K],
+    /// Kinetic friction coefficients (sliding contacts carry `μ λ_N`).
     mu: [f64; K],
+    /// Static ones (a stuck contact holds while `|λ_T| ≤ μ_s λ_N`).
+    mu_static: [f64; K],
     /// The first tangent row of each contact.
     tangent: [Option<usize>; K],
 }
@@ -255,7 +258,7 @@ where
         let slips = self.scene.contact_tangent_jacobian(&q) * v;
         std::array::from_fn(|k| match self.modes[k] {
             CMode::Open => gaps[k],
-            CMode::Stick => d.normal[k].min(self.mu[k] * d.normal[k] - d.tangent[k].abs()),
+            CMode::Stick => d.normal[k].min(self.mu_static[k] * d.normal[k] - d.tangent[k].abs()),
             CMode::Slip(s) => d.normal[k].min(s * self.tangent[k].map_or(0.0, |r| slips[r])),
         })
     }
@@ -339,6 +342,7 @@ where
         input,
         modes: [CMode::Open; K],
         mu: scene.contact_friction(),
+        mu_static: scene.contact_static_friction(),
         tangent,
     };
     let e = scene.contact_restitution();
@@ -647,7 +651,16 @@ where
         // decides which rebound, stick or slide.
         let plastic = closed.iter().all(|c| c.gamma_n == 0.0);
         let before: Vec<f64> = y.clone();
-        match held(&w, &vd, &closed).filter(|_| plastic) {
+        // Holding every contact needs its impulses in the static cones.
+        let static_cones: Vec<Closed> = closed
+            .iter()
+            .zip(&touching)
+            .map(|(c, &k)| Closed {
+                mu: if c.mu > 0.0 { sys.mu_static[k] } else { 0.0 },
+                ..c.clone()
+            })
+            .collect();
+        match held(&w, &vd, &static_cones).filter(|_| plastic) {
             Some(v_held) => {
                 let dv = &v_held - &vd;
                 for (i, &k) in touching.iter().enumerate() {
@@ -776,10 +789,12 @@ where
                     gamma_n: g_n[k],
                     tangent: trow(sys.tangent[k]),
                     gamma_t: sys.tangent[k].map_or(0.0, |r| g_t[r]),
-                    mu: if sys.tangent[k].is_some() {
-                        sys.mu[k]
-                    } else {
-                        0.0
+                    // A stuck contact's cone is the static one, a sliding one's force
+                    // the kinetic.
+                    mu: match (sys.tangent[k], slip.abs() > tol_x(v_scale)) {
+                        (None, _) => 0.0,
+                        (Some(_), true) => sys.mu[k],
+                        (Some(_), false) => sys.mu_static[k],
                     },
                     sliding: (slip.abs() > tol_x(v_scale)).then(|| slip.signum()),
                 }
@@ -796,6 +811,7 @@ where
             input: sys.input,
             modes: [CMode::Open; K],
             mu: sys.mu,
+            mu_static: sys.mu_static,
             tangent: sys.tangent,
         };
         for (i, &k) in candidates.iter().enumerate() {
@@ -826,7 +842,7 @@ where
         let admissible = candidates.iter().all(|&k| {
             d.normal[k] >= -f_tol
                 && (trial.modes[k] != CMode::Stick
-                    || d.tangent[k].abs() <= sys.mu[k] * d.normal[k] + f_tol)
+                    || d.tangent[k].abs() <= sys.mu_static[k] * d.normal[k] + f_tol)
         }) && d.a.iter().all(|x| x.is_finite());
         let a0d = DVector::from_iterator(N, a0.iter().copied());
         let out = if admissible {
@@ -927,7 +943,7 @@ where
     let on_edge = |k: usize| match trial.modes[k] {
         CMode::Stick => {
             d.normal[k].abs() <= edge
-                || (trial.mu[k] * d.normal[k] - d.tangent[k].abs()).abs() <= edge
+                || (trial.mu_static[k] * d.normal[k] - d.tangent[k].abs()).abs() <= edge
         }
         CMode::Slip(_) => d.normal[k].abs() <= edge,
         CMode::Open => false,
@@ -950,7 +966,7 @@ where
     let mut changed = false;
     for k in edges {
         let falling = after.normal[k] < before.normal[k] && d.normal[k].abs() <= edge;
-        let margin = |x: &Dynamics<N, K>| trial.mu[k] * x.normal[k] - x.tangent[k].abs();
+        let margin = |x: &Dynamics<N, K>| trial.mu_static[k] * x.normal[k] - x.tangent[k].abs();
         if falling {
             trial.modes[k] = CMode::Open;
             changed = true;

@@ -210,9 +210,28 @@ where
         return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
     }
     let mut sol = sol;
-    let (mu, e) = (scene.contact_friction(), scene.contact_restitution());
+    let (mu_kinetic, mu_static, e) = (
+        scene.contact_friction(),
+        scene.contact_static_friction(),
+        scene.contact_restitution(),
+    );
     let (mut t, mut q, mut v) = (problem.t0, problem.q0, problem.v0);
-    let mut modes = [Mode::Free; K];
+    // A contact touching without slipping at the start is stuck (it holds within its
+    // static cone from the first step).
+    let mut modes = {
+        let (gaps, slips) = (
+            scene.contact_gaps(&q),
+            scene.contact_tangent_jacobian(&q) * v,
+        );
+        std::array::from_fn(|k| {
+            let still = (0..T).all(|r| S::TANGENT_OF[r] != k || slips[r] == 0.0);
+            if gaps[k] <= 0.0 && still {
+                Mode::Stick
+            } else {
+                Mode::Free
+            }
+        })
+    };
     // Each joint element's last impulse and mode.
     let mut warm_elements: Vec<Vec<f64>> = vec![Vec::new(); elements.len()];
     let mut element_modes: Vec<Mode> = vec![Mode::Free; elements.len()];
@@ -241,6 +260,15 @@ where
             problem.t0 + (n + 1) as f64 * h
         };
         let hn = t_next - t;
+        // A contact stuck over the last step holds within its static cone this step; any
+        // other, the kinetic one.
+        let mu: [f64; K] = std::array::from_fn(|k| {
+            if modes[k] == Mode::Stick {
+                mu_static[k]
+            } else {
+                mu_kinetic[k]
+            }
+        });
         let tau = input.forces(t, &q, &v);
         let a = scene.forward_dynamics(&q, &v, &tau);
         let v_free = v + a * hn;

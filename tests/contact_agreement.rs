@@ -33,3 +33,37 @@ fn random_contact_scenes_agree_and_stay_passive() {
         .collect();
     assert!(failed.is_empty(), "scenes {failed:?} failed");
 }
+
+#[path = "../examples/support/spatial_agreement.rs"]
+mod spatial_agreement;
+
+/// Random spatial scenes (tables, pucks) by time-stepping on the friction cone: solved,
+/// passive, not sinking, first order. Twelve here (each is three runs down to h = 2e-5,
+/// slow unoptimised); the report runs 120 and names the seeds that fail.
+#[test]
+fn random_spatial_scenes_are_solved_passive_and_first_order() {
+    let results: Vec<_> = (0..12).map(spatial_agreement::run).collect();
+    for r in &results {
+        eprintln!(
+            "seed {:>2} {:<5}: residual {:.1e}, energy gain {:.1e}, sinking {:.1e} m, \
+             distance {:.1e} → {:.1e}{}",
+            r.seed,
+            r.kind,
+            r.residual,
+            r.energy_gain,
+            r.sinking,
+            r.distance[0],
+            r.distance[1],
+            r.failure
+                .as_deref()
+                .map(|f| format!(" FAILED: {f}"))
+                .unwrap_or_default()
+        );
+    }
+    let failed: Vec<u64> = results
+        .iter()
+        .filter(|r| !r.passed())
+        .map(|r| r.seed)
+        .collect();
+    assert!(failed.is_empty(), "scenes {failed:?} failed");
+}

@@ -59,6 +59,8 @@ mod s9;
 mod s9_support;
 #[path = "scaling.rs"]
 mod scaling;
+#[path = "../support/spatial_agreement.rs"]
+mod spatial_agreement;
 #[path = "../support/supported_arm.rs"]
 mod supported_arm;
 #[path = "timing.rs"]

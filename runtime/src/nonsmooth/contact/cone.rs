@@ -171,6 +171,31 @@ pub(crate) fn solve(
             break;
         }
     }
+    // Gauss–Seidel converges slowly, or cycles, where coupled frictions come to rest
+    // together (a table's legs, their friction turning it and so pressing its legs):
+    // every contact held (closed and stuck) is then tried as a whole, and taken where
+    // its impulses are admissible and leave a smaller residual.
+    if residual > tolerance {
+        let refined = active_set(v_free, contacts, &wh, &impulses)
+            .into_iter()
+            .flatten();
+        for (held, v_held) in all_held(v_free, contacts, &wh).into_iter().chain(refined) {
+            let r = (0..k)
+                .map(|i| match contacts[i].friction {
+                    Some(f) => {
+                        let a = blocks[i][(0, 0)];
+                        let c = local(&v_held, i)[0] - a * held[i][0];
+                        (friction_solve(a, c, f) - held[i][0]).abs() * a
+                    }
+                    None => natural_map(&held[i], &local(&v_held, i), contacts[i].mu, &blocks[i]),
+                })
+                .fold(0.0, f64::max)
+                / scale;
+            if r < residual {
+                (impulses, v, residual) = (held, v_held, r);
+            }
+        }
+    }
     let local_velocities = (0..k).map(|i| local(&v, i)).collect();
     Ok(ConeOutcome {
         impulses,
@@ -180,6 +205,425 @@ pub(crate) fn solve(
         residual,
     })
 }
+
+/// Every contact closed and stuck, every friction element stuck: the least-norm
+/// impulses that hold all their rows (`u = 0`, a contact's normal at `γ`), if each is
+/// admissible (pressing, inside its cone or bound) and the rows are consistent.
+fn all_held(
+    v_free: &DVector<f64>,
+    contacts: &[ConeContact],
+    wh: &[Vec<DVector<f64>>],
+) -> Option<(Vec<Vec<f64>>, DVector<f64>)> {
+    let rows: Vec<(&DVector<f64>, &DVector<f64>, f64)> = contacts
+        .iter()
+        .zip(wh)
+        .flat_map(|(c, whi)| {
+            c.rows.iter().zip(whi).enumerate().map(move |(j, (r, x))| {
+                let target = if j == 0 && c.friction.is_none() {
+                    c.gamma
+                } else {
+                    0.0
+                };
+                (r, x, target)
+            })
+        })
+        .collect();
+    let m = rows.len();
+    let a = DMatrix::from_fn(m, m, |i, j| rows[i].0.dot(rows[j].1));
+    let b = DVector::from_fn(m, |i, _| rows[i].2 - rows[i].0.dot(v_free));
+    let p = a
+        .clone()
+        .svd(true, true)
+        .solve(&b, 1e-12 * a.amax().max(f64::MIN_POSITIVE))
+        .ok()?;
+    let mut v = v_free.clone();
+    for (i, row) in rows.iter().enumerate() {
+        v.axpy(p[i], row.1, 1.0);
+    }
+    // Consistent: every row held to round-off.
+    let scale = b.amax().max(f64::MIN_POSITIVE);
+    if rows
+        .iter()
+        .any(|(r, _, target)| (r.dot(&v) - target).abs() > 1e-12 * scale)
+    {
+        return None;
+    }
+    let mut out = Vec::with_capacity(contacts.len());
+    let mut at = 0;
+    for c in contacts {
+        let d = c.rows.len();
+        let pc: Vec<f64> = p.rows(at, d).iter().copied().collect();
+        at += d;
+        let fits = match c.friction {
+            Some(f) => pc[0].abs() <= f.stick,
+            None => {
+                let t = pc[1..].iter().map(|x| x * x).sum::<f64>().sqrt();
+                pc[0] >= 0.0 && t <= c.mu * pc[0]
+            }
+        };
+        if !fits {
+            return None;
+        }
+        out.push(pc);
+    }
+    Some((out, v))
+}
+
+/// How a contact takes part in [`active_set`]'s linear problem.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Part {
+    Open,
+    Held,
+    /// Sliding, its friction impulse along `−μ P_N s` (`s` a unit vector in the
+    /// tangent rows, at most two).
+    Sliding([f64; 2]),
+}
+
+/// Active-set refinement of a Gauss–Seidel iterate: each contact open, held or sliding
+/// (its direction) as the iterate has it; the linear problem of those equalities solved
+/// (least norm where redundant), the parts corrected by the laws the solution breaks (a
+/// pulling contact opens, a held one outside its cone slides against its friction, a
+/// sliding one follows its slip, an open one that sinks is held), up to a few times.
+/// The solution where every law holds, if one is reached. Friction elements are held or
+/// slide like contacts' tangents.
+fn active_set(
+    v_free: &DVector<f64>,
+    contacts: &[ConeContact],
+    wh: &[Vec<DVector<f64>>],
+    start: &[Vec<f64>],
+) -> Option<Vec<(Vec<Vec<f64>>, DVector<f64>)>> {
+    let edge = 1e-9;
+    let mut parts: Vec<Part> = contacts
+        .iter()
+        .zip(start)
+        .map(|(c, p)| match c.friction {
+            Some(f) if p[0].abs() >= f.stick * (1.0 - edge) && p[0] != 0.0 => {
+                Part::Sliding([-p[0].signum(), 0.0])
+            }
+            Some(_) => Part::Held,
+            None if p[0] <= 0.0 => Part::Open,
+            None => {
+                let t = p[1..].iter().map(|x| x * x).sum::<f64>().sqrt();
+                if t >= c.mu * p[0] * (1.0 - edge) && t > 0.0 {
+                    let mut s = [0.0; 2];
+                    for (j, x) in p[1..].iter().enumerate() {
+                        s[j] = -x / t;
+                    }
+                    Part::Sliding(s)
+                } else {
+                    Part::Held
+                }
+            }
+        })
+        .collect();
+    for _ in 0..ACTIVE_SET_ROUNDS {
+        let (p, v) = solve_parts(v_free, contacts, wh, &parts)?;
+        // The laws the solution breaks correct the parts.
+        let mut changed = false;
+        let scale = v_free.amax().max(v.amax()).max(f64::MIN_POSITIVE);
+        for (i, c) in contacts.iter().enumerate() {
+            let u: Vec<f64> = c.rows.iter().map(|r| r.dot(&v)).collect();
+            let next = match (c.friction, parts[i]) {
+                (Some(f), Part::Held) if p[i][0].abs() > f.stick => {
+                    Part::Sliding([-p[i][0].signum(), 0.0])
+                }
+                (Some(_), Part::Sliding(s)) if u[0] * -s[0] > 1e-12 * scale => Part::Held,
+                (None, Part::Open) if u[0] < c.gamma - 1e-12 * scale => Part::Held,
+                (None, Part::Held | Part::Sliding(_)) if p[i][0] < 0.0 => Part::Open,
+                (None, Part::Held) => {
+                    let t = p[i][1..].iter().map(|x| x * x).sum::<f64>().sqrt();
+                    if t > c.mu * p[i][0] {
+                        let mut s = [0.0; 2];
+                        for (j, x) in p[i][1..].iter().enumerate() {
+                            s[j] = -x / t;
+                        }
+                        Part::Sliding(s)
+                    } else {
+                        Part::Held
+                    }
+                }
+                // A sliding contact's direction is its own problem's, the others'
+                // parts held: its reduced local problem solved exactly.
+                (None, Part::Sliding(_)) => match reduced(v_free, contacts, wh, &parts, &p, i) {
+                    Some(q) if q[0] <= 0.0 => Part::Open,
+                    Some(q) => {
+                        let t = q[1..].iter().map(|x| x * x).sum::<f64>().sqrt();
+                        if t < c.mu * q[0] * (1.0 - edge) || t == 0.0 {
+                            Part::Held
+                        } else {
+                            let mut dir = [0.0; 2];
+                            for (j, x) in q[1..].iter().enumerate() {
+                                dir[j] = -x / t;
+                            }
+                            Part::Sliding(dir)
+                        }
+                    }
+                    None => parts[i],
+                },
+                (_, part) => part,
+            };
+            // Only a change of part counts: the sliding directions are Newton's below.
+            changed |= std::mem::discriminant(&next) != std::mem::discriminant(&parts[i]);
+            parts[i] = next;
+        }
+        if !changed {
+            // Also the directions polished by Newton's method, where that converges: the
+            // caller keeps whichever leaves the smaller residual.
+            let polished = newton_directions(v_free, contacts, wh, &mut parts);
+            return Some(std::iter::once((p, v)).chain(polished).collect());
+        }
+    }
+    None
+}
+
+/// The linear problem of `parts` (see [`active_set`]) solved: the impulses per contact
+/// and the velocity.
+fn solve_parts(
+    v_free: &DVector<f64>,
+    contacts: &[ConeContact],
+    wh: &[Vec<DVector<f64>>],
+    parts: &[Part],
+) -> Option<(Vec<Vec<f64>>, DVector<f64>)> {
+    // Unknowns and their force directions (in W-applied form), equations and targets.
+    let mut dirs: Vec<DVector<f64>> = Vec::new();
+    let mut eqs: Vec<(&DVector<f64>, f64)> = Vec::new();
+    let mut owner: Vec<(usize, usize)> = Vec::new();
+    for (i, (c, part)) in contacts.iter().zip(parts).enumerate() {
+        let d = c.rows.len();
+        match (c.friction, *part) {
+            (_, Part::Open) => {}
+            (Some(_), Part::Held) | (None, Part::Held) => {
+                for j in 0..d {
+                    let target = if j == 0 && c.friction.is_none() {
+                        c.gamma
+                    } else {
+                        0.0
+                    };
+                    dirs.push(wh[i][j].clone());
+                    eqs.push((&c.rows[j], target));
+                    owner.push((i, j));
+                }
+            }
+            (Some(f), Part::Sliding(s)) => {
+                // A fixed impulse −s · slip bound (no unknown): applied below.
+                let _ = f;
+                let _ = s;
+            }
+            (None, Part::Sliding(s)) => {
+                let mut dir = wh[i][0].clone();
+                for j in 1..d {
+                    dir.axpy(-c.mu * s[j - 1], &wh[i][j], 1.0);
+                }
+                dirs.push(dir);
+                eqs.push((&c.rows[0], c.gamma));
+                owner.push((i, 0));
+            }
+        }
+    }
+    // The sliding friction elements' impulses are known.
+    let mut v0 = v_free.clone();
+    for (i, (c, part)) in contacts.iter().zip(parts).enumerate() {
+        if let (Some(f), Part::Sliding(s)) = (c.friction, *part) {
+            v0.axpy(-s[0] * f.slip, &wh[i][0], 1.0);
+        }
+    }
+    let m = eqs.len();
+    let a = DMatrix::from_fn(m, m, |r, k| eqs[r].0.dot(&dirs[k]));
+    let b = DVector::from_fn(m, |r, _| eqs[r].1 - eqs[r].0.dot(&v0));
+    let x = if m == 0 {
+        DVector::zeros(0)
+    } else {
+        a.clone()
+            .svd(true, true)
+            .solve(&b, 1e-12 * a.amax().max(f64::MIN_POSITIVE))
+            .ok()?
+    };
+    let mut v = v0;
+    for (k, dir) in dirs.iter().enumerate() {
+        v.axpy(x[k], dir, 1.0);
+    }
+    // The impulses, per contact.
+    let mut p: Vec<Vec<f64>> = contacts.iter().map(|c| vec![0.0; c.rows.len()]).collect();
+    for (k, &(i, j)) in owner.iter().enumerate() {
+        p[i][j] = x[k];
+    }
+    for (i, (c, part)) in contacts.iter().zip(parts).enumerate() {
+        match (c.friction, *part) {
+            (Some(f), Part::Sliding(s)) => p[i][0] = -s[0] * f.slip,
+            (None, Part::Sliding(s)) => {
+                let pn = p[i][0];
+                for j in 1..c.rows.len() {
+                    p[i][j] = -c.mu * pn * s[j - 1];
+                }
+            }
+            _ => {}
+        }
+    }
+    Some((p, v))
+}
+
+/// Newton's method on the sliding angles of `parts`' contacts with two tangent rows:
+/// each angle's residual `s × u_T` (the slip parallel to the assumed direction), the
+/// Jacobian by differences. The solution with every slip along its direction, if
+/// reached.
+fn newton_directions(
+    v_free: &DVector<f64>,
+    contacts: &[ConeContact],
+    wh: &[Vec<DVector<f64>>],
+    parts: &mut [Part],
+) -> Option<(Vec<Vec<f64>>, DVector<f64>)> {
+    let sliding: Vec<usize> = (0..contacts.len())
+        .filter(|&i| contacts[i].friction.is_none() && contacts[i].rows.len() == 3)
+        .filter(|&i| matches!(parts[i], Part::Sliding(_)))
+        .collect();
+    let angle = |part: &Part| match part {
+        Part::Sliding(s) => s[1].atan2(s[0]),
+        _ => 0.0,
+    };
+    let mut theta: Vec<f64> = sliding.iter().map(|&i| angle(&parts[i])).collect();
+    let residual =
+        |theta: &[f64], parts: &mut [Part]| -> Option<(Vec<f64>, Vec<Vec<f64>>, DVector<f64>)> {
+            for (k, &i) in sliding.iter().enumerate() {
+                parts[i] = Part::Sliding([theta[k].cos(), theta[k].sin()]);
+            }
+            let (p, v) = solve_parts(v_free, contacts, wh, parts)?;
+            let f = sliding
+                .iter()
+                .zip(theta)
+                .map(|(&i, th)| {
+                    let u1 = contacts[i].rows[1].dot(&v);
+                    let u2 = contacts[i].rows[2].dot(&v);
+                    th.cos() * u2 - th.sin() * u1
+                })
+                .collect();
+            Some((f, p, v))
+        };
+    let scale = v_free.amax().max(f64::MIN_POSITIVE);
+    for _ in 0..NEWTON_ITERATIONS {
+        let (f, p, v) = residual(&theta, parts)?;
+        if f.iter().all(|x| x.abs() <= 1e-15 * scale) {
+            return Some((p, v));
+        }
+        let n = theta.len();
+        let delta = 1e-7;
+        let mut jac = DMatrix::zeros(n, n);
+        for c in 0..n {
+            let mut shifted = theta.clone();
+            shifted[c] += delta;
+            let (fc, _, _) = residual(&shifted, parts)?;
+            for r in 0..n {
+                jac[(r, c)] = (fc[r] - f[r]) / delta;
+            }
+        }
+        let step = jac
+            .lu()
+            .solve(&DVector::from_iterator(n, f.iter().map(|x| -x)))?;
+        for c in 0..n {
+            theta[c] += step[c];
+        }
+        if step.amax() <= 1e-14 {
+            let (_, p, v) = residual(&theta, parts)?;
+            return Some((p, v));
+        }
+    }
+    None
+}
+
+/// Newton iterations on the sliding angles.
+const NEWTON_ITERATIONS: usize = 30;
+
+/// Contact `i`'s local problem with the other contacts in their `parts` — held ones'
+/// rows kept at their targets (least-norm impulses where redundant), sliding and
+/// friction elements' impulses as in `p` — solved exactly by [`local_solve`].
+fn reduced(
+    v_free: &DVector<f64>,
+    contacts: &[ConeContact],
+    wh: &[Vec<DVector<f64>>],
+    parts: &[Part],
+    p: &[Vec<f64>],
+    i: usize,
+) -> Option<Vec<f64>> {
+    // The fixed impulses of the others that are not held.
+    let mut v0 = v_free.clone();
+    // Rows kept at their targets, with the force direction of their unknown impulse: a
+    // held contact's every row; a sliding contact's normal, its friction along its
+    // direction (so that sliding contacts' normal forces answer each other).
+    let mut held_rows: Vec<(&DVector<f64>, DVector<f64>, f64)> = Vec::new();
+    for (k, c) in contacts.iter().enumerate() {
+        if k == i {
+            continue;
+        }
+        match (c.friction, parts[k]) {
+            (_, Part::Held) => {
+                for j in 0..c.rows.len() {
+                    let target = if j == 0 && c.friction.is_none() {
+                        c.gamma
+                    } else {
+                        0.0
+                    };
+                    held_rows.push((&c.rows[j], wh[k][j].clone(), target));
+                }
+            }
+            (None, Part::Sliding(s)) => {
+                let mut dir = wh[k][0].clone();
+                for j in 1..c.rows.len() {
+                    dir.axpy(-c.mu * s[j - 1], &wh[k][j], 1.0);
+                }
+                held_rows.push((&c.rows[0], dir, c.gamma));
+            }
+            _ => {
+                for (j, x) in p[k].iter().enumerate() {
+                    v0.axpy(*x, &wh[k][j], 1.0);
+                }
+            }
+        }
+    }
+    let c = &contacts[i];
+    let d = c.rows.len();
+    let m = held_rows.len();
+    // u_i = E_iᵀ v, v = v0 + D_i P + D_H x, K x = b − E_Hᵀ (v0 + D_i P).
+    let (a_eff, c_eff) = if m == 0 {
+        let a = DMatrix::from_fn(d, d, |r, s| c.rows[r].dot(&wh[i][s]));
+        let cv: Vec<f64> = (0..d).map(|r| c.rows[r].dot(&v0)).collect();
+        (a, cv)
+    } else {
+        let k = DMatrix::from_fn(m, m, |r, s| held_rows[r].0.dot(&held_rows[s].1));
+        let pinv = k
+            .clone()
+            .pseudo_inverse(1e-12 * k.amax().max(f64::MIN_POSITIVE))
+            .ok()?;
+        let b = DVector::from_fn(m, |r, _| held_rows[r].2 - held_rows[r].0.dot(&v0));
+        let x0 = &pinv * b;
+        let mut v_base = v0.clone();
+        for (r, h) in held_rows.iter().enumerate() {
+            v_base.axpy(x0[r], &h.1, 1.0);
+        }
+        // Per unit impulse along each of i's rows: its direct effect less the held
+        // contacts' response.
+        let effect: Vec<DVector<f64>> = (0..d)
+            .map(|s| {
+                let e = DVector::from_fn(m, |r, _| held_rows[r].0.dot(&wh[i][s]));
+                let x = &pinv * e;
+                let mut out = wh[i][s].clone();
+                for (r, h) in held_rows.iter().enumerate() {
+                    out.axpy(-x[r], &h.1, 1.0);
+                }
+                out
+            })
+            .collect();
+        let a = DMatrix::from_fn(d, d, |r, s| c.rows[r].dot(&effect[s]));
+        let cv: Vec<f64> = (0..d).map(|r| c.rows[r].dot(&v_base)).collect();
+        (a, cv)
+    };
+    let mut cl = c_eff;
+    if c.friction.is_none() {
+        cl[0] -= c.gamma;
+    }
+    local_solve(&a_eff, &cl, c.mu)
+}
+
+/// Rounds of [`active_set`].
+const ACTIVE_SET_ROUNDS: usize = 30;
 
 /// A friction element's impulse for its free velocity `c` and Delassus entry `a`
 /// (`u = a P + c`): stuck if `−c/a` is within the stick bound, else slipping the way `c`
@@ -241,10 +685,15 @@ fn local_solve(a: &DMatrix<f64>, c: &[f64], mu: f64) -> Option<Vec<f64>> {
     }
     // Stuck: A P = −c.
     let rhs = DVector::from_iterator(d, c.iter().map(|x| -x));
+    // Where it is not, the slip is roughly against the stuck impulse's friction.
+    let mut guess = None;
     if let Some(p) = a.clone().lu().solve(&rhs) {
         let pt = p.rows(1, d - 1).norm();
         if p[0] > 0.0 && pt <= mu * p[0] {
             return Some(p.iter().copied().collect());
+        }
+        if d == 3 && pt > 0.0 {
+            guess = Some((-p[2]).atan2(-p[1]));
         }
     }
     // Sliding along unit `s` (in the tangent rows): P = P_N (1, −μ s),
@@ -284,6 +733,34 @@ fn local_solve(a: &DMatrix<f64>, c: &[f64], mu: f64) -> Option<Vec<f64>> {
         let s = dir(theta);
         at(&s).map(|(pn, ut)| (s[0] * ut[1] - s[1] * ut[0], s[0] * ut[0] + s[1] * ut[1], pn))
     };
+    // First the secant method from the guess (a few evaluations where it converges on
+    // an admissible root), then the sampling that finds every root.
+    if let Some(theta0) = guess {
+        let (mut x0, mut x1) = (theta0, theta0 + 1e-3);
+        let (mut f0, mut f1) = (f(x0).map(|r| r.0), f(x1).map(|r| r.0));
+        for _ in 0..SECANT_ITERATIONS {
+            let (Some(y0), Some(y1)) = (f0, f1) else {
+                break;
+            };
+            if y1 == y0 {
+                break;
+            }
+            let x2 = x1 - y1 * (x1 - x0) / (y1 - y0);
+            if !x2.is_finite() {
+                break;
+            }
+            if (x2 - x1).abs() <= 4.0 * f64::EPSILON * (1.0 + x2.abs()) {
+                if let Some((_, along, pn)) = f(x2) {
+                    if along >= 0.0 {
+                        return Some(impulse(pn, &dir(x2)));
+                    }
+                }
+                break;
+            }
+            (x0, f0, x1) = (x1, f1, x2);
+            f1 = f(x1).map(|r| r.0);
+        }
+    }
     let step = std::f64::consts::TAU / ANGLE_SAMPLES as f64;
     let mut best: Option<(f64, f64)> = None; // (θ, P_N)
     let mut prev = (0.0, f(0.0));
@@ -318,7 +795,38 @@ fn local_solve(a: &DMatrix<f64>, c: &[f64], mu: f64) -> Option<Vec<f64>> {
         }
         prev = (theta, cur);
     }
-    best.map(|(theta, pn)| impulse(pn, &dir(theta)))
+    match best {
+        Some((theta, pn)) => Some(impulse(pn, &dir(theta))),
+        // No sliding direction found (friction coupling the normal so strongly that
+        // P_N's denominator changes sign around the circle): De Saxcé's projected
+        // iteration, whose distance from a solution the sweep's residual reports.
+        None => project_iterate(a, c, mu),
+    }
+}
+
+/// Secant iterations on the sliding angle before sampling.
+const SECANT_ITERATIONS: usize = 30;
+
+/// Iterations of the projected fixed point [`project_iterate`].
+const PROJECTION_ITERATIONS: usize = 500;
+
+/// `P ← proj_K(P − ρ (A P + c + μ |u_T| e_N))` from `P = 0`, `ρ` the inverse of the
+/// block's largest diagonal entry: the local problem's fallback. `None` if it leaves the
+/// finite numbers.
+fn project_iterate(a: &DMatrix<f64>, c: &[f64], mu: f64) -> Option<Vec<f64>> {
+    let d = c.len();
+    let rho = 1.0 / a.diagonal().amax().max(f64::MIN_POSITIVE);
+    let mut p = vec![0.0; d];
+    for _ in 0..PROJECTION_ITERATIONS {
+        let u: Vec<f64> = (0..d)
+            .map(|r| c[r] + (0..d).map(|s| a[(r, s)] * p[s]).sum::<f64>())
+            .collect();
+        let slip = u[1..].iter().map(|x| x * x).sum::<f64>().sqrt();
+        let mut y: Vec<f64> = p.iter().zip(&u).map(|(pi, ui)| pi - rho * ui).collect();
+        y[0] -= rho * mu * slip;
+        p = project_on_cone(&y, mu);
+    }
+    p.iter().all(|x| x.is_finite()).then_some(p)
 }
 
 #[cfg(test)]

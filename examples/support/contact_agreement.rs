@@ -25,11 +25,11 @@ pub enum Scene {
     Rod(FallingRod, V3, V3),
 }
 
-/// SplitMix64 in `[lo, hi)`.
-struct Draw(u64);
+/// SplitMix64 in `[lo, hi)` (also the spatial suite's).
+pub struct Draw(pub u64);
 
 impl Draw {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);

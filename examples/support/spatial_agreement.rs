@@ -1,5 +1,6 @@
 //! Random spatial contact scenes for time-stepping on the friction cone, shared by
-//! `tests/contact_agreement.rs` and the report: three-legged tables on level ground or
+//! `tests/contact_agreement.rs` and the report (beside `contact_agreement.rs`, whose
+//! random draws it shares): three-legged tables on level ground or
 //! inclines, launched sliding and spinning or dropped tilted, and pucks thrown onto
 //! inclines, each with random sizes, masses, friction and restitution. The event-driven
 //! integrator does not take spatial contacts, so the checks are properties: every step's
@@ -13,19 +14,7 @@ use filippov::runtime::contacts::Contacts;
 use filippov::runtime::{NonSmoothProblem, Solution, Unforced, contact_time_stepping};
 use filippov::scenes::{Puck, Table};
 
-/// SplitMix64 in `[lo, hi)`.
-struct Draw(u64);
-
-impl Draw {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        lo + (hi - lo) * ((z >> 11) as f64 / (1u64 << 53) as f64)
-    }
-}
+use super::contact_agreement::Draw;
 
 /// The horizon of every run.
 pub const HORIZON: f64 = 0.2;

@@ -167,6 +167,43 @@ where
     (0..K).find(|&k| S::TANGENT_OF.iter().filter(|&&c| c == k).count() > 1)
 }
 
+/// A gap below this fraction of the coordinates' size is lifted back onto its plane.
+const SUNK: f64 = 1e-12;
+
+/// Lifts the contacts that sank below their planes (beyond [`SUNK`]) back onto them:
+/// Newton steps on their gaps, each the least change of `q` in the mass metric.
+fn lift_sunk<S, const N: usize, const K: usize, const T: usize>(scene: &S, q: &mut SVector<f64, N>)
+where
+    S: Mechanism<N> + Contacts<N, K, T>,
+{
+    let tol = SUNK * q.amax().max(1.0);
+    for _ in 0..3 {
+        let gaps = scene.contact_gaps(q);
+        let sunk: Vec<usize> = (0..K).filter(|&k| gaps[k] < -tol).collect();
+        if sunk.is_empty() {
+            return;
+        }
+        let Some(chol) = scene.mass_matrix(q).cholesky() else {
+            return;
+        };
+        let w_n = scene.contact_normal_jacobian(q);
+        let g = DMatrix::from_fn(sunk.len(), N, |i, j| w_n[(sunk[i], j)]);
+        let inv = chol.inverse();
+        let w = DMatrix::from_fn(N, N, |i, j| inv[(i, j)]);
+        let a = &g * &w * g.transpose();
+        let r = DVector::from_fn(sunk.len(), |i, _| -gaps[sunk[i]]);
+        let Ok(x) = a
+            .clone()
+            .svd(true, true)
+            .solve(&r, 1e-12 * a.amax().max(f64::MIN_POSITIVE))
+        else {
+            return;
+        };
+        let dq = &w * g.transpose() * x;
+        *q += SVector::<f64, N>::from_iterator(dq.iter().copied());
+    }
+}
+
 /// Whether `rows` (constraints `rowᵀ v = 0`) leave no velocity but `0`.
 fn locks<const N: usize>(rows: &[DVector<f64>]) -> bool {
     if rows.len() < N {
@@ -515,7 +552,12 @@ where
                 warm[k].clear();
             }
         }
-        let q_next = q + v_next * hn;
+        let mut q_next = q + v_next * hn;
+        // Closed contacts drift into their planes at second order per step where the
+        // motion turns (the velocity law holds their rows, not their gaps): a gap below
+        // its plane beyond round-off is lifted back by the least change of the
+        // coordinates in the mass metric, the velocities kept (a position projection).
+        lift_sunk(scene, &mut q_next);
         let y = row(&q_next, &v_next, &forces);
         if let Some(component) = y.iter().position(|x| !x.is_finite()) {
             return Err(SolveError::new(
@@ -526,49 +568,39 @@ where
                 sol,
             ));
         }
-        for k in 0..K {
-            if new_modes[k] != modes[k] {
-                let before = row(&q, &v, &[]);
-                let after = row(&q_next, &v_next, &[]);
-                let impact = modes[k] == Mode::Free && vn[k] < 0.0 && forces[k] > 0.0;
-                let mut s = Switch::of_run(
-                    t_next,
-                    if impact {
-                        SwitchKind::Impact
-                    } else {
-                        SwitchKind::Mode
-                    },
-                    before,
-                    after,
-                );
-                s.element = Some(S::CONTACTS[k].to_string());
-                s.index = Some(k);
-                s.from = Some(modes[k]);
-                s.to = Some(new_modes[k]);
-                s.jump = forces[k] * hn;
+        // The switches of the step: contacts, then joint elements (index K + e), each
+        // an impact where it closed against an approach.
+        let mut log =
+            |name: &str, index: usize, (from, to): (Mode, Mode), impact: bool, impulse: f64| {
+                let kind = if impact {
+                    SwitchKind::Impact
+                } else {
+                    SwitchKind::Mode
+                };
+                let mut s =
+                    Switch::of_run(t_next, kind, row(&q, &v, &[]), row(&q_next, &v_next, &[]));
+                s.element = Some(name.to_string());
+                s.index = Some(index);
+                s.from = Some(from);
+                s.to = Some(to);
+                s.jump = impulse;
                 sol.switches.push(s);
-            }
+            };
+        for k in (0..K).filter(|&k| new_modes[k] != modes[k]) {
+            let impact = modes[k] == Mode::Free && vn[k] < 0.0 && forces[k] > 0.0;
+            log(
+                S::CONTACTS[k],
+                k,
+                (modes[k], new_modes[k]),
+                impact,
+                forces[k] * hn,
+            );
         }
         for (i, el) in elements.iter().enumerate() {
-            if element_modes[i] != element_modes_before[i] {
-                let impact =
-                    element_modes_before[i] == Mode::Free && element_modes[i] == Mode::Contact;
-                let mut s = Switch::of_run(
-                    t_next,
-                    if impact {
-                        SwitchKind::Impact
-                    } else {
-                        SwitchKind::Mode
-                    },
-                    row(&q, &v, &[]),
-                    row(&q_next, &v_next, &[]),
-                );
-                s.element = Some(el.name.to_string());
-                s.index = Some(K + i);
-                s.from = Some(element_modes_before[i]);
-                s.to = Some(element_modes[i]);
-                s.jump = forces[K + T + i] * hn;
-                sol.switches.push(s);
+            let (from, to) = (element_modes_before[i], element_modes[i]);
+            if from != to {
+                let impact = from == Mode::Free && to == Mode::Contact;
+                log(el.name, K + i, (from, to), impact, forces[K + T + i] * hn);
             }
         }
         modes = new_modes;

@@ -558,7 +558,9 @@ fn spatial(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
         0.0,
         table.phi,
     ]);
-    let p = NonSmoothProblem::new(0.0, 1e4, q0, V6::zeros());
+    // 10⁴ s (10² s in the tiny configuration, whose runs are unoptimised).
+    let horizon = if config.name == "tiny" { 1e2 } else { 1e4 };
+    let p = NonSmoothProblem::new(0.0, horizon, q0, V6::zeros());
     let (t, sol) = timed(1, || contact_time_stepping(&table, &free6, &p, 1e-2));
     if let Ok(sol) = sol {
         let moved = sol
@@ -566,7 +568,9 @@ fn spatial(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
             .map(|(_, y)| (0..6).map(|j| (y[j] - q0[j]).abs()).fold(0.0, f64::max))
             .fold(0.0, f64::max);
         row(
-            "table on an incline below its friction angle: largest displacement over 10⁴ s",
+            &format!(
+                "table on an incline below its friction angle: largest displacement over {horizon:e} s"
+            ),
             1e-2,
             0.0,
             moved,
@@ -574,7 +578,7 @@ fn spatial(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
             format!("{}", sol.stats),
         );
         summary.push(format!(
-            "Spatial contacts: the three-legged table below its friction angle moves {} over 10⁴ s (time-stepping, exact cone)",
+            "Spatial contacts: the three-legged table below its friction angle moves {} over {horizon:e} s (time-stepping, exact cone)",
             sci(moved)
         ));
     }
@@ -623,7 +627,7 @@ fn spatial(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
 /// The random spatial scenes' suite.
 fn spatial_suite(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
     use super::spatial_agreement::{Checked, HORIZON, run};
-    let count = if config.name == "tiny" { 12 } else { 120 };
+    let count = if config.name == "tiny" { 3 } else { 120 };
     let results: Vec<Checked> = (0..count as u64).map(run).collect();
     let failed: Vec<String> = results
         .iter()

@@ -132,6 +132,22 @@ pub(crate) fn solve(
             None => local_solve(&blocks[i], c, contacts[i].mu),
         }
     };
+    // The largest residual over the contacts, relative: a contact's natural map, a
+    // friction element's distance from its law (how far the law would move its impulse),
+    // both in velocity units.
+    let residual_of = |impulses: &[Vec<f64>], v: &DVector<f64>| -> f64 {
+        (0..k)
+            .map(|i| match contacts[i].friction {
+                Some(f) => {
+                    let a = blocks[i][(0, 0)];
+                    let c = local(v, i)[0] - a * impulses[i][0];
+                    (friction_solve(a, c, f) - impulses[i][0]).abs() * a
+                }
+                None => natural_map(&impulses[i], &local(v, i), contacts[i].mu, &blocks[i]),
+            })
+            .fold(0.0, f64::max)
+            / scale
+    };
     let mut sweeps = 0;
     let mut residual = f64::INFINITY;
     while sweeps < max_sweeps {
@@ -154,19 +170,7 @@ pub(crate) fn solve(
             }
             impulses[i] = p;
         }
-        residual = (0..k)
-            .map(|i| match contacts[i].friction {
-                // A friction element: how far its law would move its impulse, in
-                // velocity units.
-                Some(f) => {
-                    let a = blocks[i][(0, 0)];
-                    let c = local(&v, i)[0] - a * impulses[i][0];
-                    (friction_solve(a, c, f) - impulses[i][0]).abs() * a
-                }
-                None => natural_map(&impulses[i], &local(&v, i), contacts[i].mu, &blocks[i]),
-            })
-            .fold(0.0, f64::max)
-            / scale;
+        residual = residual_of(&impulses, &v);
         if residual <= tolerance {
             break;
         }
@@ -180,17 +184,7 @@ pub(crate) fn solve(
             .into_iter()
             .flatten();
         for (held, v_held) in all_held(v_free, contacts, &wh).into_iter().chain(refined) {
-            let r = (0..k)
-                .map(|i| match contacts[i].friction {
-                    Some(f) => {
-                        let a = blocks[i][(0, 0)];
-                        let c = local(&v_held, i)[0] - a * held[i][0];
-                        (friction_solve(a, c, f) - held[i][0]).abs() * a
-                    }
-                    None => natural_map(&held[i], &local(&v_held, i), contacts[i].mu, &blocks[i]),
-                })
-                .fold(0.0, f64::max)
-                / scale;
+            let r = residual_of(&held, &v_held);
             if r < residual {
                 (impulses, v, residual) = (held, v_held, r);
             }

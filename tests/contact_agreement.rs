@@ -1,10 +1,21 @@
 //! The randomized agreement suite for contacts (`examples/support/contact_agreement.rs`):
 //! random boxes launched along inclines, balls dropped spinning and rods tipping over,
-//! event-driven against
-//! time-stepping at three steps, passivity and no penetration.
+//! event-driven against time-stepping at three steps, passivity and no penetration; and
+//! the spatial suite (`spatial_agreement.rs`) by time-stepping alone.
 
 #[path = "../examples/support/contact_agreement.rs"]
 mod contact_agreement;
+
+/// A scene's line's ending: its failure, if it had one.
+fn failed_with(failure: Option<&str>) -> String {
+    failure.map(|f| format!(" FAILED: {f}")).unwrap_or_default()
+}
+
+/// Fails the test naming the seeds of the scenes that did not pass.
+fn assert_none_failed(failed: impl Iterator<Item = u64>) {
+    let failed: Vec<u64> = failed.collect();
+    assert!(failed.is_empty(), "scenes {failed:?} failed");
+}
 
 #[test]
 fn random_contact_scenes_agree_and_stay_passive() {
@@ -20,18 +31,11 @@ fn random_contact_scenes_agree_and_stay_passive() {
             r.distance[1],
             r.distance[2],
             r.switches,
-            r.failure
-                .as_deref()
-                .map(|f| format!(" FAILED: {f}"))
-                .unwrap_or_default()
+            failed_with(r.failure.as_deref())
         );
     }
-    let failed: Vec<u64> = results
-        .iter()
-        .filter(|r| !r.passed())
-        .map(|r| r.seed)
-        .collect();
-    assert!(failed.is_empty(), "scenes {failed:?} failed");
+    let failed = results.iter().filter(|r| !r.passed()).map(|r| r.seed);
+    assert_none_failed(failed);
 }
 
 #[path = "../examples/support/spatial_agreement.rs"]
@@ -54,16 +58,9 @@ fn random_spatial_scenes_are_solved_passive_and_first_order() {
             r.sinking,
             r.distance[0],
             r.distance[1],
-            r.failure
-                .as_deref()
-                .map(|f| format!(" FAILED: {f}"))
-                .unwrap_or_default()
+            failed_with(r.failure.as_deref())
         );
     }
-    let failed: Vec<u64> = results
-        .iter()
-        .filter(|r| !r.passed())
-        .map(|r| r.seed)
-        .collect();
-    assert!(failed.is_empty(), "scenes {failed:?} failed");
+    let failed = results.iter().filter(|r| !r.passed()).map(|r| r.seed);
+    assert_none_failed(failed);
 }

@@ -23,14 +23,7 @@ pub fn contacts_impl(
     let (n, kc, t) = (k.dof, ck.contacts(), ck.tangents());
     let g = &k.graph;
     let ident = &model.ident;
-    let mut out = Methods {
-        graph: g,
-        params: &model.params,
-        dims: (n, n),
-        stats,
-        helpers: TokenStream::new(),
-        methods: TokenStream::new(),
-    };
+    let mut out = Methods::new(g, &model.params, n, stats);
     let vector = |m: usize| move |o: Vec<TokenStream>| quote!(::filippov::nalgebra::SVector::<f64, #m>::from([#(#o),*]));
     let matrix = |m: usize| move |o: Vec<TokenStream>| rect_matrix(o, m, n);
     out.add(

@@ -22,14 +22,7 @@ pub fn loops_impl(
     let (n, m) = (k.dof, lk.rows());
     let g = &k.graph;
     let ident = &model.ident;
-    let mut out = Methods {
-        graph: g,
-        params: &model.params,
-        dims: (n, n),
-        stats,
-        helpers: TokenStream::new(),
-        methods: TokenStream::new(),
-    };
+    let mut out = Methods::new(g, &model.params, n, stats);
     let vec_m =
         |o: Vec<TokenStream>| quote!(::filippov::nalgebra::SVector::<f64, #m>::from([#(#o),*]));
     out.add(

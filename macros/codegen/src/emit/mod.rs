@@ -54,7 +54,25 @@ pub(crate) struct Methods<'a> {
     pub methods: TokenStream,
 }
 
-impl Methods<'_> {
+impl<'a> Methods<'a> {
+    /// No methods yet, for `graph` over `params`, with `n` coordinates (`q` and `v`
+    /// alike: the trees these impls are emitted for).
+    pub fn new(
+        graph: &'a crate::sym::Graph,
+        params: &'a [proc_macro2::Ident],
+        n: usize,
+        stats: &'a mut Vec<FnStats>,
+    ) -> Self {
+        Methods {
+            graph,
+            params,
+            dims: (n, n),
+            stats,
+            helpers: TokenStream::new(),
+            methods: TokenStream::new(),
+        }
+    }
+
     /// As [`emit`](Self::emit), the method kept in [`methods`](Self::methods).
     pub fn add(
         &mut self,

@@ -1,5 +1,5 @@
-//! Moreau–Jean time-stepping of planar contacts (theory §8): no events, impulses per
-//! step.
+//! Moreau–Jean time-stepping of contacts, planar and spatial, beside a scene's joint
+//! friction elements and rigid stops (theory §8): no events, impulses per step.
 //!
 //! A step of size `h` from `(q, v)`:
 //!
@@ -10,7 +10,11 @@
 //!    inside the cone and opposing `P_T` at its edge — the same complementarity problem
 //!    as the event-driven selection ([`super::planar`]), with velocities for
 //!    accelerations;
-//! 3. `v⁺ = v_free + M⁻¹ (W_Nᵀ P_N + W_Tᵀ P_T)`, `q⁺ = q + h v⁺`.
+//!    Planar contacts alone solve it as that complementarity problem; spatial contacts
+//!    (the exact friction cone) or joint elements beside them solve it by Gauss–Seidel
+//!    over contacts and elements ([`super::cone`]);
+//! 3. `v⁺ = v_free + M⁻¹ (W_Nᵀ P_N + W_Tᵀ P_T)`, `q⁺ = q + h v⁺`, and a gap that sank
+//!    below its plane lifted back onto it (the velocities kept).
 //!
 //! Where the contacts that hold (a normal impulse, the tangential one strictly inside
 //! the cone, no rebound) lock every degree of freedom, `v⁺ = 0` is the solution of their
@@ -18,7 +22,8 @@
 //! friction angle does not move by a single rounding.
 //!
 //! The solution's columns are the state, then each contact's normal force `λ_<contact>.n`
-//! and tangential forces `λ_<contact>.<axis>`, as the step's impulses over `h`.
+//! and tangential forces `λ_<contact>.<axis>`, then each joint element's force
+//! `f_<element>`, as the step's impulses over `h`.
 
 use nalgebra::{DMatrix, DVector, SVector};
 
@@ -214,14 +219,17 @@ fn locks<const N: usize>(rows: &[DVector<f64>]) -> bool {
     sv.min() > LOCK_RANK * sv.max()
 }
 
-/// Integrates `scene` with its contacts by Moreau–Jean time-stepping with step `h`
-/// (see the module documentation), the input `τ(t, q, v)` on its coordinates.
+/// Integrates `scene` with its contacts (and its joint friction elements and rigid
+/// stops) by Moreau–Jean time-stepping with step `h` (see the module documentation),
+/// the input `τ(t, q, v)` on its coordinates. How far each step's spatial contact
+/// problem was solved is in the solution's
+/// [`Stats::contact_residual`](crate::Stats::contact_residual).
 ///
 /// # Errors
-/// [`ErrorKind::InvalidInput`] for a non-positive step, a non-finite start or invalid
-/// parameters; [`ErrorKind::IllPosedMode`] where the contact problem has no solution
-/// (naming the contacts); [`ErrorKind::NonFinite`]. The rows computed up to the failure
-/// are kept.
+/// [`ErrorKind::InvalidInput`] for a non-positive step, a non-finite start, invalid
+/// parameters or a joint element it does not integrate (named); [`ErrorKind::IllPosedMode`]
+/// where the contact problem has no solution (naming the contacts);
+/// [`ErrorKind::NonFinite`]. The rows computed up to the failure are kept.
 pub fn contact_time_stepping<S, I, const N: usize, const K: usize, const T: usize>(
     scene: &S,
     input: &I,
@@ -340,22 +348,6 @@ where
             };
             let inverse = chol.inverse();
             let w = DMatrix::from_fn(N, N, |i, j| inverse[(i, j)]);
-            // One tangent row per contact in the plane (the first of its rows).
-            let tangent_row = |k: usize| S::TANGENT_OF.iter().position(|&c| c == k);
-            let closed: Vec<Closed> = active
-                .iter()
-                .map(|&k| Closed {
-                    normal: DVector::from_iterator(N, w_n.row(k).iter().copied()),
-                    gamma_n: -e[k] * vn[k].min(0.0),
-                    tangent: match tangent_row(k) {
-                        Some(r) => DVector::from_iterator(N, w_t.row(r).iter().copied()),
-                        None => DVector::zeros(N),
-                    },
-                    gamma_t: 0.0,
-                    mu: if tangent_row(k).is_some() { mu[k] } else { 0.0 },
-                    sliding: None,
-                })
-                .collect();
             let v_free_d = DVector::from_iterator(N, v_free.iter().copied());
             if general {
                 let rows_of = |k: usize| -> Vec<DVector<f64>> {
@@ -492,6 +484,22 @@ where
                     v_next = SVector::zeros();
                 }
             } else {
+                // One tangent row per contact in the plane (the first of its rows).
+                let tangent_row = |k: usize| S::TANGENT_OF.iter().position(|&c| c == k);
+                let closed: Vec<Closed> = active
+                    .iter()
+                    .map(|&k| Closed {
+                        normal: DVector::from_iterator(N, w_n.row(k).iter().copied()),
+                        gamma_n: -e[k] * vn[k].min(0.0),
+                        tangent: match tangent_row(k) {
+                            Some(r) => DVector::from_iterator(N, w_t.row(r).iter().copied()),
+                            None => DVector::zeros(N),
+                        },
+                        gamma_t: 0.0,
+                        mu: if tangent_row(k).is_some() { mu[k] } else { 0.0 },
+                        sliding: None,
+                    })
+                    .collect();
                 let out = planar::solve(&w, &v_free_d, &closed).map_err(|err| {
                     let names: Vec<String> = active
                         .iter()

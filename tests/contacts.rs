@@ -540,7 +540,8 @@ mod event_driven {
     };
     use filippov::scenes::{SlidingBox, SpinningBall};
 
-    fn tight() -> Method {
+    /// DOPRI5 at rtol 1e-12 (the closed forms' tolerance), also the static–kinetic tests'.
+    pub(super) fn tight() -> Method {
         Method::Dopri5(Options {
             max_steps: 1_000_000,
             ..Options::tolerances(1e-12, 1e-14)
@@ -1374,8 +1375,7 @@ mod static_kinetic {
     use filippov::nalgebra::SVector;
     use filippov::prelude::*;
     use filippov::runtime::{
-        Method, Mode, NonSmoothProblem, Options, Unforced, contact_event_driven,
-        contact_time_stepping,
+        Mode, NonSmoothProblem, Unforced, contact_event_driven, contact_time_stepping,
     };
 
     type V3 = SVector<f64, 3>;
@@ -1417,12 +1417,7 @@ mod static_kinetic {
         V3::from([-s.b * s.phi.sin(), s.b * s.phi.cos(), s.phi])
     }
 
-    fn tight() -> Method {
-        Method::Dopri5(Options {
-            max_steps: 1_000_000,
-            ..Options::tolerances(1e-12, 1e-14)
-        })
-    }
+    use super::event_driven::tight;
 
     /// Put down still, the static friction holds it, bit for bit, by both integrators.
     #[test]

@@ -22,11 +22,12 @@ fn random_contact_scenes_agree_and_stay_passive() {
     let results: Vec<_> = (0..30).map(contact_agreement::run).collect();
     for r in &results {
         eprintln!(
-            "seed {:>2} {:<4}: energy rise {:.1e}, penetration {:.1e}, time-stepping {:.1e} → {:.1e} → {:.1e}, {} switches{}",
+            "seed {:>2} {:<4}: energy rise {:.1e}, penetration {:.1e}, beyond the cone {:.1e}, time-stepping {:.1e} → {:.1e} → {:.1e}, {} switches{}",
             r.seed,
             r.kind,
             r.energy_rise,
             r.penetration,
+            r.cone_excess,
             r.distance[0],
             r.distance[1],
             r.distance[2],

@@ -408,7 +408,8 @@ pub fn contacts(config: &Config) -> Section {
          restitution launched along inclines of random angle, balls dropped spinning, rods tipping over or dropped on \
          an end), each integrated \
          event-driven (rtol 1e-10) and by time-stepping at h = 1e-3, 1e-4 and 1e-5 over {} s. A scene passes when \
-         its energy never rises by more than 1e-8 of its scale, no contact penetrates deeper than 1e-8, and \
+         its energy never rises by more than 1e-8 of its scale, no contact penetrates deeper than 1e-8, no \
+         friction force leaves its cone by more than 1e-9 of the weight, and \
          time-stepping's largest position difference from the event-driven run shrinks at least 0.3× over one of \
          the two decades of steps (first order; over one decade alone two first-order errors of opposite sign can \
          cancel).",
@@ -420,6 +421,7 @@ pub fn contacts(config: &Config) -> Section {
             "failed",
             "worst energy rise",
             "deepest penetration",
+            "largest friction beyond its cone (/ weight)",
             "median distance ratio (h = 1e-5 / 1e-4)",
             "switches",
         ],
@@ -432,6 +434,7 @@ pub fn contacts(config: &Config) -> Section {
             },
             sci(worst(&|r| r.energy_rise)),
             sci(worst(&|r| r.penetration)),
+            sci(worst(&|r| r.cone_excess)),
             format!("{median:.3}"),
             results
                 .iter()

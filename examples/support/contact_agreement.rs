@@ -104,6 +104,9 @@ pub struct Checked {
     pub energy_rise: f64,
     /// The deepest penetration of any contact over the event-driven run.
     pub penetration: f64,
+    /// The largest friction force beyond its cone, `|λ_T| − μ_s λ_N`, over the
+    /// event-driven run, relative to the weight.
+    pub cone_excess: f64,
     /// Time-stepping's largest position difference from the event-driven run over the
     /// sample times, at [`STEPS`].
     pub distance: [f64; 3],
@@ -123,6 +126,7 @@ impl Checked {
         self.failure.is_none()
             && self.energy_rise <= 1e-8
             && self.penetration <= 1e-8
+            && self.cone_excess <= 1e-9
             && (d2 <= 0.3 * d1 || d3 <= 0.3 * d2 || d3 <= 1e-9)
     }
 }
@@ -164,6 +168,7 @@ where
         kind,
         energy_rise: 0.0,
         penetration: 0.0,
+        cone_excess: 0.0,
         distance: [f64::NAN; 3],
         switches: 0,
         failure: None,
@@ -182,6 +187,13 @@ where
         out.energy_rise = out.energy_rise.max((energy(s, g, m, y) - e0) / scale);
         let gaps = s.contact_gaps(&V3::from_column_slice(&y[..3]));
         out.penetration = out.penetration.max(-gaps.min());
+        // Columns after the state: λ_N of each contact, then λ_T of each tangent.
+        let mu = s.contact_static_friction();
+        for r in 0..T {
+            let k = S::TANGENT_OF[r];
+            let excess = y[6 + K + r].abs() - mu[k] * y[6 + k];
+            out.cone_excess = out.cone_excess.max(excess / (m * g));
+        }
     }
     let sample = |sol: &Solution, t: f64| sol.at(t).expect("inside the run");
     for (i, h) in STEPS.into_iter().enumerate() {

@@ -168,6 +168,7 @@ where
             .svd(true, true)
             .solve(&rhs, 1e-12 * lhs.amax().max(f64::MIN_POSITIVE))
             .unwrap_or_else(|_| DVector::from_element(m, f64::NAN));
+        let lambda = self.share_friction(&rows, lambda);
         let mut a = a0d;
         for (j, (_, _, k, tangential)) in rows.iter().enumerate() {
             a += &effect[j] * lambda[j];
@@ -191,6 +192,62 @@ where
             }
         }
         out
+    }
+
+    /// Redundant stuck frictions (contacts whose tangential rows are dependent: a box's
+    /// two corners on the ground) leave the split of their forces open; the least-norm
+    /// split would share them equally, and a contact with the smaller normal force
+    /// would leave its cone (its switching function negative) while the group is still
+    /// inside theirs together. The forces are moved within the split left open (the
+    /// null space of the tangential rows) to the one proportional to each contact's
+    /// `μ_s λ_N` — a weighted least norm — so that the contacts of a group reach their
+    /// cones' edges together, exactly when the group does.
+    fn share_friction(
+        &self,
+        rows: &[(DVector<f64>, f64, usize, bool)],
+        mut lambda: DVector<f64>,
+    ) -> DVector<f64> {
+        let stuck: Vec<usize> = (0..rows.len()).filter(|&j| rows[j].3).collect();
+        if stuck.len() < 2 {
+            return lambda;
+        }
+        let m = stuck.len();
+        let gram = DMatrix::from_fn(m, m, |a, b| rows[stuck[a]].0.dot(&rows[stuck[b]].0));
+        let eig = gram.symmetric_eigen();
+        let top = eig.eigenvalues.amax();
+        let null: Vec<usize> = (0..m)
+            .filter(|&i| eig.eigenvalues[i] <= 1e-12 * top)
+            .collect();
+        if null.is_empty() {
+            return lambda;
+        }
+        let z = DMatrix::from_fn(m, null.len(), |a, b| eig.eigenvectors[(a, null[b])]);
+        // Weights μ_s λ_N of each stuck row's contact (its normal row's force).
+        let normal = |k: usize| {
+            (0..rows.len())
+                .find(|&j| rows[j].2 == k && !rows[j].3)
+                .map_or(0.0, |j| lambda[j])
+        };
+        let weight: Vec<f64> = stuck
+            .iter()
+            .map(|&j| self.mu_static[rows[j].2] * normal(rows[j].2))
+            .collect();
+        let floor = 1e-12
+            * weight
+                .iter()
+                .fold(f64::MIN_POSITIVE, |a, &b| a.max(b.abs()));
+        let inv = DVector::from_iterator(m, weight.iter().map(|w| 1.0 / w.max(floor)));
+        let lt = DVector::from_iterator(m, stuck.iter().map(|&j| lambda[j]));
+        let zw = DMatrix::from_fn(m, null.len(), |a, b| z[(a, b)] * inv[a]);
+        let lhs = z.transpose() * &zw;
+        let rhs = -(zw.transpose() * &lt);
+        if let Some(c) = lhs.cholesky().map(|ch| ch.solve(&rhs)) {
+            let shift = &z * c;
+            for (a, &j) in stuck.iter().enumerate() {
+                lambda[j] += shift[a];
+            }
+        }
+        lambda
     }
 
     /// Whether the constraint rows span every coordinate (the state is locked).

@@ -55,4 +55,19 @@ pub trait Contacts<const N: usize, const K: usize, const T: usize>: Mechanism<N>
     fn joint_elements(&self) -> Vec<Element> {
         Vec::new()
     }
+
+    /// Which of [`joint_elements`](Self::joint_elements) are bearing friction (see
+    /// [`NonSmooth::BEARINGS`](crate::nonsmooth::NonSmooth::BEARINGS)).
+    const JOINT_BEARINGS: &'static [usize] = &[];
+
+    /// Their load-dependent limits (see
+    /// [`NonSmooth::bearing_limits`](crate::nonsmooth::NonSmooth::bearing_limits)).
+    fn joint_bearing_limits(
+        &self,
+        _q: &SVector<f64, N>,
+        _v: &SVector<f64, N>,
+        _a: &SVector<f64, N>,
+        _limits: &mut [f64],
+    ) {
+    }
 }

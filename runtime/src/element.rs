@@ -107,6 +107,23 @@ pub trait NonSmooth<const N: usize>: Mechanism<N> + Energy<N> {
 
     /// `M(q)⁻¹`; its submatrix at the elements' coordinates is their Delassus operator.
     fn inverse_mass_matrix(&self, q: &SVector<f64, N>) -> SMatrix<f64, N, N>;
+
+    /// The elements that are bearing friction (`#[friction(joint, mu = …)]`), by index:
+    /// Coulomb friction whose limit is `f_crit + μ r |F_⊥|`, with `F_⊥` the reaction
+    /// force its joint transmits.
+    const BEARINGS: &'static [usize] = &[];
+
+    /// The load-dependent part `μ r |F_⊥(q, v, a)|` of each bearing's limit (in the
+    /// order of [`BEARINGS`](Self::BEARINGS)) into `limits`, from the generated
+    /// recursive Newton–Euler algorithm at the motion `(q, v, a)`.
+    fn bearing_limits(
+        &self,
+        _q: &SVector<f64, N>,
+        _v: &SVector<f64, N>,
+        _a: &SVector<f64, N>,
+        _limits: &mut [f64],
+    ) {
+    }
 }
 
 /// Which constitutive relation of an element a DAE residual is taken in (see the

@@ -3,13 +3,14 @@
 //! non-smooth elements, the double pendulum, a planar three-link arm, a branched tree,
 //! the Panda (as attributes, and as S9 with friction and stops), bodies on spherical
 //! and free joints, closed linkages (a four-bar and a slider-crank, §7), and bodies touching the ground
-//! through contacts (§8). The
+//! through contacts (§8), and joints whose friction carries their load (bearings, §8). The
 //! examples run on them; `references` holds the closed forms and reference solutions
 //! the tests and the report compare against. A program of its own enables them with
 //! `filippov = { version = "0.1", features = ["scenes"] }`; without the feature none of
 //! them is compiled.
 
 mod arm3;
+mod bearings;
 mod contacts;
 mod double_pendulum;
 mod lie;
@@ -21,6 +22,7 @@ mod s9;
 mod tree;
 
 pub use arm3::PlanarArm3;
+pub use bearings::{JournalPendulum, LoadedSlider};
 pub use contacts::{CartOnRail, FallingRod, Puck, SlidingBox, SpinningBall, Table};
 pub use double_pendulum::DoublePendulum;
 pub use lie::{BallChain, EulerBody, FreeBody, Satellite, SphericalBody};

@@ -483,6 +483,18 @@ pub struct Element {
     pub name: String,
     pub coordinate: usize,
     pub kind: ElementKind,
+    /// Bearing friction: the limit grows with the joint's load (Coulomb only).
+    pub bearing: Option<Bearing>,
+}
+
+/// The load-dependent part of a friction element's limit, `coefficient · |F_⊥|`
+/// (`coefficient = μ` on a prismatic joint, `μ r` on a revolute one), where `F_⊥` is the
+/// reaction force the joint transmits (see `nonsmooth::bearing`).
+#[derive(Clone, Debug)]
+pub struct Bearing {
+    pub coefficient: PExpr,
+    /// Where the friction names its joint, for messages.
+    pub span: proc_macro2::Span,
 }
 
 impl Model {

@@ -208,6 +208,14 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         .chain(elements.iter().map(|e| e.name.clone()))
         .collect();
     let contacts = crate::contacts::read(contact_attrs, &links, &taken, &names, diag);
+    crate::nonsmooth::bearing::check_subtrees(
+        &elements,
+        &links,
+        &loops,
+        &point_springs,
+        &contacts,
+        diag,
+    );
     let frames = read_frames(frame_attrs, &links, &names, diag);
     // Declaring a frame is asking for its pose.
     emit.kinematics |= !frames.is_empty();
@@ -237,6 +245,23 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
                 e,
                 "`delassus`, `dae_residuals` and `switching_functions` belong to scenes with non-smooth elements (friction, dash-pots, stops), and this scene has none; drop them from `emit`",
             );
+        }
+    }
+    // A bearing's limit depends on the acceleration (its joint's load): the DAE residuals
+    // and switching functions, written in `(q, v, f)`, do not hold it. Asked for by name
+    // they are an error; `emit = all` leaves them out.
+    if elements.iter().any(|e| e.bearing.is_some())
+        && (emit.dae_residuals || emit.switching_functions)
+    {
+        match &emit_expr {
+            Some(e) if ident_of(e).is_none() => diag.error_at(
+                e,
+                "`dae_residuals` and `switching_functions` are written in (q, v, f), and a bearing friction's limit (`mu = …`) depends on the acceleration through its joint's load; drop them from `emit`",
+            ),
+            _ => {
+                emit.dae_residuals = false;
+                emit.switching_functions = false;
+            }
         }
     }
     if diag.has_errors() {

@@ -409,6 +409,7 @@ where
     fn validate(&self, problem: &NonSmoothProblem<N>) -> Result<(), String> {
         self.options.validate()?;
         crate::element::refuse_contacts::<S, N>()?;
+        super::bearing::refuse(self.system)?;
         problem.check_span_and_start(&S::JOINTS)?;
         if !problem.forces0.is_empty() && problem.forces0.len() != self.elements.len() {
             return Err(format!(

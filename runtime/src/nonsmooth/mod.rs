@@ -18,6 +18,7 @@
 //! complementarity problem (`contact`).
 
 #[allow(dead_code)] // parts of the contact problem the event-driven integrator will read
+mod bearing;
 mod contact;
 mod event;
 mod integrator;

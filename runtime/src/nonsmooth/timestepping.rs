@@ -74,6 +74,7 @@
 use nalgebra::{DMatrix, SMatrix, SVector};
 
 use super::NonSmoothProblem;
+use super::bearing::{self, BEARING_TOL, Bearings};
 use super::kind::{Kind, stop, with_kind};
 use super::law::{Graph, LawError, Line, Part, StepState, position_weight};
 use crate::element::{self, ElementKind, NonSmooth, StopKind};
@@ -156,6 +157,8 @@ where
 pub(crate) struct TimeSteps<'a, const N: usize> {
     pub(crate) traj: Solution,
     graphs: Vec<Graph>,
+    /// The bearing frictions' limits (their graphs' `f_crit`), set each step.
+    bearings: Bearings,
     coord: Vec<usize>,
     /// Each coordinate's weight of `v_{n+1}` in its position update (see `new`).
     theta_q: SVector<f64, N>,
@@ -262,9 +265,12 @@ impl<const N: usize> TimeSteps<'_, N> {
         });
         let y = q.iter().chain(v.iter()).copied().collect();
         let energy = energy(system, &graphs, &q, &v);
+        let elements: Vec<_> = graphs.iter().map(|g| g.element).collect();
+        let bearings = Bearings::new(S::BEARINGS, &elements);
         Ok(TimeSteps {
             traj,
             graphs,
+            bearings,
             coord,
             theta_q,
             theta,
@@ -309,7 +315,8 @@ impl<const N: usize> TimeSteps<'_, N> {
             self.anchor + (self.taken + 1) as f64 * h
         };
         let (t, q, v) = (self.t, self.q, self.v);
-        let (coord, theta_q, graphs) = (&self.coord, &self.theta_q, &self.graphs);
+        let (coord, theta_q) = (&self.coord, &self.theta_q);
+        let (graphs, bearings) = (&mut self.graphs, &mut self.bearings);
         let f = &mut self.f;
         let traj = &mut self.traj;
         let hn = t_next - t;
@@ -366,9 +373,17 @@ impl<const N: usize> TimeSteps<'_, N> {
         let f_prev = f.clone();
         let mut converged = ne == 0;
         let mut sweeps = 0;
+        let names: Vec<&'static str> = graphs.iter().map(|g| g.element.name).collect();
+        let mut load_change = 0.0;
         while !converged {
+            if sweeps == MAX_SWEEPS && load_change > BEARING_TOL {
+                let loaded: Vec<&str> = bearings.elements.iter().map(|&e| names[e]).collect();
+                return Err(ErrorKind::StepNotSolved {
+                    t: t_next,
+                    detail: bearing::unsettled(&loaded, MAX_SWEEPS),
+                });
+            }
             if sweeps == MAX_SWEEPS {
-                let names: Vec<&str> = graphs.iter().map(|g| g.element.name).collect();
                 return Err(ErrorKind::StepNotSolved {
                     t: t_next,
                     detail: format!(
@@ -379,6 +394,29 @@ impl<const N: usize> TimeSteps<'_, N> {
                 });
             }
             sweeps += 1;
+            // Bearing friction: each sweep's limits from the loads of the motion the
+            // forces so far make (a fixed point on the limits, settled with the forces).
+            if !bearings.is_empty() {
+                let mut impulse = SVector::<f64, N>::zeros();
+                for e in 0..ne {
+                    impulse[coord[e]] += hn * f[e];
+                }
+                let (v_mid, a) = bearing::motion(&v, &(v_free - minv * impulse), hn, theta);
+                load_change = bearings
+                    .update(&names, |out| {
+                        system.bearing_limits(&q_theta, &v_mid, &a, out)
+                    })
+                    .map_err(|name| {
+                        let e = names.iter().position(|n| *n == name).unwrap_or(0);
+                        ErrorKind::NonFinite {
+                            t: t_next,
+                            component: 2 * N + e,
+                        }
+                    })?;
+                for (e, limit) in bearings.limits() {
+                    bearing::set_limit(&mut graphs[e].element, limit);
+                }
+            }
             let f_start = f.clone();
             let mut v_scale = vec![0.0; N];
             // A coordinate that its element's force cannot move (a closed mechanism at a
@@ -454,8 +492,11 @@ impl<const N: usize> TimeSteps<'_, N> {
                 // rounding into force changes above the force tolerance.
                 change_v = change_v.max(d * w_cc / (v_scale[c] + w_cc * scale));
             }
-            // One element: the scalar solve is exact after one sweep.
-            converged = ne == 1 || change <= SWEEP_TOL || change_v <= SWEEP_TOL_V;
+            // One element: the scalar solve is exact after one sweep (for its limits).
+            // With bearings, until the forces that set the limits have settled too.
+            let exact = ne == 1 && bearings.is_empty();
+            converged = (exact || change <= SWEEP_TOL || change_v <= SWEEP_TOL_V)
+                && load_change <= BEARING_TOL;
         }
         traj.stats.newton_iterations += sweeps;
 
@@ -607,7 +648,7 @@ impl<const N: usize> TimeSteps<'_, N> {
                 if let Some(component) = y_e.iter().position(|x| !x.is_finite()) {
                     return Err(ErrorKind::NonFinite { t: te, component });
                 }
-                for g in graphs {
+                for g in graphs.iter() {
                     let c = g.element.coordinate;
                     super::mode::check_not_penetrating(&g.element, y_e[c], &S::JOINTS).map_err(
                         |msg| {

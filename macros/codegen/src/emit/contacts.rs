@@ -107,6 +107,17 @@ pub fn contacts_impl(
                     .map(|e| <Self as ::filippov::runtime::nonsmooth::NonSmooth<#n>>::element(self, e))
                     .collect()
             }
+            const JOINT_BEARINGS: &'static [usize] =
+                <Self as ::filippov::runtime::nonsmooth::NonSmooth<#n>>::BEARINGS;
+            fn joint_bearing_limits(
+                &self,
+                q: &::filippov::nalgebra::SVector<f64, #n>,
+                v: &::filippov::nalgebra::SVector<f64, #n>,
+                a: &::filippov::nalgebra::SVector<f64, #n>,
+                limits: &mut [f64],
+            ) {
+                <Self as ::filippov::runtime::nonsmooth::NonSmooth<#n>>::bearing_limits(self, q, v, a, limits)
+            }
         }
     };
     let code = quote! {

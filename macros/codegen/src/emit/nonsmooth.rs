@@ -165,6 +165,7 @@ pub fn nonsmooth_impl(
             }
         }
     };
+    let bearings = bearing_limits(model, k, stats, &mut helpers);
     let declared = if model.contacts.is_empty() {
         TokenStream::new()
     } else {
@@ -185,9 +186,71 @@ pub fn nonsmooth_impl(
             #[allow(unused_variables)]
             #law_fn
             #inv_method
+            #bearings
         }
     };
     (imp, helpers)
+}
+
+/// For scenes with bearing friction: the hidden kernel `__bearing_limits(q, v, a)` (into
+/// `helpers`) and the trait's `BEARINGS` and `bearing_limits`, which call it.
+fn bearing_limits(
+    model: &Model,
+    k: &Kernels,
+    stats: &mut Vec<FnStats>,
+    helpers: &mut TokenStream,
+) -> TokenStream {
+    if k.bearings.is_empty() {
+        return TokenStream::new();
+    }
+    let (n, b) = (k.dof, k.bearings.len());
+    let which: Vec<usize> = (model.elements.iter().enumerate())
+        .filter(|(_, e)| e.bearing.is_some())
+        .map(|(i, _)| i)
+        .collect();
+    let names: Vec<String> = which
+        .iter()
+        .map(|&i| format!("`{}`", model.elements[i].name))
+        .collect();
+    let sig = Signature {
+        vis: quote!(),
+        elements: 0,
+        name: format_ident!("__bearing_limits"),
+        inputs: vec![InputKind::Q, InputKind::V, InputKind::A],
+        ret: quote!([f64; #b]),
+        doc: format!(
+            " The load-dependent limits `μ r |F_⊥|` of the bearing frictions ({}), from the forces their joints transmit at `(q, v, a)`.",
+            names.join(", ")
+        ),
+    };
+    let e = emit(
+        &k.graph,
+        &model.params,
+        (n, n),
+        &sig,
+        &k.bearings,
+        &|o| quote!([#(#o),*]),
+    );
+    stats.push(FnStats {
+        name: "bearing_limits",
+        ops: k.graph.count_ops(&k.bearings),
+        lets: e.lets,
+    });
+    let method = e.method;
+    helpers.extend(quote!(#[doc(hidden)] #method));
+    helpers.extend(e.helpers);
+    quote! {
+        const BEARINGS: &'static [usize] = &[#(#which),*];
+        fn bearing_limits(
+            &self,
+            q: &::filippov::nalgebra::SVector<f64, #n>,
+            v: &::filippov::nalgebra::SVector<f64, #n>,
+            a: &::filippov::nalgebra::SVector<f64, #n>,
+            limits: &mut [f64],
+        ) {
+            limits.copy_from_slice(&self.__bearing_limits(q, v, a));
+        }
+    }
 }
 
 /// Inherent methods: the Delassus operator, the momentum balance's DAE residual and the

@@ -4,6 +4,8 @@
 //! - joint transforms and motion subspaces: [`kinematics`];
 //! - mass matrix `M(q)`: [`crba`] (composite-rigid-body algorithm);
 //! - inverse dynamics and bias forces: [`rnea`] (recursive Newton–Euler);
+//! - the loads that set bearing friction's limits: [`bearing`] (the forces RNEA
+//!   transmits across the joints);
 //! - gravity forces: [`gravity`] (composite first moments);
 //! - springs between two points: [`point_springs`] (their potential, differentiated);
 //! - Christoffel symbols and the Coriolis matrix: [`christoffel`] (derivatives of `M`
@@ -18,6 +20,7 @@
 //! - contacts' gaps, normal and tangential Jacobians and `γ`: [`contacts`].
 
 pub mod aba;
+pub mod bearing;
 pub mod chart;
 pub mod christoffel;
 pub mod contacts;
@@ -64,6 +67,9 @@ pub struct Kernels {
     pub inverse_mass: Option<Vec<Vec<Id>>>,
     /// For scenes with non-smooth elements: see [`ElementKernels`].
     pub elements: Option<ElementKernels>,
+    /// The load-dependent limits `c |F_⊥(q, v, a)|` of the bearing frictions, in element
+    /// order; empty where the scene has none.
+    pub bearings: Vec<Id>,
     /// Poses and Jacobians of every body and declared frame; built only when the
     /// scene asks for `kinematics` (or declares a frame).
     pub frames: Vec<frames::FrameKernel>,
@@ -422,6 +428,8 @@ impl Kernels {
             }
         });
 
+        let bearings = bearing::bearing_limits(&mut g, model, &kin, &inertia, gravity_vec, &v, &a);
+
         // Last, so that the other kernels' code reads the same with or without frames.
         let frames = if model.emit.kinematics {
             frames::frames(&mut g, model, &kin)
@@ -453,6 +461,7 @@ impl Kernels {
             energy,
             inverse_mass,
             elements,
+            bearings,
             frames,
             loops,
             contacts,

@@ -19,6 +19,20 @@ pub fn rnea(
     v: &[Id],
     a: &[Id],
 ) -> Vec<Id> {
+    rnea_forces(g, model, kin, inertia, gravity, v, a).0
+}
+
+/// [`rnea`]'s `τ`, and the spatial force each link's joint transmits to it from its
+/// parent (in link coordinates): what its subtree needs for the motion `(v, a)`.
+pub fn rnea_forces(
+    g: &mut Graph,
+    model: &Model,
+    kin: &Kinematics,
+    inertia: &[Inertia],
+    gravity: Option<[Id; 3]>,
+    v: &[Id],
+    a: &[Id],
+) -> (Vec<Id>, Vec<Force>) {
     let nl = model.links.len();
     let base_acc = match gravity {
         Some(gv) => Motion {
@@ -77,5 +91,6 @@ pub fn rnea(
             force[p] = force[p].add(g, up);
         }
     }
-    tau
+    // Link i's force is final once its own turn has come (children come after parents).
+    (tau, force)
 }

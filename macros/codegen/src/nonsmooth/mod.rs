@@ -4,6 +4,7 @@
 //! ```text
 //! #[friction(joint, f_crit = …)]                                 Coulomb
 //! #[friction(joint, f_static = …, f_kinetic = …)]                static/kinetic
+//! #[friction(joint, mu = …, radius = …, f_crit = …)]             bearing (limit from the load)
 //! #[bingham(joint, f_crit = …, eta = …)]                         linear Bingham
 //! #[bingham(joint, f_crit = …, law = <φ in f>)]                  monotone user law v = φ(f)
 //! #[bingham(joint, f_crit = …, law = …, select = no_jumps | max_dissipation)]  non-monotone
@@ -16,12 +17,13 @@
 //! two (each with its own restitution or support). A joint with one stop names it
 //! `stop_<joint>`; with two, `stop_<joint>_min` and `stop_<joint>_max`.
 
+pub(crate) mod bearing;
 mod static_kinetic;
 
 use syn::Expr;
 
 use crate::diag::Diagnostics;
-use crate::model::{Element, ElementKind, Law, Link, PExpr, Selection, StopKind};
+use crate::model::{Bearing, Element, ElementKind, Law, Link, PExpr, Selection, StopKind};
 use crate::parse::{Family, RawAttr, expr::lower, ident_of};
 
 /// The name of the law variable in `law = …` expressions.
@@ -41,22 +43,34 @@ pub fn read(
         };
         let coordinate =
             crate::coordinate::coordinate_of(&joint, links, "non-smooth elements", diag);
-        let (family, kinds) = match raw.family {
-            Family::Friction => (
+        let link = links.iter().rev().find(|l| joint == l.joint_name);
+        let unloaded = |k: Vec<ElementKind>| k.into_iter().map(|k| (k, None)).collect();
+        let (family, kinds): (_, Vec<(ElementKind, Option<Bearing>)>) = match raw.family {
+            Family::Friction if raw.args.iter().any(|(k, _)| k == "mu") => (
                 "friction",
-                read_friction(&mut raw, &joint, names, diag)
+                bearing::read(&mut raw, &joint, link, names, diag)
                     .into_iter()
                     .collect(),
+            ),
+            Family::Friction => (
+                "friction",
+                unloaded(
+                    read_friction(&mut raw, &joint, names, diag)
+                        .into_iter()
+                        .collect(),
+                ),
             ),
             Family::Bingham => (
                 "bingham",
-                read_bingham(&mut raw, &joint, names, diag)
-                    .into_iter()
-                    .collect(),
+                unloaded(
+                    read_bingham(&mut raw, &joint, names, diag)
+                        .into_iter()
+                        .collect(),
+                ),
             ),
-            _ => ("stop", read_stop(&mut raw, &joint, names, diag)),
+            _ => ("stop", unloaded(read_stop(&mut raw, &joint, names, diag))),
         };
-        for kind in kinds {
+        for (kind, bearing) in kinds {
             let side = match &kind {
                 ElementKind::Stop { upper: true, .. } => "_max",
                 ElementKind::Stop { upper: false, .. } => "_min",
@@ -86,6 +100,7 @@ pub fn read(
                     name,
                     coordinate,
                     kind,
+                    bearing,
                 };
                 check_stop_order(&out, &element, &joint, diag);
                 out.push(element);

@@ -33,6 +33,7 @@ use crate::contacts::Contacts;
 use crate::element::{Element, ElementKind, Law, Mode, Side, StopKind};
 use crate::input::Input;
 use crate::nonsmooth::NonSmoothProblem;
+use crate::nonsmooth::bearing::{self, BEARING_ITERATIONS, BEARING_TOL, Bearings};
 use crate::system::{Mechanism, state_names};
 use crate::{ErrorKind, Keep, Solution, SolveError, Switch, SwitchKind};
 
@@ -83,19 +84,7 @@ fn acting_elements<const N: usize>(
         .filter_map(|(i, el)| {
             let c = el.coordinate;
             match el.kind {
-                ElementKind::DashPot { law, f_crit } => {
-                    let (slip, damping) = match law {
-                        Law::StaticKinetic { f_kinetic } => (f_kinetic, 0.0),
-                        Law::BinghamLinear { eta } => (f_crit, eta),
-                        _ => (f_crit, 0.0),
-                    };
-                    let friction = Friction {
-                        stick: h * f_crit,
-                        slip: h * slip,
-                        damping: h * damping,
-                    };
-                    Some((i, unit(c, 1.0), Some(friction)))
-                }
+                ElementKind::DashPot { .. } => Some((i, unit(c, 1.0), friction_of(el, h))),
                 ElementKind::Stop { side, position, .. } => {
                     // Upper (q ≤ position): gap position − q, row −e_c.
                     let s = match side {
@@ -108,6 +97,23 @@ fn acting_elements<const N: usize>(
             }
         })
         .collect()
+}
+
+/// A friction element's law over a step `h` (`None` for a stop).
+fn friction_of(element: &Element, h: f64) -> Option<Friction> {
+    let ElementKind::DashPot { law, f_crit } = element.kind else {
+        return None;
+    };
+    let (slip, damping) = match law {
+        Law::StaticKinetic { f_kinetic } => (f_kinetic, 0.0),
+        Law::BinghamLinear { eta } => (f_crit, eta),
+        _ => (f_crit, 0.0),
+    };
+    Some(Friction {
+        stick: h * f_crit,
+        slip: h * slip,
+        damping: h * damping,
+    })
 }
 
 /// A rigid stop's coefficient of restitution (`0` for anything else).
@@ -241,7 +247,10 @@ where
     I: Input<N> + ?Sized,
 {
     // The scene's joint elements, their forces `f_<element>` after the contacts'.
-    let elements = scene.joint_elements();
+    let mut elements = scene.joint_elements();
+    // Bearing friction's limits, from the loads of each step's motion (`bearing`).
+    let mut bearings = Bearings::new(S::JOINT_BEARINGS, &elements);
+    let element_names: Vec<&'static str> = elements.iter().map(|el| el.name).collect();
     let mut names = column_names::<S, N, K, T>();
     names.extend(elements.iter().map(|el| format!("f_{}", el.name)));
     let sol = Solution::new(names, 2 * N, problem.output.clone());
@@ -292,7 +301,7 @@ where
     };
     let derivative = |v: &SVector<f64, N>, dv: &SVector<f64, N>| -> Vec<f64> {
         let mut d: Vec<f64> = v.iter().chain(dv.iter()).copied().collect();
-        d.resize(2 * N + K + T + elements.len(), 0.0);
+        d.resize(2 * N + K + T + element_names.len(), 0.0);
         d
     };
     let a0 = scene.forward_dynamics(&q, &v, &input.forces(t, &q, &v));
@@ -383,28 +392,76 @@ where
                         friction: None,
                     },
                 }));
-                let start: Vec<Vec<f64>> = active
+                let mut start: Vec<Vec<f64>> = active
                     .iter()
                     .map(|&k| warm[k].clone())
                     .chain(acting.iter().map(|&(i, _, _)| warm_elements[i].clone()))
                     .collect();
-                let out = match cone::solve(
-                    &w,
-                    &v_free_d,
-                    &locals,
-                    &start,
-                    CONE_TOLERANCE,
-                    CONE_SWEEPS,
-                ) {
-                    Ok(out) => out,
-                    Err(cone::NoLocalSolution { contact }) => {
-                        let detail = format!(
-                            "the contact problem of `{}` has no solution: its friction drives \
-                                 it into the plane in every sliding direction",
-                            S::CONTACTS[active[contact]]
-                        );
-                        return Err(SolveError::new(ErrorKind::IllPosedMode { t, detail }, sol));
+                // With bearing friction, solved again with the limits of the loads of the
+                // motion found, until they settle.
+                let mut solves = 0;
+                let out = loop {
+                    let out = match cone::solve(
+                        &w,
+                        &v_free_d,
+                        &locals,
+                        &start,
+                        CONE_TOLERANCE,
+                        CONE_SWEEPS,
+                    ) {
+                        Ok(out) => out,
+                        Err(cone::NoLocalSolution { contact }) => {
+                            let detail = format!(
+                                "the contact problem of `{}` has no solution: its friction \
+                                 drives it into the plane in every sliding direction",
+                                S::CONTACTS[active[contact]]
+                            );
+                            return Err(SolveError::new(
+                                ErrorKind::IllPosedMode { t, detail },
+                                sol,
+                            ));
+                        }
+                    };
+                    if bearings.is_empty() {
+                        break out;
                     }
+                    sol.stats.contact_sweeps += out.sweeps;
+                    let v_try = SVector::<f64, N>::from_iterator(out.velocity.iter().copied());
+                    // The smooth part is explicit: the loads at (q, v) with the step's
+                    // mean acceleration.
+                    let (v_at, a_step) = bearing::motion(&v, &v_try, hn, 0.0);
+                    let change = match bearings.update(&element_names, |out| {
+                        scene.joint_bearing_limits(&q, &v_at, &a_step, out)
+                    }) {
+                        Ok(change) => change,
+                        Err(name) => {
+                            let e = element_names.iter().position(|n| *n == name);
+                            let component = 2 * N + K + T + e.unwrap_or(0);
+                            let kind = ErrorKind::NonFinite { t, component };
+                            return Err(SolveError::new(kind, sol));
+                        }
+                    };
+                    for (e, limit) in bearings.limits() {
+                        bearing::set_limit(&mut elements[e], limit);
+                        if let Some(j) = acting.iter().position(|&(el, _, _)| el == e) {
+                            locals[active.len() + j].friction = friction_of(&elements[e], hn);
+                        }
+                    }
+                    if change <= BEARING_TOL {
+                        break out;
+                    }
+                    solves += 1;
+                    if solves == BEARING_ITERATIONS {
+                        let loaded: Vec<&str> = bearings
+                            .elements
+                            .iter()
+                            .map(|&e| element_names[e])
+                            .collect();
+                        let detail = bearing::unsettled(&loaded, BEARING_ITERATIONS);
+                        let kind = ErrorKind::StepNotSolved { t, detail };
+                        return Err(SolveError::new(kind, sol));
+                    }
+                    start = out.impulses;
                 };
                 sol.stats.contact_sweeps += out.sweeps;
                 sol.stats.contact_residual = sol.stats.contact_residual.max(out.residual);
@@ -447,8 +504,9 @@ where
                         warm[k][1..].iter_mut().for_each(|x| *x = 0.0);
                     }
                 }
-                for (j, &(el, ref row, law)) in acting.iter().enumerate() {
+                for (j, &(el, ref row, _)) in acting.iter().enumerate() {
                     let i = active.len() + j;
+                    let law = locals[i].friction;
                     let (p, u) = (out.impulses[i][0], out.local[i][0]);
                     // Sliding, the next step starts its friction from zero (as a
                     // contact's above).

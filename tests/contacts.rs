@@ -1012,7 +1012,8 @@ mod event_driven {
     }
 }
 
-/// Spatial contacts (two tangent rows each) by time-stepping on the isotropic cone.
+/// Spatial contacts (two tangent rows each) by time-stepping on the isotropic cone, and
+/// event-driven.
 mod spatial {
     use filippov::prelude::*;
     use filippov::runtime::contacts::Contacts;
@@ -1200,19 +1201,179 @@ mod spatial {
         assert!(e2 < 0.2 * e1, "first order: {e1:e}, {e2:e}");
     }
 
-    /// The event-driven integrator takes planar contacts; a spatial one is refused with
-    /// a message naming it and the way through.
+    fn tight() -> Method {
+        Method::Dopri5(Options {
+            max_steps: 1_000_000,
+            ..Options::tolerances(1e-12, 1e-14)
+        })
+    }
+
+    /// Event-driven, a puck launched on level ground in any direction slides straight
+    /// (its friction opposing its velocity on the isotropic cone) and sticks at its
+    /// closed-form time `v0 / (μ g)` and place `v0² / (2 μ g)` along its launch.
     #[test]
-    fn event_driven_refuses_spatial_contacts_by_name() {
+    fn event_driven_puck_stops_at_its_closed_form_time_and_place() {
         let s = Puck::default();
-        let p = NonSmoothProblem::new(0.0, 1.0, V3::zeros(), V3::zeros());
-        let err =
-            contact_event_driven(&s, &free3, &p, &Method::Dopri5(Options::default())).unwrap_err();
+        let v0 = 1.5;
+        let (t_stop, distance) = (v0 / (s.mu * s.g), v0 * v0 / (2.0 * s.mu * s.g));
+        for k in 0..6 {
+            let theta = 0.37 + k as f64 * std::f64::consts::TAU / 6.0;
+            let (c, sn) = (theta.cos(), theta.sin());
+            let p = NonSmoothProblem::new(0.0, 1.0, V3::zeros(), V3::from([v0 * c, v0 * sn, 0.0]));
+            let sol =
+                contact_event_driven(&s, &free3, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+            let stick = sol
+                .switches
+                .iter()
+                .find(|w| w.to == Some(filippov::runtime::Mode::Stick))
+                .expect("it sticks");
+            assert!(
+                (stick.t - t_stop).abs() < 1e-9,
+                "θ = {theta}: stops at {}",
+                stick.t
+            );
+            let (_, last) = sol.last().unwrap();
+            assert!(
+                (last[0] - distance * c).abs() < 1e-9 && (last[1] - distance * sn).abs() < 1e-9
+            );
+            assert_eq!(last[2], 0.0);
+            assert!(last[3..6].iter().all(|&x| x == 0.0), "at rest: {last:?}");
+            // Sliding, its friction is μ m g against the motion.
+            let f = |name: &str| last[sol.column_index(name).unwrap()];
+            assert!((f("λ_bottom.n") - s.m * s.g).abs() < 1e-9);
+        }
+    }
+
+    /// Event-driven, the puck sent across an incline at its friction angle keeps
+    /// `v·d + |v| = v0` (see the time-stepping test above) to the method's tolerance, its
+    /// sliding direction turning continuously downhill.
+    #[test]
+    fn event_driven_puck_across_an_incline_keeps_its_invariant() {
+        let phi: f64 = 0.3;
+        let s = Puck {
+            phi,
+            mu: phi.tan(),
+            ..Puck::default()
+        };
+        let v0 = 2.0;
+        let downhill = V3::from([0.0, -phi.cos(), -phi.sin()]);
+        let p = NonSmoothProblem::new(0.0, 3.0, V3::zeros(), V3::from([v0, 0.0, 0.0]));
+        let sol = contact_event_driven(&s, &free3, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        let mut worst = 0.0f64;
+        for (_, y) in sol.rows() {
+            let v = V3::from([y[3], y[4], y[5]]);
+            worst = worst.max((v.dot(&downhill) + v.norm() - v0).abs());
+        }
+        assert!(worst < 1e-9 * v0, "v·d + |v| off v0 by {worst:e}");
+        let (_, last) = sol.last().unwrap();
+        let speed = V3::from([last[3], last[4], last[5]]).norm();
+        assert!(speed > 0.5 * v0 && speed < 0.6 * v0, "{speed}");
+    }
+
+    /// Event-driven, a puck thrown straight up an incline steeper than its friction
+    /// angle slows at `g (sin φ + μ cos φ)`, stops at `t₁ = v0 / that` and slides back
+    /// at `g (sin φ − μ cos φ)`: its slip reverses through zero along a fixed line.
+    #[test]
+    fn event_driven_puck_thrown_uphill_slides_back() {
+        let (phi, mu): (f64, f64) = (0.5, 0.3);
+        let s = Puck {
+            phi,
+            mu,
+            ..Puck::default()
+        };
+        let v0 = 2.0;
+        let up = V3::from([0.0, phi.cos(), phi.sin()]);
+        let (a1, a2) = (
+            s.g * (phi.sin() + mu * phi.cos()),
+            s.g * (phi.sin() - mu * phi.cos()),
+        );
+        let t1 = v0 / a1;
+        let tf = 1.0;
+        assert!(t1 < tf);
+        let p = NonSmoothProblem::new(0.0, tf, V3::zeros(), up * v0);
+        let sol = contact_event_driven(&s, &free3, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        let (_, last) = sol.last().unwrap();
+        let (q, v) = (V3::from_column_slice(&last[..3]), V3::from_column_slice(&last[3..6]));
+        let along = v0 * t1 - 0.5 * a1 * t1 * t1 - 0.5 * a2 * (tf - t1).powi(2);
+        assert!((q - up * along).amax() < 1e-9, "at {q:?}, expected {along} up the slope");
+        assert!((v + up * (a2 * (tf - t1))).amax() < 1e-9, "moving at {v:?}");
+    }
+
+    /// Event-driven, the table below its friction angle stands still bit for bit for
+    /// 10⁴ s (its three legs stuck, their redundant frictions in their cones).
+    #[test]
+    fn event_driven_table_below_its_friction_angle_does_not_move() {
+        let s = Table {
+            phi: 0.3,
+            ..Table::default()
+        };
+        let q0 = standing(&s);
+        let p = NonSmoothProblem::new(0.0, 1e4, q0, V6::zeros());
+        let sol = contact_event_driven(&s, &free6, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        for (t, y) in sol.rows() {
+            assert_eq!(&y[..6], q0.as_slice(), "t = {t}");
+            assert!(y[6..12].iter().all(|&x| x == 0.0), "t = {t}");
+        }
+        let (_, last) = sol.last().unwrap();
+        for (k, leg) in Table::CONTACTS.iter().enumerate() {
+            let (n, t) = (last[12 + k], [last[15 + 2 * k], last[16 + 2 * k]]);
+            assert!(n > 0.0 && t[0].hypot(t[1]) < s.mu * n, "{leg}: {n} {t:?}");
+        }
+    }
+
+    /// Event-driven, the table pushed along level ground without spin slides straight
+    /// (every leg's slip in the push's direction) and stops at the closed-form time
+    /// `v0 / (μ g)` and place `v0² / (2 μ g)`, whatever its legs' loads.
+    #[test]
+    fn event_driven_table_slides_straight_to_rest() {
+        let s = Table::default();
+        let v0 = 1.2;
+        let (t_stop, distance) = (v0 / (s.mu * s.g), v0 * v0 / (2.0 * s.mu * s.g));
+        let (c, sn) = (0.6, -0.8);
+        let p = NonSmoothProblem::new(
+            0.0,
+            1.0,
+            standing(&s),
+            V6::from([v0 * c, v0 * sn, 0.0, 0.0, 0.0, 0.0]),
+        );
+        let sol = contact_event_driven(&s, &free6, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
+        let stopped = sol
+            .switches
+            .iter()
+            .filter(|w| w.to == Some(filippov::runtime::Mode::Stick))
+            .map(|w| w.t)
+            .fold(f64::NAN, f64::max);
+        assert!((stopped - t_stop).abs() < 1e-9, "stops at {stopped}");
+        let (_, last) = sol.last().unwrap();
+        assert!((last[0] - distance * c).abs() < 1e-9 && (last[1] - distance * sn).abs() < 1e-9);
+        assert!(
+            last[2..6]
+                .iter()
+                .zip(&standing(&s).as_slice()[2..])
+                .all(|(a, b)| (a - b).abs() < 1e-12)
+        );
+        assert!(last[6..12].iter().all(|&x| x == 0.0), "at rest: {last:?}");
+    }
+
+    /// A table spinning as it slides: its legs' slips turn as they stop, beyond the
+    /// event-driven integrator; the error says so, names the legs and the way through,
+    /// and keeps the rows computed.
+    #[test]
+    fn event_driven_names_a_spinning_slide_and_points_to_time_stepping() {
+        let s = Table::default();
+        let v0 = V6::from([1.2, -0.7, 0.0, 4.0, 0.0, 0.0]);
+        let p = NonSmoothProblem::new(0.0, 1.0, standing(&s), v0);
+        let method = Method::Dopri5(Options {
+            max_steps: 20_000,
+            ..Options::tolerances(1e-10, 1e-12)
+        });
+        let err = contact_event_driven(&s, &free6, &p, &method).expect_err("a spinning slide");
         let text = err.to_string();
         assert!(
-            text.contains("`bottom`") && text.contains("contact_time_stepping"),
+            text.contains("`leg_a`") && text.contains("contact_time_stepping"),
             "{text}"
         );
+        assert!(err.solution.len() > 100, "the rows so far are kept");
     }
 }
 

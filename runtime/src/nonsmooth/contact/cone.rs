@@ -21,6 +21,21 @@
 
 use nalgebra::{DMatrix, DVector};
 
+/// Relative tolerance of the spatial contact problem's residual
+/// ([`Stats::contact_residual`](crate::Stats::contact_residual)).
+pub(crate) const CONE_TOLERANCE: f64 = 1e-12;
+
+/// Most Gauss–Seidel sweeps over the contacts per step.
+pub(crate) const CONE_SWEEPS: usize = 5000;
+
+/// A spatial contact's friction impulse counts as strictly inside the cone below
+/// `(1 − CONE_EDGE) μ P_N` (a sliding impulse is on the edge to round-off).
+pub(crate) const CONE_EDGE: f64 = 1e-9;
+
+/// A contact's slip after the step counts as zero below this fraction of the step's
+/// largest velocity component (the contact problem's round-off).
+pub(crate) const SLIP_ROUND_OFF: f64 = 1e-12;
+
 /// One contact that may close in the step, or a friction element on one coordinate.
 #[derive(Clone, Debug)]
 pub(crate) struct ConeContact {

@@ -1,25 +1,28 @@
-//! Event-driven integration of planar contacts (theory §8): each contact open, stuck or
+//! Event-driven integration of contacts (theory §8): each contact open, stuck or
 //! sliding; the smooth motion of the current modes integrated by any method, kept on
 //! their constraints by projection; switches located on the dense output and decided by
-//! the contact problem ([`super::planar`]).
+//! the contact problem ([`super::planar`] for planar contacts; for spatial ones the modes
+//! as they are, else a short step of [`super::cone`]).
 //!
 //! In a mode the closed contacts' normal rows and the stuck ones' tangential rows are
 //! equality constraints at acceleration level (`W v̇ = γ`), a sliding contact's force
-//! `λ_N (w_N − μ s w_T)`. The forces solve `C W D λ = γ − C a₀` (`C` the constraint
-//! rows, `D` the force directions, `W = M⁻¹`; least norm where redundant contacts leave
-//! the split open). After every step the state is projected back onto the closed
+//! `λ_N (w_N − μ s w_T)` (spatial: `s` the current slip direction in its two tangent
+//! rows). The forces solve `C W D λ = γ − C a₀` (`C` the constraint rows, `D` the force
+//! directions, `W = M⁻¹`; least norm where redundant contacts leave the split open,
+//! redundant stuck frictions shared in proportion to `μ_s λ_N`). After every step the state is projected back onto the closed
 //! contacts' gaps and the constrained velocities (in the mass metric); where the
 //! constraints lock every coordinate, the velocity is set to exactly zero.
 //!
 //! The switching functions, positive while the mode holds: an open contact's gap; a
-//! closed one's `λ_N`; a stuck one's `μ λ_N − |λ_T|`; a sliding one's slip times its
-//! sign. At a switch: an impact (a contact closing at speed) takes the velocity-level
+//! closed one's `λ_N`; a stuck one's `μ λ_N − |λ_T|`; a sliding one's slip along its
+//! direction when the mode began. At a switch: an impact (a contact closing at speed) takes the velocity-level
 //! problem (Newton's law with Coulomb's cone on the impulses); a rebound too small to
 //! leave the position tolerance is taken as settled (the Zeno limit of its bounces);
 //! then the modes are chosen by the acceleration-level problem.
 
 use nalgebra::{DMatrix, DVector, SVector};
 
+use super::cone::{self, CONE_EDGE, CONE_SWEEPS, CONE_TOLERANCE, ConeContact, SLIP_ROUND_OFF};
 use super::planar::{self, Closed, ContactError};
 use crate::contacts::Contacts;
 use crate::element::Mode;
@@ -30,13 +33,21 @@ use crate::numerics::rootfind::find_root;
 use crate::system::Mechanism;
 use crate::{ErrorKind, Keep, OdeSystem, Solution, SolveError, Switch, SwitchKind};
 
+/// A constraint row of a mode: the row, its `γ`, its contact, and which of the contact's
+/// rows it is (`0` normal, `1` and `2` tangents).
+type Row = (DVector<f64>, f64, usize, u8);
+
 /// A contact's mode.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum CMode {
     Open,
     Stick,
-    /// Sliding with slip sign `s`.
+    /// Sliding with slip sign `s` (a planar contact).
     Slip(f64),
+    /// Sliding (a spatial contact): its friction opposes the current slip velocity; `d`,
+    /// the slip's direction in its two tangent rows when the mode began, is where its
+    /// switching function `d · u_T` looks for the slip to stop.
+    Slide([f64; 2]),
 }
 
 impl CMode {
@@ -46,6 +57,14 @@ impl CMode {
             CMode::Stick => Mode::Stick,
             CMode::Slip(s) if s > 0.0 => Mode::SlipPos(0),
             CMode::Slip(_) => Mode::SlipNeg(0),
+            CMode::Slide(_) => Mode::SlipPos(0),
+        }
+    }
+    /// The same mode (a slide in the same sense: a new direction is not a switch).
+    fn same(self, other: CMode) -> bool {
+        match (self, other) {
+            (CMode::Slide(a), CMode::Slide(b)) => a[0] * b[0] + a[1] * b[1] > 0.0,
+            (a, b) => a == b,
         }
     }
     fn closed(self) -> bool {
@@ -64,13 +83,24 @@ struct InMode<'a, S, I: ?Sized, const N: usize, const K: usize, const T: usize> 
     mu_static: [f64; K],
     /// The first tangent row of each contact.
     tangent: [Option<usize>; K],
+    /// The second tangent row of each spatial contact.
+    second: [Option<usize>; K],
 }
 
-/// Accelerations and forces at a state: `v̇`, and per contact `(λ_N, λ_T)`.
+/// Accelerations and forces at a state: `v̇`, and per contact `(λ_N, λ_T)` (`λ_T` along
+/// the first tangent row, `tangent2` along a spatial contact's second).
 struct Dynamics<const N: usize, const K: usize> {
     a: SVector<f64, N>,
     normal: [f64; K],
     tangent: [f64; K],
+    tangent2: [f64; K],
+}
+
+impl<const N: usize, const K: usize> Dynamics<N, K> {
+    /// `|λ_T|` of contact `k`.
+    fn friction(&self, k: usize) -> f64 {
+        self.tangent[k].hypot(self.tangent2[k])
+    }
 }
 
 impl<S, I, const N: usize, const K: usize, const T: usize> InMode<'_, S, I, N, K, T>
@@ -95,12 +125,8 @@ where
     }
 
     /// The constraint rows of the current modes: `(row, γ)` and, per row, which contact
-    /// and whether it is tangential.
-    fn constraints(
-        &self,
-        q: &SVector<f64, N>,
-        v: &SVector<f64, N>,
-    ) -> Vec<(DVector<f64>, f64, usize, bool)> {
+    /// and which of its rows (`0` normal, `1` and `2` its tangents).
+    fn constraints(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> Vec<Row> {
         let w_n = self.scene.contact_normal_jacobian(q);
         let w_t = self.scene.contact_tangent_jacobian(q);
         let g_n = self.scene.contact_normal_gamma(q, v);
@@ -112,18 +138,20 @@ where
                     DVector::from_iterator(N, w_n.row(k).iter().copied()),
                     g_n[k],
                     k,
-                    false,
+                    0,
                 ));
             }
-            if self.modes[k] == CMode::Stick
-                && let Some(r) = self.tangent[k]
-            {
-                rows.push((
-                    DVector::from_iterator(N, w_t.row(r).iter().copied()),
-                    g_t[r],
-                    k,
-                    true,
-                ));
+            if self.modes[k] == CMode::Stick {
+                for (j, r) in [self.tangent[k], self.second[k]].into_iter().enumerate() {
+                    if let Some(r) = r {
+                        rows.push((
+                            DVector::from_iterator(N, w_t.row(r).iter().copied()),
+                            g_t[r],
+                            k,
+                            j as u8 + 1,
+                        ));
+                    }
+                }
             }
         }
         rows
@@ -137,6 +165,7 @@ where
             a: a0,
             normal: [0.0; K],
             tangent: [0.0; K],
+            tangent2: [0.0; K],
         };
         if rows.is_empty() {
             return out;
@@ -145,18 +174,29 @@ where
         let w_t = self.scene.contact_tangent_jacobian(q);
         // Force directions: the rows themselves, a sliding contact's normal less its
         // friction.
+        let slides: [[f64; 2]; K] = std::array::from_fn(|k| self.slide_direction(k, &w_t, v));
         let dirs: Vec<DVector<f64>> = rows
             .iter()
-            .map(
-                |(row, _, k, tangential)| match (self.modes[*k], tangential) {
-                    (CMode::Slip(s), false) => {
-                        let r = self.tangent[*k].expect("a sliding contact has a tangent");
-                        let wt = DVector::from_iterator(N, w_t.row(r).iter().copied());
-                        row - wt * (self.mu[*k] * s)
+            .map(|(row, _, k, which)| match (self.modes[*k], which) {
+                (CMode::Slip(s), 0) => {
+                    let r = self.tangent[*k].expect("a sliding contact has a tangent");
+                    let wt = DVector::from_iterator(N, w_t.row(r).iter().copied());
+                    row - wt * (self.mu[*k] * s)
+                }
+                (CMode::Slide(_), 0) => {
+                    let mut dir = row.clone();
+                    let d = slides[*k];
+                    for (r, dj) in [self.tangent[*k], self.second[*k]].into_iter().zip(d) {
+                        if let Some(r) = r {
+                            for (i, x) in dir.iter_mut().enumerate() {
+                                *x -= self.mu[*k] * dj * w_t[(r, i)];
+                            }
+                        }
                     }
-                    _ => row.clone(),
-                },
-            )
+                    dir
+                }
+                _ => row.clone(),
+            })
             .collect();
         let effect: Vec<DVector<f64>> = dirs.iter().map(|d| &w * d).collect();
         let m = rows.len();
@@ -170,14 +210,22 @@ where
             .unwrap_or_else(|_| DVector::from_element(m, f64::NAN));
         let lambda = self.share_friction(&rows, lambda);
         let mut a = a0d;
-        for (j, (_, _, k, tangential)) in rows.iter().enumerate() {
+        for (j, (_, _, k, which)) in rows.iter().enumerate() {
             a += &effect[j] * lambda[j];
-            if *tangential {
-                out.tangent[*k] = lambda[j];
-            } else {
-                out.normal[*k] = lambda[j];
-                if let CMode::Slip(s) = self.modes[*k] {
-                    out.tangent[*k] = -self.mu[*k] * s * lambda[j];
+            match which {
+                1 => out.tangent[*k] = lambda[j],
+                2 => out.tangent2[*k] = lambda[j],
+                _ => {
+                    out.normal[*k] = lambda[j];
+                    match self.modes[*k] {
+                        CMode::Slip(s) => out.tangent[*k] = -self.mu[*k] * s * lambda[j],
+                        CMode::Slide(_) => {
+                            let d = slides[*k];
+                            out.tangent[*k] = -self.mu[*k] * d[0] * lambda[j];
+                            out.tangent2[*k] = -self.mu[*k] * d[1] * lambda[j];
+                        }
+                        _ => {}
+                    }
                 }
             }
         }
@@ -202,12 +250,8 @@ where
     /// null space of the tangential rows) to the one proportional to each contact's
     /// `μ_s λ_N` — a weighted least norm — so that the contacts of a group reach their
     /// cones' edges together, exactly when the group does.
-    fn share_friction(
-        &self,
-        rows: &[(DVector<f64>, f64, usize, bool)],
-        mut lambda: DVector<f64>,
-    ) -> DVector<f64> {
-        let stuck: Vec<usize> = (0..rows.len()).filter(|&j| rows[j].3).collect();
+    fn share_friction(&self, rows: &[Row], mut lambda: DVector<f64>) -> DVector<f64> {
+        let stuck: Vec<usize> = (0..rows.len()).filter(|&j| rows[j].3 > 0).collect();
         if stuck.len() < 2 {
             return lambda;
         }
@@ -225,7 +269,7 @@ where
         // Weights μ_s λ_N of each stuck row's contact (its normal row's force).
         let normal = |k: usize| {
             (0..rows.len())
-                .find(|&j| rows[j].2 == k && !rows[j].3)
+                .find(|&j| rows[j].2 == k && rows[j].3 == 0)
                 .map_or(0.0, |j| lambda[j])
         };
         let weight: Vec<f64> = stuck
@@ -250,8 +294,57 @@ where
         lambda
     }
 
+    /// Contact `k`'s rows: its normal, then its tangents.
+    fn rows_of(
+        &self,
+        k: usize,
+        w_n: &nalgebra::SMatrix<f64, K, N>,
+        w_t: &nalgebra::SMatrix<f64, T, N>,
+    ) -> Vec<DVector<f64>> {
+        let mut rows = vec![DVector::from_iterator(N, w_n.row(k).iter().copied())];
+        for r in [self.tangent[k], self.second[k]].into_iter().flatten() {
+            rows.push(DVector::from_iterator(N, w_t.row(r).iter().copied()));
+        }
+        rows
+    }
+
+    /// The same scene in other modes.
+    fn with_modes(&self, modes: [CMode; K]) -> Self {
+        InMode {
+            scene: self.scene,
+            input: self.input,
+            modes,
+            mu: self.mu,
+            mu_static: self.mu_static,
+            tangent: self.tangent,
+            second: self.second,
+        }
+    }
+
+    /// The direction a sliding spatial contact's friction opposes: its slip velocity's,
+    /// in its tangent rows; the mode's own direction where the slip is zero to
+    /// round-off.
+    fn slide_direction(
+        &self,
+        k: usize,
+        w_t: &nalgebra::SMatrix<f64, T, N>,
+        v: &SVector<f64, N>,
+    ) -> [f64; 2] {
+        let CMode::Slide(d) = self.modes[k] else {
+            return [0.0; 2];
+        };
+        let u = [self.tangent[k], self.second[k]]
+            .map(|r| r.map_or(0.0, |r| w_t.row(r).dot(&v.transpose())));
+        let norm = u[0].hypot(u[1]);
+        if norm > 1e-14 * v.amax() {
+            [u[0] / norm, u[1] / norm]
+        } else {
+            d
+        }
+    }
+
     /// Whether the constraint rows span every coordinate (the state is locked).
-    fn locks(&self, rows: &[(DVector<f64>, f64, usize, bool)]) -> bool {
+    fn locks(&self, rows: &[Row]) -> bool {
         if rows.len() < N {
             return false;
         }
@@ -315,8 +408,12 @@ where
         let slips = self.scene.contact_tangent_jacobian(&q) * v;
         std::array::from_fn(|k| match self.modes[k] {
             CMode::Open => gaps[k],
-            CMode::Stick => d.normal[k].min(self.mu_static[k] * d.normal[k] - d.tangent[k].abs()),
+            CMode::Stick => d.normal[k].min(self.mu_static[k] * d.normal[k] - d.friction(k)),
             CMode::Slip(s) => d.normal[k].min(s * self.tangent[k].map_or(0.0, |r| slips[r])),
+            CMode::Slide(s) => {
+                let u = [self.tangent[k], self.second[k]].map(|r| r.map_or(0.0, |r| slips[r]));
+                d.normal[k].min(s[0] * u[0] + s[1] * u[1])
+            }
         })
     }
 }
@@ -343,8 +440,9 @@ where
     }
 }
 
-/// Integrates `scene` with its planar contacts event-driven with `method` (see the
-/// module documentation): the same columns as [`contact_time_stepping`]
+/// Integrates `scene` with its contacts event-driven with `method` (see the module
+/// documentation; spatial contacts where their slips stop along a fixed direction, theory
+/// §8): the same columns as [`contact_time_stepping`]
 /// (super::stepping::contact_time_stepping), the forces at each row, and a switch log.
 ///
 /// # Errors
@@ -381,19 +479,12 @@ where
         );
         return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
     }
-    if let Some(k) = super::stepping::spatial_contact::<S, N, K, T>() {
-        let msg = format!(
-            "contact `{}` can slide in two directions (a spatial contact); the event-driven \
-             integrator takes planar contacts (one tangent row each): integrate spatial \
-             contacts with `contact_time_stepping`",
-            S::CONTACTS[k]
-        );
-        return Err(SolveError::new(ErrorKind::InvalidInput(msg), sol));
-    }
     let mut stepper = method.stepper(2 * N);
     let options = stepper.options();
     let tangent: [Option<usize>; K] =
         std::array::from_fn(|k| S::TANGENT_OF.iter().position(|&c| c == k));
+    let second: [Option<usize>; K] =
+        std::array::from_fn(|k| (0..T).filter(|&r| S::TANGENT_OF[r] == k).nth(1));
     let mut sys = InMode {
         scene,
         input,
@@ -401,6 +492,7 @@ where
         mu: scene.contact_friction(),
         mu_static: scene.contact_static_friction(),
         tangent,
+        second,
     };
     let e = scene.contact_restitution();
     let (mut t, tf) = (problem.t0, problem.tf);
@@ -561,6 +653,30 @@ where
             }
         }
     })();
+    // Steps that shrink to nothing while spatial contacts slide: a slip whose direction
+    // turns as it stops (a body spinning as it slides), where the friction's direction
+    // has no limit; said as such, with the way through.
+    let sliding: Vec<String> = (0..K)
+        .filter(|&k| matches!(sys.modes[k], CMode::Slide(_)))
+        .map(|k| format!("`{}`", S::CONTACTS[k]))
+        .collect();
+    let run = run.map_err(|kind| match kind {
+        ErrorKind::MaxSteps { t } | ErrorKind::StepSizeUnderflow { t, .. }
+            if !sliding.is_empty() =>
+        {
+            ErrorKind::IllPosedMode {
+                t,
+                detail: format!(
+                    "the steps shrank to nothing while the spatial contacts {} slide: a slip \
+                     whose direction turns as it stops (a body spinning as it slides) is beyond \
+                     the event-driven integrator, which follows slips that stop along a fixed \
+                     direction; integrate the scene with `contact_time_stepping`",
+                    sliding.join(", ")
+                ),
+            }
+        }
+        kind => kind,
+    });
     match run {
         Ok(()) => Ok(sol),
         Err(kind) => Err(SolveError::new(kind, sol)),
@@ -590,6 +706,9 @@ where
     for k in 0..K {
         if let Some(r) = sys.tangent[k] {
             tangential[r] = d.tangent[k];
+        }
+        if let Some(r) = sys.second[k] {
+            tangential[r] = d.tangent2[k];
         }
     }
     row.extend_from_slice(&tangential);
@@ -648,6 +767,7 @@ where
 {
     let (q, mut v) = InMode::<S, I, N, K, T>::split(y);
     let scene = sys.scene;
+    let spatial = sys.second.iter().any(Option::is_some);
     let tol_x = |x: f64| options.atol + options.rtol * x.abs();
     let gaps = scene.contact_gaps(&q);
     let w_n = scene.contact_normal_jacobian(&q);
@@ -678,62 +798,93 @@ where
     let a_free = scene.forward_dynamics(&q, &v, &tau);
     let pressing = -(w_n * a_free - scene.contact_normal_gamma(&q, &v));
     if !approaching.is_empty() {
-        // Newton's law with Coulomb's cone on the impulses of the touching contacts.
-        let closed: Vec<Closed> = touching
-            .iter()
-            .map(|&k| {
-                // A rebound that could not rise above the position tolerance under the
-                // pressing acceleration is taken as settled.
+        let before: Vec<f64> = y.clone();
+        if spatial {
+            // Spatial: Moreau's impact law on the exact cone (a settled rebound's normal
+            // velocity held at zero), the impulses of the touching contacts at once.
+            for &k in &touching {
                 let rebound = e[k] * (-vn[k]).max(0.0);
                 let settle =
                     pressing[k] > 0.0 && rebound * rebound <= 2.0 * pressing[k] * tol_x(scale_q);
                 settled[k] = settle && vn[k] < 0.0;
-                Closed {
-                    normal: row(&w_n, k),
-                    gamma_n: if settle { 0.0 } else { -e[k] * vn[k].min(0.0) },
-                    tangent: trow(sys.tangent[k]),
-                    gamma_t: 0.0,
-                    mu: if sys.tangent[k].is_some() {
-                        sys.mu[k]
-                    } else {
-                        0.0
-                    },
-                    sliding: None,
-                }
-            })
-            .collect();
-        let vd = DVector::from_iterator(N, v.iter().copied());
-        // A plastic impact that can hold every touching contact does (the contact
-        // problem of redundant contacts has other solutions too); else the problem
-        // decides which rebound, stick or slide.
-        let plastic = closed.iter().all(|c| c.gamma_n == 0.0);
-        let before: Vec<f64> = y.clone();
-        // Holding every contact needs its impulses in the static cones.
-        let static_cones: Vec<Closed> = closed
-            .iter()
-            .zip(&touching)
-            .map(|(c, &k)| Closed {
-                mu: if c.mu > 0.0 { sys.mu_static[k] } else { 0.0 },
-                ..c.clone()
-            })
-            .collect();
-        match held(&w, &vd, &static_cones).filter(|_| plastic) {
-            Some(v_held) => {
-                let dv = &v_held - &vd;
-                for (i, &k) in touching.iter().enumerate() {
-                    // The normal impulse along the contact's row: its effect on the
-                    // normal velocity over the row's effective inverse mass.
-                    let wn = &closed[i].normal;
-                    impulses[k] = wn.dot(&dv) / wn.dot(&(&w * wn)).max(f64::MIN_POSITIVE);
-                }
-                v = SVector::from_iterator(v_held.iter().copied());
             }
-            None => {
-                let out = planar::solve(&w, &vd, &closed)
-                    .map_err(|err| ill_posed(t, &touching, err, &S::CONTACTS))?;
-                v = SVector::from_iterator(out.acceleration.iter().copied());
-                for (i, &k) in touching.iter().enumerate() {
-                    impulses[k] = out.normal[i];
+            let locals: Vec<ConeContact> = touching
+                .iter()
+                .map(|&k| ConeContact {
+                    rows: sys.rows_of(k, &w_n, &w_t),
+                    gamma: if settled[k] {
+                        0.0
+                    } else {
+                        -e[k] * vn[k].min(0.0)
+                    },
+                    mu: sys.mu[k],
+                    friction: None,
+                })
+                .collect();
+            let vd = DVector::from_iterator(N, v.iter().copied());
+            let out = cone::solve(&w, &vd, &locals, &[], CONE_TOLERANCE, CONE_SWEEPS)
+                .map_err(|err| cone_ill_posed(t, touching[err.contact], &S::CONTACTS))?;
+            v = SVector::from_iterator(out.velocity.iter().copied());
+            for (i, &k) in touching.iter().enumerate() {
+                impulses[k] = out.impulses[i][0];
+            }
+        } else {
+            // Newton's law with Coulomb's cone on the impulses of the touching contacts.
+            let closed: Vec<Closed> = touching
+                .iter()
+                .map(|&k| {
+                    // A rebound that could not rise above the position tolerance under the
+                    // pressing acceleration is taken as settled.
+                    let rebound = e[k] * (-vn[k]).max(0.0);
+                    let settle = pressing[k] > 0.0
+                        && rebound * rebound <= 2.0 * pressing[k] * tol_x(scale_q);
+                    settled[k] = settle && vn[k] < 0.0;
+                    Closed {
+                        normal: row(&w_n, k),
+                        gamma_n: if settle { 0.0 } else { -e[k] * vn[k].min(0.0) },
+                        tangent: trow(sys.tangent[k]),
+                        gamma_t: 0.0,
+                        mu: if sys.tangent[k].is_some() {
+                            sys.mu[k]
+                        } else {
+                            0.0
+                        },
+                        sliding: None,
+                    }
+                })
+                .collect();
+            let vd = DVector::from_iterator(N, v.iter().copied());
+            // A plastic impact that can hold every touching contact does (the contact
+            // problem of redundant contacts has other solutions too); else the problem
+            // decides which rebound, stick or slide.
+            let plastic = closed.iter().all(|c| c.gamma_n == 0.0);
+            // Holding every contact needs its impulses in the static cones.
+            let static_cones: Vec<Closed> = closed
+                .iter()
+                .zip(&touching)
+                .map(|(c, &k)| Closed {
+                    mu: if c.mu > 0.0 { sys.mu_static[k] } else { 0.0 },
+                    ..c.clone()
+                })
+                .collect();
+            match held(&w, &vd, &static_cones).filter(|_| plastic) {
+                Some(v_held) => {
+                    let dv = &v_held - &vd;
+                    for (i, &k) in touching.iter().enumerate() {
+                        // The normal impulse along the contact's row: its effect on the
+                        // normal velocity over the row's effective inverse mass.
+                        let wn = &closed[i].normal;
+                        impulses[k] = wn.dot(&dv) / wn.dot(&(&w * wn)).max(f64::MIN_POSITIVE);
+                    }
+                    v = SVector::from_iterator(v_held.iter().copied());
+                }
+                None => {
+                    let out = planar::solve(&w, &vd, &closed)
+                        .map_err(|err| ill_posed(t, &touching, err, &S::CONTACTS))?;
+                    v = SVector::from_iterator(out.acceleration.iter().copied());
+                    for (i, &k) in touching.iter().enumerate() {
+                        impulses[k] = out.normal[i];
+                    }
                 }
             }
         }
@@ -799,6 +950,9 @@ where
             held_rows.push(row(&w_n, k));
             if sys.tangent[k].is_some() && sys.mu[k] > 0.0 {
                 held_rows.push(trow(sys.tangent[k]));
+                if sys.second[k].is_some() {
+                    held_rows.push(trow(sys.second[k]));
+                }
             }
         }
         let c = DMatrix::from_fn(held_rows.len(), N, |i, j| held_rows[i][j]);
@@ -832,7 +986,9 @@ where
         .filter(|&k| vn[k].abs() <= tol_x(v_scale))
         .collect();
     let mut modes = [CMode::Open; K];
-    if !candidates.is_empty() {
+    if !candidates.is_empty() && spatial {
+        modes = select_spatial(sys, t, &q, &v, &candidates, tol_x(v_scale))?;
+    } else if !candidates.is_empty() {
         let tau = sys.input.forces(t, &q, &v);
         let a0 = scene.forward_dynamics(&q, &v, &tau);
         let g_n = scene.contact_normal_gamma(&q, &v);
@@ -863,14 +1019,7 @@ where
         // (one corner carrying all, breaking away), which complementary pivoting could
         // pick; the one that keeps the contacts as they are is the one that continues
         // the motion.
-        let mut trial = InMode {
-            scene,
-            input: sys.input,
-            modes: [CMode::Open; K],
-            mu: sys.mu,
-            mu_static: sys.mu_static,
-            tangent: sys.tangent,
-        };
+        let mut trial = sys.with_modes([CMode::Open; K]);
         for (i, &k) in candidates.iter().enumerate() {
             trial.modes[k] = match closed[i].sliding {
                 Some(s) => CMode::Slip(s),
@@ -899,7 +1048,7 @@ where
         let admissible = candidates.iter().all(|&k| {
             d.normal[k] >= -f_tol
                 && (trial.modes[k] != CMode::Stick
-                    || d.tangent[k].abs() <= sys.mu_static[k] * d.normal[k] + f_tol)
+                    || d.friction(k) <= sys.mu_static[k] * d.normal[k] + f_tol)
         }) && d.a.iter().all(|x| x.is_finite());
         let a0d = DVector::from_iterator(N, a0.iter().copied());
         let out = if admissible {
@@ -937,7 +1086,7 @@ where
     // (A frictionless contact "slides" either way: it has no friction to reverse.)
     sys.modes = modes;
     for k in 0..K {
-        if modes[k] != old[k] && !approaching.contains(&k) && !creeping.contains(&k) {
+        if !modes[k].same(old[k]) && !approaching.contains(&k) && !creeping.contains(&k) {
             let mut s = Switch::of_run(t, SwitchKind::Mode, y.clone(), y.clone());
             s.element = Some(S::CONTACTS[k].to_string());
             s.index = Some(k);
@@ -946,7 +1095,7 @@ where
             sol.switches.push(s);
         }
         // A function that starts at its level waits until it has left it.
-        if modes[k] != old[k] || approaching.contains(&k) {
+        if !modes[k].same(old[k]) || approaching.contains(&k) {
             armed[k] = false;
         }
     }
@@ -1000,9 +1149,9 @@ where
     let on_edge = |k: usize| match trial.modes[k] {
         CMode::Stick => {
             d.normal[k].abs() <= edge
-                || (trial.mu_static[k] * d.normal[k] - d.tangent[k].abs()).abs() <= edge
+                || (trial.mu_static[k] * d.normal[k] - d.friction(k)).abs() <= edge
         }
-        CMode::Slip(_) => d.normal[k].abs() <= edge,
+        CMode::Slip(_) | CMode::Slide(_) => d.normal[k].abs() <= edge,
         CMode::Open => false,
     };
     let edges: Vec<usize> = candidates.iter().copied().filter(|&k| on_edge(k)).collect();
@@ -1023,16 +1172,195 @@ where
     let mut changed = false;
     for k in edges {
         let falling = after.normal[k] < before.normal[k] && d.normal[k].abs() <= edge;
-        let margin = |x: &Dynamics<N, K>| trial.mu_static[k] * x.normal[k] - x.tangent[k].abs();
+        let margin = |x: &Dynamics<N, K>| trial.mu_static[k] * x.normal[k] - x.friction(k);
         if falling {
             trial.modes[k] = CMode::Open;
             changed = true;
         } else if trial.modes[k] == CMode::Stick && margin(&after) < margin(&before) {
-            trial.modes[k] = CMode::Slip(-d.tangent[k].signum());
+            trial.modes[k] = if trial.second[k].is_some() {
+                let f = d.friction(k);
+                CMode::Slide([-d.tangent[k] / f, -d.tangent2[k] / f])
+            } else {
+                CMode::Slip(-d.tangent[k].signum())
+            };
             changed = true;
         }
     }
     changed
+}
+
+/// The modes of a spatial scene's touching contacts at acceleration level: first as
+/// they are (stuck where not slipping, sliding against their slip), moved off the edges
+/// of their modes (see [`leave_edges`]), kept when their forces are admissible. Else the
+/// modes of a short Moreau step (`10⁻⁶` of the motion's time scale) on the exact cone:
+/// the acceleration-level problem's, to that step's first order, with the contacts'
+/// `γ` terms taken in (`u = H v⁺ − h γ` through a least-norm shift of the free
+/// velocity). The modes must then be admissible, or the switch fails, naming the
+/// contacts.
+fn select_spatial<S, I, const N: usize, const K: usize, const T: usize>(
+    sys: &InMode<'_, S, I, N, K, T>,
+    t: f64,
+    q: &SVector<f64, N>,
+    v: &SVector<f64, N>,
+    candidates: &[usize],
+    slip_tol: f64,
+) -> Result<[CMode; K], ErrorKind>
+where
+    S: Mechanism<N> + Contacts<N, K, T>,
+    I: Input<N> + ?Sized,
+{
+    let scene = sys.scene;
+    let (w_n, w_t) = (
+        scene.contact_normal_jacobian(q),
+        scene.contact_tangent_jacobian(q),
+    );
+    let slips = w_t * v;
+    let slip_of = |k: usize| [sys.tangent[k], sys.second[k]].map(|r| r.map_or(0.0, |r| slips[r]));
+    let frictional = |k: usize| sys.tangent[k].is_some() && sys.mu_static[k] > 0.0;
+    let mut trial = sys.with_modes([CMode::Open; K]);
+    for &k in candidates {
+        let u = slip_of(k);
+        let norm = u[0].hypot(u[1]);
+        trial.modes[k] = if norm > slip_tol {
+            CMode::Slide([u[0] / norm, u[1] / norm])
+        } else if frictional(k) {
+            CMode::Stick
+        } else {
+            CMode::Slide([1.0, 0.0])
+        };
+    }
+    let g_n = scene.contact_normal_gamma(q, v);
+    let admissible = |trial: &InMode<'_, S, I, N, K, T>, d: &Dynamics<N, K>| {
+        let f_scale = (0..K)
+            .map(|k| d.normal[k].abs().max(d.friction(k)))
+            .fold(f64::MIN_POSITIVE, f64::max);
+        let f_tol = 1e-10 * f_scale;
+        let acc = w_n * d.a - g_n;
+        let a_tol = 1e-10 * d.a.amax().max(1.0);
+        d.a.iter().all(|x| x.is_finite())
+            && candidates.iter().all(|&k| match trial.modes[k] {
+                CMode::Open => acc[k] >= -a_tol,
+                CMode::Stick => {
+                    d.normal[k] >= -f_tol
+                        && d.friction(k) <= trial.mu_static[k] * d.normal[k] + f_tol
+                }
+                _ => d.normal[k] >= -f_tol,
+            })
+    };
+    let mut d = trial.dynamics(t, q, v);
+    let f_scale = (0..K)
+        .map(|k| d.normal[k].abs().max(d.friction(k)))
+        .fold(0.0f64, f64::max);
+    if leave_edges(&mut trial, candidates, &d, t, q, v, EDGE * f_scale) {
+        d = trial.dynamics(t, q, v);
+    }
+    if admissible(&trial, &d) {
+        return Ok(trial.modes);
+    }
+    // A short Moreau step on the exact cone decides.
+    let tau = sys.input.forces(t, q, v);
+    let a0 = scene.forward_dynamics(q, v, &tau);
+    let scale = q.amax().max(1.0);
+    let time = (scale / v.amax().max(f64::MIN_POSITIVE))
+        .min((scale / a0.amax().max(f64::MIN_POSITIVE)).sqrt());
+    let h = 1e-6 * if time.is_finite() { time } else { 1.0 };
+    let g_t = scene.contact_tangent_gamma(q, v);
+    let mut rows: Vec<DVector<f64>> = Vec::new();
+    let mut shift: Vec<f64> = Vec::new();
+    for &k in candidates {
+        rows.push(DVector::from_iterator(N, w_n.row(k).iter().copied()));
+        shift.push(h * g_n[k]);
+        for r in [sys.tangent[k], sys.second[k]].into_iter().flatten() {
+            rows.push(DVector::from_iterator(N, w_t.row(r).iter().copied()));
+            shift.push(h * g_t[r]);
+        }
+    }
+    let hm = DMatrix::from_fn(rows.len(), N, |i, j| rows[i][j]);
+    let gram = &hm * hm.transpose();
+    let x = gram
+        .clone()
+        .svd(true, true)
+        .solve(
+            &DVector::from_vec(shift),
+            1e-12 * gram.amax().max(f64::MIN_POSITIVE),
+        )
+        .unwrap_or_else(|_| DVector::zeros(rows.len()));
+    let v_shift = hm.transpose() * x;
+    let v_free = DVector::from_iterator(N, (v + a0 * h).iter().copied()) - &v_shift;
+    let locals: Vec<ConeContact> = candidates
+        .iter()
+        .map(|&k| {
+            let u = slip_of(k);
+            ConeContact {
+                rows: sys.rows_of(k, &w_n, &w_t),
+                gamma: 0.0,
+                mu: if u[0].hypot(u[1]) > slip_tol {
+                    sys.mu[k]
+                } else {
+                    sys.mu_static[k]
+                },
+                friction: None,
+            }
+        })
+        .collect();
+    let out = cone::solve(
+        &sys.inverse_mass(q),
+        &v_free,
+        &locals,
+        &[],
+        CONE_TOLERANCE,
+        CONE_SWEEPS,
+    )
+    .map_err(|err| cone_ill_posed(t, candidates[err.contact], &S::CONTACTS))?;
+    let round_off = SLIP_ROUND_OFF * v_free.amax().max(v.amax());
+    for (i, &k) in candidates.iter().enumerate() {
+        let (p, u) = (&out.impulses[i], &out.local[i]);
+        let friction = p[1..].iter().map(|x| x * x).sum::<f64>().sqrt();
+        let slip = u[1..].iter().map(|x| x * x).sum::<f64>().sqrt();
+        trial.modes[k] = if p[0] <= 0.0 {
+            CMode::Open
+        } else if frictional(k)
+            && (slip <= round_off || friction < locals[i].mu * p[0] * (1.0 - CONE_EDGE))
+        {
+            CMode::Stick
+        } else if slip > 0.0 {
+            let mut dir = [0.0; 2];
+            for (j, x) in u[1..].iter().enumerate() {
+                dir[j] = x / slip;
+            }
+            CMode::Slide(dir)
+        } else {
+            CMode::Slide([1.0, 0.0])
+        };
+    }
+    let d = trial.dynamics(t, q, v);
+    if admissible(&trial, &d) {
+        return Ok(trial.modes);
+    }
+    let names: Vec<String> = candidates
+        .iter()
+        .map(|&k| format!("`{}`", S::CONTACTS[k]))
+        .collect();
+    Err(ErrorKind::IllPosedMode {
+        t,
+        detail: format!(
+            "no consistent modes were found for the spatial contacts {} (open, stuck or \
+             sliding); integrate the scene with `contact_time_stepping`",
+            names.join(", ")
+        ),
+    })
+}
+
+/// The error of a spatial contact problem without a solution.
+fn cone_ill_posed(t: f64, k: usize, names: &[&str]) -> ErrorKind {
+    ErrorKind::IllPosedMode {
+        t,
+        detail: format!(
+            "the contact problem of `{}` has no solution: its friction drives it into the \
+             plane in every sliding direction",
+            names[k]
+        ),
+    }
 }
 
 /// The velocities after a plastic impact that holds every contact of `closed` (normal

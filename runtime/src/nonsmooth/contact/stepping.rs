@@ -27,7 +27,9 @@
 
 use nalgebra::{DMatrix, DVector, SVector};
 
-use super::cone::{self, ConeContact, Friction};
+use super::cone::{
+    self, CONE_EDGE, CONE_SWEEPS, CONE_TOLERANCE, ConeContact, Friction, SLIP_ROUND_OFF,
+};
 use super::planar::{self, Closed, ContactError};
 use crate::contacts::Contacts;
 use crate::element::{Element, ElementKind, Law, Mode, Side, StopKind};
@@ -40,21 +42,6 @@ use crate::{ErrorKind, Keep, Solution, SolveError, Switch, SwitchKind};
 /// Relative size of the smallest singular value of the holding contacts' rows below
 /// which they are taken not to lock every degree of freedom.
 const LOCK_RANK: f64 = 1e-10;
-
-/// Relative tolerance of the spatial contact problem's residual
-/// ([`Stats::contact_residual`](crate::Stats::contact_residual)).
-const CONE_TOLERANCE: f64 = 1e-12;
-
-/// Most Gauss–Seidel sweeps over the contacts per step.
-const CONE_SWEEPS: usize = 5000;
-
-/// A spatial contact's friction impulse counts as strictly inside the cone below
-/// `(1 − CONE_EDGE) μ P_N` (a sliding impulse is on the edge to round-off).
-const CONE_EDGE: f64 = 1e-9;
-
-/// A contact's slip after the step counts as zero below this fraction of the step's
-/// largest velocity component (the contact problem's round-off).
-const SLIP_ROUND_OFF: f64 = 1e-12;
 
 /// The solution's column names for a scene with contacts: the state, then
 /// `λ_<contact>.n` for each contact and `λ_<tangent row>` for each tangent row.

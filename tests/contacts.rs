@@ -1293,9 +1293,15 @@ mod spatial {
         let p = NonSmoothProblem::new(0.0, tf, V3::zeros(), up * v0);
         let sol = contact_event_driven(&s, &free3, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
         let (_, last) = sol.last().unwrap();
-        let (q, v) = (V3::from_column_slice(&last[..3]), V3::from_column_slice(&last[3..6]));
+        let (q, v) = (
+            V3::from_column_slice(&last[..3]),
+            V3::from_column_slice(&last[3..6]),
+        );
         let along = v0 * t1 - 0.5 * a1 * t1 * t1 - 0.5 * a2 * (tf - t1).powi(2);
-        assert!((q - up * along).amax() < 1e-9, "at {q:?}, expected {along} up the slope");
+        assert!(
+            (q - up * along).amax() < 1e-9,
+            "at {q:?}, expected {along} up the slope"
+        );
         assert!((v + up * (a2 * (tf - t1))).amax() < 1e-9, "moving at {v:?}");
     }
 

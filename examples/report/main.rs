@@ -92,7 +92,11 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     // Where no progress bar can draw (the output goes to a file), one line per section
     // as it ends, with its time.
     let log = |what: &str, since: std::time::Instant| {
-        if config.show_progress && !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        // `FILIPPOV_REPORT_TIMES` asks for the lines in any configuration (the tiny one
+        // the tests run has no progress bar).
+        let asked = std::env::var_os("FILIPPOV_REPORT_TIMES").is_some();
+        if asked || (config.show_progress && !std::io::IsTerminal::is_terminal(&std::io::stderr()))
+        {
             eprintln!(
                 "report: {what}: {:.0} s (total {:.0} s)",
                 since.elapsed().as_secs_f64(),

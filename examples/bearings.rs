@@ -12,30 +12,17 @@
 #[path = "support/mod.rs"]
 mod support;
 
-use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 use filippov::runtime::{
     Method, NonSmoothMethod, NonSmoothProblem, Options, Unforced, contact_event_driven,
     solve_nonsmooth,
 };
-use filippov::scenes::{CartOnRail, JournalPendulum, LoadedSlider};
+use filippov::scenes::{CartOnRail, FixedLimitSlider, JournalPendulum, LoadedSlider};
 use support::{Scale, Series, line_plot, plot_path};
 
 type V1 = SVector<f64, 1>;
 type V2 = SVector<f64, 2>;
 type V4 = SVector<f64, 4>;
-
-/// `LoadedSlider` with the rail's limit fixed at `f`.
-#[derive(Mechanism, Clone, Copy)]
-#[mechanism(gravity = [0.0, -9.81, 0.0])]
-#[body(slider, mass = 2.0)]
-#[joint(x: prismatic(x), parent = world, child = slider)]
-#[body(bob, mass = 1.0, com = [0.0, -0.5, 0.0])]
-#[joint(swing: revolute(z), parent = slider, child = bob)]
-#[friction(x, f_crit = f)]
-struct FixedLimit {
-    f: f64,
-}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (tf, swing, v0, h) = (3.0, 1.2, 0.8, 1e-4);
@@ -44,9 +31,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let p = NonSmoothProblem::new(0.0, tf, V2::new(0.0, swing), V2::new(v0, 0.0));
     let free = |_: f64, _: &V2, _: &V2| V2::zeros();
     let loaded = solve_nonsmooth(&slider, &free, &p, &stepping)?;
-    let fixed = FixedLimit {
-        f: slider.mu * (slider.mc + slider.mp) * slider.g,
-    };
+    let fixed = FixedLimitSlider::resting_load_of(&slider);
     let constant = solve_nonsmooth(&fixed, &free, &p, &stepping)?;
 
     let cart = CartOnRail::default();

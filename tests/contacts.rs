@@ -1033,6 +1033,18 @@ mod spatial {
         V6::zeros()
     }
 
+    /// The puck on a 0.3 rad incline at its friction angle (`μ = tan φ`), the angle, its
+    /// launch speed across the slope and the downhill direction.
+    fn at_friction_angle() -> (Puck, f64, f64, V3) {
+        let phi: f64 = 0.3;
+        let s = Puck {
+            phi,
+            mu: phi.tan(),
+            ..Puck::default()
+        };
+        (s, phi, 2.0, V3::from([0.0, -phi.cos(), -phi.sin()]))
+    }
+
     /// The table standing on its ground (tilted by φ about x): centre `d` along the
     /// plane's normal, rolled by φ.
     fn standing(s: &Table) -> V6 {
@@ -1079,14 +1091,7 @@ mod spatial {
     /// invariant to first order in `h`.
     #[test]
     fn puck_across_an_incline_at_its_friction_angle_keeps_its_invariant() {
-        let phi: f64 = 0.3;
-        let s = Puck {
-            phi,
-            mu: phi.tan(),
-            ..Puck::default()
-        };
-        let v0 = 2.0;
-        let downhill = V3::from([0.0, -phi.cos(), -phi.sin()]);
+        let (s, phi, v0, downhill) = at_friction_angle();
         let mut worst = Vec::new();
         for h in [1e-3, 1e-4] {
             let p = NonSmoothProblem::new(0.0, 3.0, V3::zeros(), V3::from([v0, 0.0, 0.0]));
@@ -1249,14 +1254,7 @@ mod spatial {
     /// sliding direction turning continuously downhill.
     #[test]
     fn event_driven_puck_across_an_incline_keeps_its_invariant() {
-        let phi: f64 = 0.3;
-        let s = Puck {
-            phi,
-            mu: phi.tan(),
-            ..Puck::default()
-        };
-        let v0 = 2.0;
-        let downhill = V3::from([0.0, -phi.cos(), -phi.sin()]);
+        let (s, _, v0, downhill) = at_friction_angle();
         let p = NonSmoothProblem::new(0.0, 3.0, V3::zeros(), V3::from([v0, 0.0, 0.0]));
         let sol = contact_event_driven(&s, &free3, &p, &tight()).unwrap_or_else(|e| panic!("{e}"));
         let mut worst = 0.0f64;

@@ -529,18 +529,21 @@ fn spatial(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
         ..Puck::default()
     };
     let down = V3::from([0.0, -phi.cos(), -phi.sin()]);
+    // v·d + |v| at its farthest from v0 = 2 over a run.
+    let farthest = |sol: &Solution| {
+        sol.rows()
+            .map(|(_, y)| {
+                let v = V3::from([y[3], y[4], y[5]]);
+                v.dot(&down) + v.norm()
+            })
+            .max_by(|a, b| (a - 2.0).abs().total_cmp(&(b - 2.0).abs()))
+            .unwrap_or(f64::NAN)
+    };
     for h in [1e-3, 1e-4] {
         let p = NonSmoothProblem::new(0.0, 3.0, V3::zeros(), V3::from([2.0, 0.0, 0.0]));
         let (t, sol) = timed(repeats, || contact_time_stepping(&incline, &free3, &p, h));
         if let Ok(sol) = sol {
-            let worst = sol
-                .rows()
-                .map(|(_, y)| {
-                    let v = V3::from([y[3], y[4], y[5]]);
-                    v.dot(&down) + v.norm()
-                })
-                .max_by(|a, b| (a - 2.0).abs().total_cmp(&(b - 2.0).abs()))
-                .unwrap_or(f64::NAN);
+            let worst = farthest(&sol);
             row(
                 "puck across an incline at μ = tan φ: v·d + |v|, its farthest from v0 [m/s]",
                 &format!("{h:.0e}"),
@@ -659,14 +662,7 @@ fn spatial(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
         contact_event_driven(&incline, &free3, &p, &tight)
     });
     if let Ok(sol) = sol {
-        let worst = sol
-            .rows()
-            .map(|(_, y)| {
-                let v = V3::from([y[3], y[4], y[5]]);
-                v.dot(&down) + v.norm()
-            })
-            .max_by(|a, b| (a - 2.0).abs().total_cmp(&(b - 2.0).abs()))
-            .unwrap_or(f64::NAN);
+        let worst = farthest(&sol);
         row(
             "puck across an incline at μ = tan φ: v·d + |v|, its farthest from v0 [m/s]",
             ed,
@@ -734,24 +730,12 @@ fn spatial(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
     spatial_suite(config, page, summary);
 }
 
-/// `LoadedSlider`'s mechanism with the rail's limit fixed at `f` (a load-blind rail).
-#[derive(filippov::Mechanism, Clone, Copy)]
-#[mechanism(gravity = [0.0, -9.81, 0.0])]
-#[body(slider, mass = 2.0)]
-#[joint(x: prismatic(x), parent = world, child = slider)]
-#[body(bob, mass = 1.0, com = [0.0, -0.5, 0.0])]
-#[joint(swing: revolute(z), parent = slider, child = bob)]
-#[friction(x, f_crit = f)]
-struct FixedLimit {
-    f: f64,
-}
-
 /// Bearing friction (`#[friction(x, mu = …)]`): the loaded slider by time-stepping
 /// against the same mechanism resting on its rail through two skids (contacts,
 /// event-driven), and what a limit that ignores the load gives.
 fn bearings(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
     use filippov::runtime::{NonSmoothMethod, solve_nonsmooth};
-    use filippov_scenes::{CartOnRail, LoadedSlider};
+    use filippov_scenes::{CartOnRail, FixedLimitSlider, LoadedSlider};
     type V2 = SVector<f64, 2>;
     type V4 = SVector<f64, 4>;
     page.h3("Bearings: joint friction that carries the joint's load");
@@ -817,9 +801,7 @@ fn bearings(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
             }
         }
     }
-    let fixed = FixedLimit {
-        f: slider.mu * (slider.mc + slider.mp) * slider.g,
-    };
+    let fixed = FixedLimitSlider::resting_load_of(&slider);
     let method = NonSmoothMethod::TimeStepping {
         h: 1e-4,
         theta: 0.5,

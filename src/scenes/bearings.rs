@@ -35,6 +35,35 @@ impl Default for LoadedSlider {
     }
 }
 
+/// [`LoadedSlider`]'s mechanism (its default masses and length) with the rail's limit
+/// fixed at `f`: a rail blind to the load it carries, to compare with.
+#[derive(Mechanism, Clone, Copy, Debug, PartialEq)]
+#[mechanism(gravity = [0.0, -9.81, 0.0])]
+#[body(slider, mass = 2.0)]
+#[joint(x: prismatic(x), parent = world, child = slider)]
+#[body(bob, mass = 1.0, com = [0.0, -0.5, 0.0])]
+#[joint(swing: revolute(z), parent = slider, child = bob)]
+#[friction(x, f_crit = f)]
+pub struct FixedLimitSlider {
+    pub f: f64,
+}
+
+impl FixedLimitSlider {
+    /// The limit `μ (m_c + m_p) g` of `slider` at rest (its masses and length must be
+    /// the defaults this mechanism is written with).
+    pub fn resting_load_of(slider: &LoadedSlider) -> FixedLimitSlider {
+        let d = LoadedSlider::default();
+        assert_eq!(
+            (slider.mc, slider.mp, slider.l, slider.g),
+            (d.mc, d.mp, d.l, d.g),
+            "FixedLimitSlider is written with LoadedSlider's default masses and length"
+        );
+        FixedLimitSlider {
+            f: slider.mu * (slider.mc + slider.mp) * slider.g,
+        }
+    }
+}
+
 /// A pendulum on a journal bearing: a point mass `m` on a massless rod of length `l`
 /// swings about `z` by `swing`, and the pin of radius `r` resists with the friction
 /// torque `μ r |F_⊥|`, `F_⊥` the force the pin carries (weight and centripetal pull;

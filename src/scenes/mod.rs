@@ -22,7 +22,7 @@ mod s9;
 mod tree;
 
 pub use arm3::PlanarArm3;
-pub use bearings::{JournalPendulum, LoadedSlider};
+pub use bearings::{FixedLimitSlider, JournalPendulum, LoadedSlider};
 pub use contacts::{CartOnRail, FallingRod, Puck, SlidingBox, SpinningBall, Table};
 pub use double_pendulum::DoublePendulum;
 pub use lie::{BallChain, EulerBody, FreeBody, Satellite, SphericalBody};

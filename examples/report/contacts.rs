@@ -569,23 +569,19 @@ fn spatial(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
     ]);
     // 10⁴ s (10² s in the tiny configuration, whose runs are unoptimised).
     let horizon = if config.name == "tiny" { 1e2 } else { 1e4 };
+    let moved = |sol: &Solution| {
+        sol.rows()
+            .map(|(_, y)| (0..6).map(|j| (y[j] - q0[j]).abs()).fold(0.0, f64::max))
+            .fold(0.0, f64::max)
+    };
+    let still = format!(
+        "table on an incline below its friction angle: largest displacement over {horizon:e} s"
+    );
     let p = NonSmoothProblem::new(0.0, horizon, q0, V6::zeros());
     let (t, sol) = timed(1, || contact_time_stepping(&table, &free6, &p, 1e-2));
     if let Ok(sol) = sol {
-        let moved = sol
-            .rows()
-            .map(|(_, y)| (0..6).map(|j| (y[j] - q0[j]).abs()).fold(0.0, f64::max))
-            .fold(0.0, f64::max);
-        row(
-            &format!(
-                "table on an incline below its friction angle: largest displacement over {horizon:e} s"
-            ),
-            "1e-2",
-            0.0,
-            moved,
-            t,
-            format!("{}", sol.stats),
-        );
+        let moved = moved(&sol);
+        row(&still, "1e-2", 0.0, moved, t, format!("{}", sol.stats));
         summary.push(format!(
             "Spatial contacts: the three-legged table below its friction angle moves {} over {horizon:e} s (time-stepping, exact cone)",
             sci(moved)
@@ -675,20 +671,8 @@ fn spatial(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
     let p = NonSmoothProblem::new(0.0, horizon, q0, V6::zeros());
     let (t, sol) = timed(1, || contact_event_driven(&table, &free6, &p, &tight));
     if let Ok(sol) = sol {
-        let moved = sol
-            .rows()
-            .map(|(_, y)| (0..6).map(|j| (y[j] - q0[j]).abs()).fold(0.0, f64::max))
-            .fold(0.0, f64::max);
-        row(
-            &format!(
-                "table on an incline below its friction angle: largest displacement over {horizon:e} s"
-            ),
-            ed,
-            0.0,
-            moved,
-            t,
-            format!("{} rows", sol.len()),
-        );
+        let moved = moved(&sol);
+        row(&still, ed, 0.0, moved, t, format!("{} rows", sol.len()));
     }
     let (c, sn, v_push) = (0.6, -0.8, 1.2);
     let p = NonSmoothProblem::new(

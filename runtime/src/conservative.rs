@@ -28,7 +28,8 @@ use crate::{ErrorKind, OdeSystem};
 pub const ENERGY_SCALE_LIMIT: f64 = 1e-3;
 
 /// A [`Mechanism`] without inputs, dampers or non-smooth elements, integrated on the
-/// energy level of its start (see the [module documentation](self)).
+/// energy level of its start: after every step its velocities are scaled back onto the
+/// level `T + U = E₀` (theory.md §7, "Energy over long runs").
 ///
 /// ```ignore
 /// let system = Conservative::new(&four_bar, &y0)?;

@@ -73,7 +73,7 @@ pub trait OdeSystem {
     fn outputs(&self, _t: f64, _y: &[f64], _out: &mut [f64]) {}
 
     /// How far the manifold of [`project`](Self::project) is from becoming singular at
-    /// `y` (`1` far, `0` singular; a closed mechanism's [`loops::conditioning`]
+    /// `y` (`1` far, `0` singular; a closed mechanism's [`loops::conditioning`](crate::loops::conditioning)
     /// (crate::loops::conditioning)); `None` without one. The smooth driver follows it
     /// over each step and stops at a singular point it would step over.
     fn conditioning(&self, _y: &[f64]) -> Option<f64> {

@@ -186,7 +186,7 @@ const HERMITE: Segment = Segment {
 ///
 /// With the `serde` feature it serialises to a stable, versioned schema of named
 /// columns, the switch log and the statistics, exact to the bit with any JSON reader
-/// ([`Solution::SCHEMA`]; the format in `solution/json.rs`).
+/// (`Solution::SCHEMA`, feature `serde`; the format in `solution/json.rs`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solution {
     dim: usize,

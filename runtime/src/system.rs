@@ -192,7 +192,7 @@ pub trait Mechanism<const N: usize> {
     /// The loop joints' constraint forces `λ` at `(q, v)` under the generalised forces
     /// `tau` (inputs and elements), one per row of
     /// [`LOOP_CONSTRAINTS`](Self::LOOP_CONSTRAINTS), written into `out` (of that
-    /// length): [`LoopConstraints::constrained_forward_dynamics`]
+    /// length): [`LoopConstraints::constrained_forward_dynamics`](crate::loops::LoopConstraints::constrained_forward_dynamics)
     /// (crate::loops::LoopConstraints::constrained_forward_dynamics)'s. Nothing for a
     /// tree.
     fn loop_forces(

@@ -1,6 +1,6 @@
 //! The load-dependent part of bearing friction's limit, `c |F_⊥|` (`c = μ` on a
 //! prismatic joint, `μ r` on a revolute one): `F_⊥` is the linear force the joint
-//! transmits to its child, from [`rnea_forces`](super::rnea::rnea_forces) with gravity
+//! transmits to its child, from [`rnea_forces`] with gravity
 //! as the base's acceleration, less its component along the axis. In link coordinates
 //! with the unit axis `s`, `|F_⊥| = |s × f|`, a sum of squares (never negative by
 //! rounding).

@@ -442,8 +442,9 @@ where
 
 /// Integrates `scene` with its contacts event-driven with `method` (see the module
 /// documentation; spatial contacts where their slips stop along a fixed direction, theory
-/// §8): the same columns as [`contact_time_stepping`]
-/// (super::stepping::contact_time_stepping), the forces at each row, and a switch log.
+/// §8): the same columns as
+/// [`contact_time_stepping`](super::stepping::contact_time_stepping), the forces at each
+/// row, and a switch log.
 ///
 /// # Errors
 /// As [`contact_time_stepping`](super::stepping::contact_time_stepping), and

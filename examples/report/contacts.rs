@@ -499,12 +499,17 @@ fn spatial(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
     let puck = Puck::default();
     let v0 = 1.5;
     let h = 1e-3;
+    // The k-th of 12 launch directions on level ground: its cosine, sine and problem.
+    let launch = |k: usize| {
+        let th = 0.37 + k as f64 * std::f64::consts::TAU / 12.0;
+        let (sn, c) = th.sin_cos();
+        let p = NonSmoothProblem::new(0.0, 1.0, V3::zeros(), V3::from([v0 * c, v0 * sn, 0.0]));
+        (c, sn, p)
+    };
     let (t, worst) = timed(repeats, || {
         let mut worst = (0.0f64, 0.0f64);
         for k in 0..12 {
-            let th = 0.37 + k as f64 * std::f64::consts::TAU / 12.0;
-            let (sn, c) = th.sin_cos();
-            let p = NonSmoothProblem::new(0.0, 1.0, V3::zeros(), V3::from([v0 * c, v0 * sn, 0.0]));
+            let (c, sn, p) = launch(k);
             if let Ok(sol) = contact_time_stepping(&puck, &free3, &p, h) {
                 let y = sol.last().expect("rows").1;
                 let along = y[0] * c + y[1] * sn;
@@ -629,9 +634,7 @@ fn spatial(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
     let (t, worst) = timed(repeats, || {
         let mut worst = (0.0f64, 0.0f64);
         for k in 0..12 {
-            let th = 0.37 + k as f64 * std::f64::consts::TAU / 12.0;
-            let (sn, c) = th.sin_cos();
-            let p = NonSmoothProblem::new(0.0, 1.0, V3::zeros(), V3::from([v0 * c, v0 * sn, 0.0]));
+            let (c, sn, p) = launch(k);
             match contact_event_driven(&puck, &free3, &p, &tight) {
                 Ok(sol) => {
                     let stop = sol

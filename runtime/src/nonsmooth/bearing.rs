@@ -57,12 +57,9 @@ impl Bearings {
     }
 
     /// New loads from `loads` (which writes `μ r |F_⊥|` of each bearing); the largest
-    /// relative change of a limit, or `Err(name)` of a bearing whose load is not finite.
-    pub(crate) fn update(
-        &mut self,
-        names: &[&'static str],
-        loads: impl FnOnce(&mut [f64]),
-    ) -> Result<f64, &'static str> {
+    /// relative change of a limit, or `Err(element)` of a bearing whose load is not
+    /// finite.
+    pub(crate) fn update(&mut self, loads: impl FnOnce(&mut [f64])) -> Result<f64, usize> {
         loads(&mut self.scratch);
         let floor = f64::MIN_POSITIVE
             + 1e-12
@@ -73,7 +70,7 @@ impl Bearings {
         for b in 0..self.load.len() {
             let new = self.scratch[b];
             if !(new.is_finite() && new >= 0.0) {
-                return Err(names[self.elements[b]]);
+                return Err(self.elements[b]);
             }
             let d = (new - self.load[b]).abs();
             change = change.max(d / (self.base[b] + new.max(self.load[b]) + floor));
@@ -95,8 +92,8 @@ pub(crate) fn set_limit(element: &mut Element, limit: f64) {
     }
 }
 
-/// The loads of `system`'s bearings at the motion from `(q, v)` to `v_new` over `h`: the
-/// acceleration `(v_new − v)/h`, the velocity `v + θ (v_new − v)`.
+/// A step's motion from `v` to `v_new` over `h`, as the bearings' loads are taken at:
+/// the velocity `v + θ (v_new − v)` and the acceleration `(v_new − v)/h`.
 pub(crate) fn motion<const N: usize>(
     v: &SVector<f64, N>,
     v_new: &SVector<f64, N>,
@@ -124,12 +121,12 @@ pub(crate) fn refuse<S: NonSmooth<N>, const N: usize>(system: &S) -> Result<(), 
     ))
 }
 
-/// The message of a step whose limits did not settle in `solves` solves.
-pub(crate) fn unsettled(names: &[&str], solves: usize) -> String {
+/// The message of a step whose limits did not settle after `tries` updates.
+pub(crate) fn unsettled(names: &[&str], tries: usize) -> String {
     let names: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
     format!(
-        "the limits of bearing friction ({}) did not settle on their joints' loads in \
-         {solves} solves: the friction coefficient may be too large for the \
+        "the limits of bearing friction ({}) did not settle on their joints' loads after \
+         {tries} updates: the friction coefficient may be too large for the \
          step to have one solution (a Painlevé-like case); a smaller step h or a smaller μ \
          may help",
         names.join(", ")

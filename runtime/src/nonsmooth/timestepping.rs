@@ -373,17 +373,19 @@ impl<const N: usize> TimeSteps<'_, N> {
         let f_prev = f.clone();
         let mut converged = ne == 0;
         let mut sweeps = 0;
-        let names: Vec<&'static str> = graphs.iter().map(|g| g.element.name).collect();
         let mut load_change = 0.0;
         while !converged {
             if sweeps == MAX_SWEEPS && load_change > BEARING_TOL {
-                let loaded: Vec<&str> = bearings.elements.iter().map(|&e| names[e]).collect();
+                let loaded: Vec<&str> = (bearings.elements.iter())
+                    .map(|&e| graphs[e].element.name)
+                    .collect();
                 return Err(ErrorKind::StepNotSolved {
                     t: t_next,
                     detail: bearing::unsettled(&loaded, MAX_SWEEPS),
                 });
             }
             if sweeps == MAX_SWEEPS {
+                let names: Vec<&str> = graphs.iter().map(|g| g.element.name).collect();
                 return Err(ErrorKind::StepNotSolved {
                     t: t_next,
                     detail: format!(
@@ -397,21 +399,13 @@ impl<const N: usize> TimeSteps<'_, N> {
             // Bearing friction: each sweep's limits from the loads of the motion the
             // forces so far make (a fixed point on the limits, settled with the forces).
             if !bearings.is_empty() {
-                let mut impulse = SVector::<f64, N>::zeros();
-                for e in 0..ne {
-                    impulse[coord[e]] += hn * f[e];
-                }
-                let (v_mid, a) = bearing::motion(&v, &(v_free - minv * impulse), hn, theta);
+                let v_new = v_free - minv * impulse(coord, f, hn);
+                let (v_mid, a) = bearing::motion(&v, &v_new, hn, theta);
                 load_change = bearings
-                    .update(&names, |out| {
-                        system.bearing_limits(&q_theta, &v_mid, &a, out)
-                    })
-                    .map_err(|name| {
-                        let e = names.iter().position(|n| *n == name).unwrap_or(0);
-                        ErrorKind::NonFinite {
-                            t: t_next,
-                            component: 2 * N + e,
-                        }
+                    .update(|out| system.bearing_limits(&q_theta, &v_mid, &a, out))
+                    .map_err(|e| ErrorKind::NonFinite {
+                        t: t_next,
+                        component: 2 * N + e,
                     })?;
                 for (e, limit) in bearings.limits() {
                     bearing::set_limit(&mut graphs[e].element, limit);
@@ -501,11 +495,7 @@ impl<const N: usize> TimeSteps<'_, N> {
         traj.stats.newton_iterations += sweeps;
 
         // New velocity from the momentum balance; graph velocities set where exact.
-        let mut impulse = SVector::<f64, N>::zeros();
-        for e in 0..ne {
-            impulse[coord[e]] += hn * f[e];
-        }
-        let v_new = v_free - minv * impulse;
+        let v_new = v_free - minv * impulse(coord, f, hn);
         let mut v_next = v_new;
         // Positions move by the θ-weighted velocity; a coordinate an element holds
         // (stuck, on a plateau, against a rigid stop) by the velocity it is held at.
@@ -776,6 +766,15 @@ fn dissipate<S: NonSmooth<N>, const N: usize>(
 }
 
 /// `[q; v; f]`, a row of the trajectory.
+/// The elements' impulse `Σ_e h f_e e_c` on the coordinates.
+fn impulse<const N: usize>(coord: &[usize], f: &[f64], h: f64) -> SVector<f64, N> {
+    let mut impulse = SVector::<f64, N>::zeros();
+    for (&c, &fe) in coord.iter().zip(f) {
+        impulse[c] += h * fe;
+    }
+    impulse
+}
+
 fn row<const N: usize>(q: &SVector<f64, N>, v: &SVector<f64, N>, f: &[f64]) -> Vec<f64> {
     q.iter().chain(v.iter()).chain(f.iter()).copied().collect()
 }

@@ -36,6 +36,28 @@ pub(crate) const CONE_EDGE: f64 = 1e-9;
 /// largest velocity component (the contact problem's round-off).
 pub(crate) const SLIP_ROUND_OFF: f64 = 1e-12;
 
+/// Contact `k`'s rows for a local problem: its normal row of `w_n`, then its tangent
+/// rows of `w_t` (`tangents`, in order).
+pub(crate) fn contact_rows<const N: usize, const K: usize, const T: usize>(
+    w_n: &nalgebra::SMatrix<f64, K, N>,
+    w_t: &nalgebra::SMatrix<f64, T, N>,
+    k: usize,
+    tangents: impl Iterator<Item = usize>,
+) -> Vec<DVector<f64>> {
+    std::iter::once(DVector::from_iterator(N, w_n.row(k).iter().copied()))
+        .chain(tangents.map(|r| DVector::from_iterator(N, w_t.row(r).iter().copied())))
+        .collect()
+}
+
+/// Whether a contact's impulses `p = [P_N, P_T…]` and velocities `u = [u_N, u_T…]` after
+/// a solve leave it stuck: its slip zero to `slip_tol`, or its friction strictly inside
+/// the cone `μ` (a sliding impulse is on the edge to round-off).
+pub(crate) fn is_stuck(p: &[f64], u: &[f64], mu: f64, slip_tol: f64) -> bool {
+    let friction = p[1..].iter().map(|x| x * x).sum::<f64>().sqrt();
+    let slip = u[1..].iter().map(|x| x * x).sum::<f64>().sqrt();
+    slip <= slip_tol || (p[0] > 0.0 && friction < mu * p[0] * (1.0 - CONE_EDGE))
+}
+
 /// One contact that may close in the step, or a friction element on one coordinate.
 #[derive(Clone, Debug)]
 pub(crate) struct ConeContact {
@@ -727,10 +749,10 @@ fn local_solve(a: &DMatrix<f64>, c: &[f64], mu: f64) -> Option<Vec<f64>> {
     };
     if d == 2 {
         for s in [1.0, -1.0] {
-            if let Some((pn, ut)) = at(&[s]) {
-                if ut[0] * s >= 0.0 {
-                    return Some(impulse(pn, &[s]));
-                }
+            if let Some((pn, ut)) = at(&[s])
+                && ut[0] * s >= 0.0
+            {
+                return Some(impulse(pn, &[s]));
             }
         }
         return None;
@@ -759,10 +781,10 @@ fn local_solve(a: &DMatrix<f64>, c: &[f64], mu: f64) -> Option<Vec<f64>> {
                 break;
             }
             if (x2 - x1).abs() <= 4.0 * f64::EPSILON * (1.0 + x2.abs()) {
-                if let Some((_, along, pn)) = f(x2) {
-                    if along >= 0.0 {
-                        return Some(impulse(pn, &dir(x2)));
-                    }
+                if let Some((_, along, pn)) = f(x2)
+                    && along >= 0.0
+                {
+                    return Some(impulse(pn, &dir(x2)));
                 }
                 break;
             }
@@ -776,30 +798,31 @@ fn local_solve(a: &DMatrix<f64>, c: &[f64], mu: f64) -> Option<Vec<f64>> {
     for j in 1..=ANGLE_SAMPLES {
         let theta = j as f64 * step;
         let cur = f(theta);
-        if let (Some((f0, _, _)), Some((f1, _, _))) = (prev.1, cur) {
-            if f0 == 0.0 || f0.signum() != f1.signum() {
-                let (mut lo, mut hi, mut flo) = (prev.0, theta, f0);
-                if f0 != 0.0 {
-                    for _ in 0..80 {
-                        let mid = 0.5 * (lo + hi);
-                        if mid <= lo || mid >= hi {
-                            break;
+        if let (Some((f0, _, _)), Some((f1, _, _))) = (prev.1, cur)
+            && (f0 == 0.0 || f0.signum() != f1.signum())
+        {
+            let (mut lo, mut hi, mut flo) = (prev.0, theta, f0);
+            if f0 != 0.0 {
+                for _ in 0..80 {
+                    let mid = 0.5 * (lo + hi);
+                    if mid <= lo || mid >= hi {
+                        break;
+                    }
+                    match f(mid) {
+                        Some((fm, _, _)) if fm.signum() == flo.signum() && fm != 0.0 => {
+                            (lo, flo) = (mid, fm);
                         }
-                        match f(mid) {
-                            Some((fm, _, _)) if fm.signum() == flo.signum() && fm != 0.0 => {
-                                (lo, flo) = (mid, fm);
-                            }
-                            Some(_) => hi = mid,
-                            None => break,
-                        }
+                        Some(_) => hi = mid,
+                        None => break,
                     }
                 }
-                let root = if f0 == 0.0 { prev.0 } else { 0.5 * (lo + hi) };
-                if let Some((_, along, pn)) = f(root) {
-                    if along >= 0.0 && best.is_none_or(|(_, b)| pn < b) {
-                        best = Some((root, pn));
-                    }
-                }
+            }
+            let root = if f0 == 0.0 { prev.0 } else { 0.5 * (lo + hi) };
+            if let Some((_, along, pn)) = f(root)
+                && along >= 0.0
+                && best.is_none_or(|(_, b)| pn < b)
+            {
+                best = Some((root, pn));
             }
         }
         prev = (theta, cur);

@@ -22,7 +22,7 @@
 
 use nalgebra::{DMatrix, DVector, SVector};
 
-use super::cone::{self, CONE_EDGE, CONE_SWEEPS, CONE_TOLERANCE, ConeContact, SLIP_ROUND_OFF};
+use super::cone::{self, CONE_SWEEPS, CONE_TOLERANCE, ConeContact, SLIP_ROUND_OFF};
 use super::planar::{self, Closed, ContactError};
 use crate::contacts::Contacts;
 use crate::element::Mode;
@@ -301,11 +301,8 @@ where
         w_n: &nalgebra::SMatrix<f64, K, N>,
         w_t: &nalgebra::SMatrix<f64, T, N>,
     ) -> Vec<DVector<f64>> {
-        let mut rows = vec![DVector::from_iterator(N, w_n.row(k).iter().copied())];
-        for r in [self.tangent[k], self.second[k]].into_iter().flatten() {
-            rows.push(DVector::from_iterator(N, w_t.row(r).iter().copied()));
-        }
-        rows
+        let tangents = [self.tangent[k], self.second[k]].into_iter().flatten();
+        cone::contact_rows(w_n, w_t, k, tangents)
     }
 
     /// The same scene in other modes.
@@ -1316,13 +1313,10 @@ where
     let round_off = SLIP_ROUND_OFF * v_free.amax().max(v.amax());
     for (i, &k) in candidates.iter().enumerate() {
         let (p, u) = (&out.impulses[i], &out.local[i]);
-        let friction = p[1..].iter().map(|x| x * x).sum::<f64>().sqrt();
         let slip = u[1..].iter().map(|x| x * x).sum::<f64>().sqrt();
         trial.modes[k] = if p[0] <= 0.0 {
             CMode::Open
-        } else if frictional(k)
-            && (slip <= round_off || friction < locals[i].mu * p[0] * (1.0 - CONE_EDGE))
-        {
+        } else if frictional(k) && cone::is_stuck(p, u, locals[i].mu, round_off) {
             CMode::Stick
         } else if slip > 0.0 {
             let mut dir = [0.0; 2];

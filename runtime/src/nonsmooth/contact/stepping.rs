@@ -237,7 +237,7 @@ where
     let mut elements = scene.joint_elements();
     // Bearing friction's limits, from the loads of each step's motion (`bearing`).
     let mut bearings = Bearings::new(S::JOINT_BEARINGS, &elements);
-    let element_names: Vec<&'static str> = elements.iter().map(|el| el.name).collect();
+    let n_elements = elements.len();
     let mut names = column_names::<S, N, K, T>();
     names.extend(elements.iter().map(|el| format!("f_{}", el.name)));
     let sol = Solution::new(names, 2 * N, problem.output.clone());
@@ -288,7 +288,7 @@ where
     };
     let derivative = |v: &SVector<f64, N>, dv: &SVector<f64, N>| -> Vec<f64> {
         let mut d: Vec<f64> = v.iter().chain(dv.iter()).copied().collect();
-        d.resize(2 * N + K + T + element_names.len(), 0.0);
+        d.resize(2 * N + K + T + n_elements, 0.0);
         d
     };
     let a0 = scene.forward_dynamics(&q, &v, &input.forces(t, &q, &v));
@@ -346,14 +346,7 @@ where
             let w = DMatrix::from_fn(N, N, |i, j| inverse[(i, j)]);
             let v_free_d = DVector::from_iterator(N, v_free.iter().copied());
             if general {
-                let rows_of = |k: usize| -> Vec<DVector<f64>> {
-                    std::iter::once(DVector::from_iterator(N, w_n.row(k).iter().copied()))
-                        .chain(
-                            tangent_rows(k)
-                                .map(|r| DVector::from_iterator(N, w_t.row(r).iter().copied())),
-                        )
-                        .collect()
-                };
+                let rows_of = |k: usize| cone::contact_rows(&w_n, &w_t, k, tangent_rows(k));
                 // The local problems: the contacts that may close, then the elements that
                 // act in the step.
                 let mut locals: Vec<ConeContact> = active
@@ -417,13 +410,12 @@ where
                     // The smooth part is explicit: the loads at (q, v) with the step's
                     // mean acceleration.
                     let (v_at, a_step) = bearing::motion(&v, &v_try, hn, 0.0);
-                    let change = match bearings.update(&element_names, |out| {
-                        scene.joint_bearing_limits(&q, &v_at, &a_step, out)
-                    }) {
+                    let change = match bearings
+                        .update(|out| scene.joint_bearing_limits(&q, &v_at, &a_step, out))
+                    {
                         Ok(change) => change,
-                        Err(name) => {
-                            let e = element_names.iter().position(|n| *n == name);
-                            let component = 2 * N + K + T + e.unwrap_or(0);
+                        Err(e) => {
+                            let component = 2 * N + K + T + e;
                             let kind = ErrorKind::NonFinite { t, component };
                             return Err(SolveError::new(kind, sol));
                         }
@@ -442,7 +434,7 @@ where
                         let loaded: Vec<&str> = bearings
                             .elements
                             .iter()
-                            .map(|&e| element_names[e])
+                            .map(|&e| elements[e].name)
                             .collect();
                         let detail = bearing::unsettled(&loaded, BEARING_ITERATIONS);
                         let kind = ErrorKind::StepNotSolved { t, detail };
@@ -462,11 +454,8 @@ where
                         forces[K + r] = p[1 + j] / hn;
                     }
                     let friction = p[1..].iter().map(|x| x * x).sum::<f64>().sqrt();
-                    let slip = out.local[i][1..].iter().map(|x| x * x).sum::<f64>().sqrt();
-                    // Strictly inside the cone is stuck (a sliding impulse is on its edge
-                    // to round-off).
                     let inside = friction < mu[k] * p[0] * (1.0 - CONE_EDGE);
-                    let stuck = slip <= slip_tol || (p[0] > 0.0 && inside);
+                    let stuck = cone::is_stuck(p, &out.local[i], mu[k], slip_tol);
                     new_modes[k] = if p[0] <= 0.0 {
                         Mode::Free
                     } else if stuck {

@@ -67,6 +67,8 @@ mod supported_arm;
 mod timing;
 #[path = "urdf.rs"]
 mod urdf;
+#[path = "../support/woodpecker.rs"]
+mod woodpecker;
 #[path = "workprecision.rs"]
 mod workprecision;
 

@@ -12,7 +12,7 @@
 //! lexicographically, which rules out cycling on degenerate problems. The pivots only
 //! choose the active set: the solution is then recomputed from it (the active rows of
 //! `M` solved directly, with partial pivoting), so that round-off in the tableau does not
-//! reach the result, and checked to be complementary.
+//! reach the result, and checked to be a solution ([`LcpError::Inconsistent`] if not).
 //!
 //! When `M` is a P-matrix (every principal minor positive) the problem has exactly one
 //! solution for every `q`, and Lemke's algorithm finds it. When `M` is copositive-plus,
@@ -32,6 +32,9 @@ pub enum LcpError {
     PivotLimit,
     /// `M` or `q` has a NaN or infinite entry, or their sizes differ.
     InvalidInput,
+    /// The active set the pivots ended on does not solve the problem (a negative `z` or
+    /// `w` beyond round-off): the pivots went astray on a badly scaled problem.
+    Inconsistent,
 }
 
 impl std::fmt::Display for LcpError {
@@ -42,6 +45,10 @@ impl std::fmt::Display for LcpError {
             LcpError::InvalidInput => write!(
                 f,
                 "the complementarity problem's data are not finite or do not fit"
+            ),
+            LcpError::Inconsistent => write!(
+                f,
+                "the complementarity problem's pivots ended on an active set that does not solve it"
             ),
         }
     }
@@ -139,7 +146,13 @@ pub fn solve(m: &DMatrix<f64>, q: &DVector<f64>) -> Result<LcpSolution, LcpError
                         let mut choice = b;
                         for k in 0..=n {
                             let (x, y) = (key(i, a, k), key(b, ab, k));
-                            let tol = PIVOT_TOL * (1.0 + x.abs().max(y.abs()));
+                            // Equal up to the round-off of the column's entries over
+                            // the pivots: a tie is a tie in the column's own scale (a
+                            // right-hand side of 1e-7 against pivots of 1e3 has ratios
+                            // of 1e-10 that an absolute tolerance would call equal).
+                            let col = if k == 0 { rhs } else { k - 1 };
+                            let round_off = t.column(col).amax() / a.min(ab);
+                            let tol = PIVOT_TOL * (x.abs().max(y.abs()) + round_off);
                             if x < y - tol {
                                 choice = i;
                                 break;
@@ -190,14 +203,26 @@ fn finish(m: &DMatrix<f64>, q: &DVector<f64>, active: Vec<bool>) -> Result<LcpSo
         let maa = DMatrix::from_fn(k, k, |i, j| m[(idx[i], idx[j])]);
         let qa = DVector::from_fn(k, |i, _| -q[idx[i]]);
         let za = maa.lu().solve(&qa).ok_or(LcpError::NoSolution)?;
+        let z_tol = 1e-9 * za.amax();
         for (a, &i) in idx.iter().enumerate() {
-            // A basic variable at a degenerate vertex may come out as −round-off.
+            // A basic variable at a degenerate vertex may come out as −round-off; more
+            // than that, and the active set is wrong.
+            if za[a] < -z_tol {
+                return Err(LcpError::Inconsistent);
+            }
             z[i] = za[a].max(0.0);
         }
     }
     let mut w = m * &z + q;
     for &i in &idx {
         w[i] = 0.0;
+    }
+    // Each inactive row's `w` non-negative up to the round-off of its terms.
+    for i in (0..n).filter(|&i| !active[i]) {
+        let terms = (0..n).fold(q[i].abs(), |s, j| s.max((m[(i, j)] * z[j]).abs()));
+        if w[i] < -1e-9 * terms {
+            return Err(LcpError::Inconsistent);
+        }
     }
     Ok(LcpSolution { z, w, active })
 }

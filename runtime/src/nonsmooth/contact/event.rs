@@ -124,6 +124,37 @@ where
         DMatrix::from_fn(N, N, |i, j| inv[(i, j)])
     }
 
+    /// The scale of the contact forces at a switch of the `candidates`: the largest of
+    /// the forces `d` and, for each contact, the force whose acceleration (in the mass
+    /// metric) is that of the free motion: `√(a_freeᵀ M a_free / (W_N,k M⁻¹ W_N,kᵀ))`
+    /// (`m g` for a body resting on the ground). The forces alone are no scale where the
+    /// one closed contact's force passes through zero, and neither is the free normal
+    /// acceleration, zero there too.
+    fn force_scale(
+        &self,
+        t: f64,
+        q: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        candidates: &[usize],
+        d: &Dynamics<N, K>,
+    ) -> f64 {
+        let w = self.inverse_mass(q);
+        let w_n = self.scene.contact_normal_jacobian(q);
+        let a_free = self
+            .scene
+            .forward_dynamics(q, v, &self.input.forces(t, q, v));
+        let free = a_free.dot(&(self.scene.mass_matrix(q) * a_free));
+        let alone = candidates.iter().map(|&k| {
+            let r = DVector::from_iterator(N, w_n.row(k).iter().copied());
+            (free / r.dot(&(&w * &r)).max(f64::MIN_POSITIVE)).sqrt()
+        });
+        (0..K)
+            .map(|k| d.normal[k].abs().max(d.friction(k)))
+            .chain(alone)
+            .filter(|x| x.is_finite())
+            .fold(0.0f64, f64::max)
+    }
+
     /// The constraint rows of the current modes: `(row, γ)` and, per row, which contact
     /// and which of its rows (`0` normal, `1` and `2` its tangents).
     fn constraints(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> Vec<Row> {
@@ -1026,11 +1057,7 @@ where
             };
         }
         let mut d = trial.dynamics(t, &q, &v);
-        let f_scale = d
-            .normal
-            .iter()
-            .chain(d.tangent.iter())
-            .fold(0.0f64, |m, x| m.max(x.abs()));
+        let f_scale = trial.force_scale(t, &q, &v, &candidates, &d);
         let f_tol = 1e-10 * f_scale.max(f64::MIN_POSITIVE);
         // On the edge of a mode (a stuck contact's friction at `μ λ_N`, a closed one's
         // normal force at 0) both modes give the same forces at this instant; the one
@@ -1229,10 +1256,10 @@ where
     }
     let g_n = scene.contact_normal_gamma(q, v);
     let admissible = |trial: &InMode<'_, S, I, N, K, T>, d: &Dynamics<N, K>| {
-        let f_scale = (0..K)
-            .map(|k| d.normal[k].abs().max(d.friction(k)))
-            .fold(f64::MIN_POSITIVE, f64::max);
-        let f_tol = 1e-10 * f_scale;
+        let f_tol = 1e-10
+            * trial
+                .force_scale(t, q, v, candidates, d)
+                .max(f64::MIN_POSITIVE);
         let acc = w_n * d.a - g_n;
         let a_tol = 1e-10 * d.a.amax().max(1.0);
         d.a.iter().all(|x| x.is_finite())
@@ -1246,9 +1273,7 @@ where
             })
     };
     let mut d = trial.dynamics(t, q, v);
-    let f_scale = (0..K)
-        .map(|k| d.normal[k].abs().max(d.friction(k)))
-        .fold(0.0f64, f64::max);
+    let f_scale = trial.force_scale(t, q, v, candidates, &d);
     if leave_edges(&mut trial, candidates, &d, t, q, v, EDGE * f_scale) {
         d = trial.dynamics(t, q, v);
     }

@@ -216,7 +216,6 @@ fn enumerate(w: &DMatrix<f64>, a0: &DVector<f64>, contacts: &[Closed]) -> Option
         })
         .collect();
     assignments.sort_by_key(|m| m.iter().map(|&x| x as usize).sum::<usize>());
-    let scale = a0.amax().max(w.amax()).max(1.0);
     for m in assignments {
         // Unknowns: λ_N of every closed contact, λ_T of the stuck ones.
         let mut dirs: Vec<DVector<f64>> = Vec::new();
@@ -261,7 +260,21 @@ fn enumerate(w: &DMatrix<f64>, a0: &DVector<f64>, contacts: &[Closed]) -> Option
         for j in 0..r {
             acc += &effect[j] * lambda[j];
         }
-        let tol = 1e-9 * scale * (1.0 + lambda.amax());
+        // Tolerances in each quantity's own units: the contacts' accelerations against
+        // the largest of the free one and the forces' effects on them, the forces
+        // against the largest force (the operator's entries mix units: angles and
+        // lengths, masses and inertias).
+        let a_scale = contacts
+            .iter()
+            .flat_map(|c| [&c.normal, &c.tangent])
+            .map(|row| {
+                (0..r).fold(row.dot(a0).abs(), |m, j| {
+                    m.max((row.dot(&effect[j]) * lambda[j]).abs())
+                })
+            })
+            .fold(f64::MIN_POSITIVE, f64::max);
+        let tol = 1e-9 * a_scale;
+        let f_tol = 1e-9 * lambda.amax();
         // The equalities hold (redundant rows consistent).
         if rows.iter().any(|(row, g)| (row.dot(&acc) - g).abs() > tol) {
             continue;
@@ -289,9 +302,9 @@ fn enumerate(w: &DMatrix<f64>, a0: &DVector<f64>, contacts: &[Closed]) -> Option
             .collect();
         let fits = (0..k).all(|i| match m[i] {
             3 => normal_acceleration[i] >= -tol,
-            0 => normal[i] >= -tol && tangent[i].abs() <= contacts[i].mu * normal[i] + tol,
-            1 => normal[i] >= -tol && tangent_acceleration[i] >= -tol,
-            _ => normal[i] >= -tol && tangent_acceleration[i] <= tol,
+            0 => normal[i] >= -f_tol && tangent[i].abs() <= contacts[i].mu * normal[i] + f_tol,
+            1 => normal[i] >= -f_tol && tangent_acceleration[i] >= -tol,
+            _ => normal[i] >= -f_tol && tangent_acceleration[i] <= tol,
         });
         if fits && acc.iter().all(|x| x.is_finite()) {
             return Some(Outcome {
@@ -463,5 +476,98 @@ mod tests {
                 "θ = {theta}: {above:?}"
             );
         }
+    }
+
+    /// A stuck contact's laws at random, badly scaled states: coordinates of mixed
+    /// units (masses from 1e-3 to 1e3 along them, rows of lengths from 1e-3 to 1), free
+    /// accelerations from 1e-4 to 1e2, half of them with a normal part from 1e-10 to
+    /// 1e-3 of the tangential (a contact about to lift off, or barely pressed). Each outcome must keep the laws in its own units (forces against
+    /// the largest force, accelerations against the free one): the complementarity
+    /// problem's pivots and the fallback's checks once took a slide for a stick there
+    /// (the woodpecker's sleeve held with 3.5× its friction cone).
+    #[test]
+    fn a_stuck_contact_keeps_its_laws_at_any_scale() {
+        let mut seed = 11u64;
+        let mut uniform = |lo: f64, hi: f64| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
+        };
+        let mut checked = 0;
+        for trial in 0..600 {
+            let a = DMatrix::from_fn(3, 3, |_, _| uniform(-1.0, 1.0));
+            let d =
+                DMatrix::from_diagonal(&DVector::from_fn(3, |_, _| 10f64.powf(uniform(-1.5, 1.5))));
+            let mass = &d * (&a * a.transpose() + DMatrix::identity(3, 3) * 0.2) * &d;
+            let w = mass.try_inverse().expect("positive definite");
+            let row = |len: f64, u: &mut dyn FnMut(f64, f64) -> f64| {
+                DVector::from_fn(3, |_, _| u(-1.0, 1.0)) * len
+            };
+            let normal = row(10f64.powf(uniform(-3.0, 0.0)), &mut uniform);
+            let tangent = row(10f64.powf(uniform(-3.0, 0.0)), &mut uniform);
+            let mu = uniform(0.1, 1.0);
+            // Each sliding direction's own effective mass positive (no Painlevé): a
+            // solution exists.
+            if [1.0, -1.0]
+                .iter()
+                .any(|s| normal.dot(&(&w * (&normal - &tangent * (mu * s)))) <= 0.0)
+            {
+                continue;
+            }
+            // Half the states about to lift off or press: the free normal acceleration
+            // a small fraction of the tangential one.
+            let mut a0 =
+                DVector::from_fn(3, |_, _| uniform(-1.0, 1.0)) * 10f64.powf(uniform(-4.0, 2.0));
+            if trial % 2 == 0 {
+                let target = tangent.dot(&a0).abs()
+                    * 10f64.powf(uniform(-10.0, -3.0))
+                    * uniform(-1.0, 1.0).signum();
+                a0 -= &normal * ((normal.dot(&a0) - target) / normal.dot(&normal));
+            }
+            let c = Closed {
+                normal: normal.clone(),
+                gamma_n: 0.0,
+                tangent: tangent.clone(),
+                gamma_t: 0.0,
+                mu,
+                sliding: None,
+            };
+            let out = solve(&w, &a0, &[c]).unwrap_or_else(|e| panic!("trial {trial}: {e:?}"));
+            let (ln, lt) = (out.normal[0], out.tangent[0]);
+            let (gn, gt) = (out.normal_acceleration[0], out.tangent_acceleration[0]);
+            // The force scale: the largest force, or the force that alone would stop
+            // the free normal or tangential acceleration.
+            let alone = |r: &DVector<f64>| r.dot(&a0).abs() / r.dot(&(&w * r));
+            let f_tol = 1e-9
+                * ln.abs()
+                    .max(lt.abs())
+                    .max(alone(&normal))
+                    .max(alone(&tangent));
+            let a_tol = 1e-9 * normal.dot(&a0).abs().max(tangent.dot(&a0).abs());
+            assert!(ln >= -f_tol, "trial {trial}: λ_N = {ln:e}");
+            assert!(
+                lt.abs() <= mu * ln + f_tol,
+                "trial {trial}: |λ_T| = {:e} beyond μ λ_N = {:e}",
+                lt.abs(),
+                mu * ln
+            );
+            assert!(gn >= -a_tol, "trial {trial}: g̈_N = {gn:e}");
+            assert!(
+                (gn * ln).abs() <= a_tol * f_tol.max(ln.abs()) * 1e9,
+                "trial {trial}: g̈_N λ_N = {:e}",
+                gn * ln
+            );
+            if lt.abs() < mu * ln * (1.0 - 1e-6) {
+                assert!(gt.abs() <= a_tol, "trial {trial}: stuck but g̈_T = {gt:e}");
+            } else {
+                assert!(
+                    gt * lt <= a_tol * f_tol * 1e9,
+                    "trial {trial}: friction along its slip"
+                );
+            }
+            checked += 1;
+        }
+        assert!(checked > 300, "{checked} trials checked");
     }
 }

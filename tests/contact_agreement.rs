@@ -51,7 +51,7 @@ fn random_spatial_scenes_are_solved_passive_and_first_order() {
     for r in &results {
         eprintln!(
             "seed {:>2} {:<5}: residual {:.1e}, energy gain {:.1e}, sinking {:.1e} m, \
-             distance {:.1e} → {:.1e}{}",
+             distance {:.1e} → {:.1e}{}{}",
             r.seed,
             r.kind,
             r.residual,
@@ -59,6 +59,9 @@ fn random_spatial_scenes_are_solved_passive_and_first_order() {
             r.sinking,
             r.distance[0],
             r.distance[1],
+            r.finer.map_or(String::new(), |[a, b]| format!(
+                " (against h = 4e-6: {a:.1e} → {b:.1e})"
+            )),
             failed_with(r.failure.as_deref())
         );
     }

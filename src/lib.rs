@@ -157,8 +157,8 @@ pub mod scenes;
 pub use filippov_macros::Mechanism;
 pub use filippov_runtime as runtime;
 pub use filippov_runtime::kernels::{
-    Bias, Christoffel, Coriolis, Energy, FrameId, Gravity, InverseDynamics, Kinematics,
-    PassiveForces,
+    Bias, Christoffel, Coriolis, Energy, FrameId, GenericDynamics, Gravity, InverseDynamics,
+    Kinematics, PassiveForces,
 };
 pub use filippov_runtime::liegroup::LieMechanism;
 pub use filippov_runtime::system::{ForwardJacobian, Mechanism};
@@ -169,8 +169,8 @@ pub use nalgebra;
 /// fixed-size vectors.
 pub mod prelude {
     pub use crate::{
-        Bias, Christoffel, Coriolis, Energy, ForwardJacobian, FrameId, Gravity, InverseDynamics,
-        Kinematics, LieMechanism, Mechanism, PassiveForces,
+        Bias, Christoffel, Coriolis, Energy, ForwardJacobian, FrameId, GenericDynamics, Gravity,
+        InverseDynamics, Kinematics, LieMechanism, Mechanism, PassiveForces,
     };
     pub use nalgebra::{SMatrix, SVector};
 }

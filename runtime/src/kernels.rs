@@ -20,6 +20,7 @@
 //! | `dae_residuals` | inherent | `momentum_residual`, `constitutive_residual` |
 //! | `switching_functions` | inherent | `switching_functions` |
 //! | `kinematics` (or any `#[frame]`) | [`Kinematics`] | `frame_pose`, `frame_jacobian`, `frame_velocity` |
+//! | `generic` | [`GenericDynamics`] | `forward_dynamics_generic` on any [`Real`](crate::Real) |
 //!
 //! The traits take the number of velocity coordinates `N` and of configuration slots
 //! `NQ` (equal to `N` unless the scene has spherical or free joints, whose quaternions
@@ -30,6 +31,37 @@ use std::marker::PhantomData;
 use nalgebra::{
     Isometry3, Matrix3, Rotation3, SMatrix, SVector, Translation3, UnitQuaternion, Vector3,
 };
+
+/// Forward dynamics on any scalar, `#[mechanism(emit = [generic])]`: the same
+/// straight-line code as [`Mechanism::forward_dynamics`](crate::Mechanism::forward_dynamics),
+/// generic over [`Real`](crate::Real), with the scene's parameters (its `f64` fields, in
+/// declaration order) as an input of that scalar too — so that on
+/// [`Dual`](crate::Dual) numbers it gives the derivatives with respect to the
+/// coordinates, velocities, torques and parameters alike. `P` is the number of
+/// parameters.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` has no generic forward dynamics: it is emitted only on request",
+    label = "needs `forward_dynamics_generic`",
+    note = "add `emit = [generic]` (or `emit = all`) to the scene's `#[mechanism(...)]`"
+)]
+pub trait GenericDynamics<const N: usize, const NQ: usize, const P: usize> {
+    /// The parameters' names, as declared (the struct's fields).
+    const PARAMETERS: [&'static str; P];
+    /// The parameters' values, in the order of [`PARAMETERS`](Self::PARAMETERS).
+    fn parameters(&self) -> [f64; P];
+    /// `v̇ = M⁻¹ (τ + τ_p − C v − g)` at parameters `p`.
+    fn forward_dynamics_generic<T: crate::Real>(
+        p: &[T; P],
+        q: &[T; NQ],
+        v: &[T; N],
+        tau: &[T; N],
+    ) -> [T; N];
+    /// [`forward_dynamics_generic`](Self::forward_dynamics_generic) at this scene's
+    /// parameters (constants of `T`).
+    fn forward_dynamics_as<T: crate::Real>(&self, q: &[T; NQ], v: &[T; N], tau: &[T; N]) -> [T; N] {
+        Self::forward_dynamics_generic(&self.parameters().map(T::cst), q, v, tau)
+    }
+}
 
 /// Christoffel symbols of the first kind, `#[mechanism(emit = [christoffel])]`.
 #[diagnostic::on_unimplemented(

@@ -369,11 +369,12 @@ pub struct Emit {
     pub dae_residuals: bool,
     pub switching_functions: bool,
     pub kinematics: bool,
+    pub generic: bool,
 }
 
 impl Emit {
     /// Every name `emit = [...]` accepts, with what it adds.
-    pub const NAMES: [(&'static str, &'static str); 11] = [
+    pub const NAMES: [(&'static str, &'static str); 12] = [
         ("christoffel", "`christoffel_symbols` (trait `Christoffel`)"),
         ("coriolis", "`coriolis_matrix` (trait `Coriolis`)"),
         ("gravity", "`gravity` (trait `Gravity`)"),
@@ -400,6 +401,10 @@ impl Emit {
             "kinematics",
             "`frame_pose` and `frame_jacobian` of every body and `#[frame]` (trait `Kinematics`)",
         ),
+        (
+            "generic",
+            "`forward_dynamics_generic` on any scalar: f32, dual numbers (trait `GenericDynamics`)",
+        ),
     ];
 
     pub fn all() -> Emit {
@@ -424,6 +429,7 @@ impl Emit {
             "dae_residuals" => &mut self.dae_residuals,
             "switching_functions" => &mut self.switching_functions,
             "kinematics" => &mut self.kinematics,
+            "generic" => &mut self.generic,
             _ => return false,
         };
         *flag = true;

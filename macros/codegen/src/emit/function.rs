@@ -37,6 +37,9 @@ pub struct Signature {
     pub vis: TokenStream,
     /// Length of the element-force argument `f` (when `inputs` has [`InputKind::F`]).
     pub elements: usize,
+    /// `Some(P)`: an associated function generic over its scalar `T: Real`, the `P`
+    /// parameters an input `p: &[T; P]` (no `self`); `None`: a method on `f64`.
+    pub generic: Option<usize>,
 }
 
 /// A generated method and the helper chunks it calls.
@@ -233,9 +236,12 @@ pub fn emit(
         }
     }
 
+    let generic = sig.generic.is_some();
+    let real = quote!(::filippov::runtime::Real);
     let r = Renderer {
         g,
         params,
+        generic,
         bound: &bound,
         names: &names,
         def_chunk: &def_chunk,
@@ -251,10 +257,30 @@ pub fn emit(
                 InputKind::Q => config,
                 _ => dof,
             };
-            quote!(#a: &::filippov::nalgebra::SVector<f64, #len>)
+            if generic {
+                quote!(#a: &[T; #len])
+            } else {
+                quote!(#a: &::filippov::nalgebra::SVector<f64, #len>)
+            }
         })
         .collect();
-    let arg_names: Vec<Ident> = sig.inputs.iter().map(|k| arg_name(*k)).collect();
+    let mut arg_names: Vec<Ident> = sig.inputs.iter().map(|k| arg_name(*k)).collect();
+    // A generic function's parameters come first, as an input.
+    let (args, scalar, receiver, call) = match sig.generic {
+        Some(np) => {
+            let np = Literal::usize_unsuffixed(np);
+            let mut all = vec![quote!(p: &[T; #np])];
+            all.extend(args);
+            arg_names.insert(0, Ident::new("p", Span::call_site()));
+            (all, quote!(T), quote!(), quote!(Self::))
+        }
+        None => (args, quote!(f64), quote!(&self,), quote!(self.)),
+    };
+    let type_params = if generic {
+        quote!(<T: #real>)
+    } else {
+        quote!()
+    };
     let nslots_lit = Literal::usize_unsuffixed(nslots);
     let mut helpers = TokenStream::new();
     let mut calls = TokenStream::new();
@@ -283,7 +309,11 @@ pub fn emit(
                         unreachable!()
                     };
                     let e = r.atom(x, c, &mut used);
-                    body.extend(quote!(let (#ns, #nc) = #e.sin_cos();));
+                    body.extend(if generic {
+                        quote!(let (#ns, #nc) = #real::sin_cos(#e);)
+                    } else {
+                        quote!(let (#ns, #nc) = #e.sin_cos();)
+                    });
                     vec![s, cs]
                 }
             };
@@ -307,25 +337,25 @@ pub fn emit(
                 #[doc(hidden)]
                 #[inline(never)]
                 #[allow(clippy::all, unused_variables)]
-                fn #hname(&self, #(#args,)* t: &mut [f64; #nslots_lit]) {
+                fn #hname #type_params(#receiver #(#args,)* t: &mut [#scalar; #nslots_lit]) {
                     #binds
                     #body
                 }
             });
-            calls.extend(quote!(self.#hname(#(#arg_names,)* &mut t);));
+            calls.extend(quote!(#call #hname(#(#arg_names,)* &mut t);));
         }
     }
-    let scratch = if nchunks > 1 {
-        quote!(let mut t = [0.0f64; #nslots_lit];)
-    } else {
-        quote!()
+    let scratch = match (nchunks > 1, generic) {
+        (false, _) => quote!(),
+        (true, false) => quote!(let mut t = [0.0f64; #nslots_lit];),
+        (true, true) => quote!(let mut t = [<T as #real>::cst(0.0); #nslots_lit];),
     };
     let (name, ret, doc, vis) = (&sig.name, &sig.ret, &sig.doc, &sig.vis);
     let method = quote! {
         #[doc = #doc]
         #[inline]
         #[allow(unused_variables, clippy::all)]
-        #vis fn #name(&self, #(#args),*) -> #ret {
+        #vis fn #name #type_params(#receiver #(#args),*) -> #ret {
             #scratch
             #calls
             #main_body
@@ -352,6 +382,8 @@ fn bind_inputs(used: &BTreeSet<(InputKind, u16)>) -> TokenStream {
 struct Renderer<'a> {
     g: &'a Graph,
     params: &'a [Ident],
+    /// Generic over `T: Real`: constants through `T::cst`, parameters from `p`.
+    generic: bool,
     bound: &'a [bool],
     names: &'a [Option<Ident>],
     def_chunk: &'a [usize],
@@ -415,6 +447,20 @@ impl Renderer<'_> {
     ) -> (TokenStream, u8) {
         let g = self.g;
         match g.node(id) {
+            Node::Const(bits) if self.generic => {
+                let c = f64::from_bits(bits);
+                let lit = if c.is_finite() {
+                    let l = Literal::f64_unsuffixed(c.abs());
+                    if c < 0.0 { quote!(-#l) } else { quote!(#l) }
+                } else if c.is_nan() {
+                    quote!(f64::NAN)
+                } else if c > 0.0 {
+                    quote!(f64::INFINITY)
+                } else {
+                    quote!(f64::NEG_INFINITY)
+                };
+                (quote!(<T as ::filippov::runtime::Real>::cst(#lit)), ATOM)
+            }
             Node::Const(bits) => {
                 let c = f64::from_bits(bits);
                 if !c.is_finite() {
@@ -435,6 +481,10 @@ impl Renderer<'_> {
                 } else {
                     (quote!(#lit), ATOM)
                 }
+            }
+            Node::Param(p) if self.generic => {
+                let i = Literal::usize_unsuffixed(p as usize);
+                (quote!(p[#i]), ATOM)
             }
             Node::Param(p) => {
                 let f = &self.params[p as usize];
@@ -489,6 +539,19 @@ impl Renderer<'_> {
                 let l = self.operand(a, chunk, PRODUCT, used);
                 let r = self.atom(b, chunk, used);
                 (quote!(#l * #r), PRODUCT)
+            }
+            Node::Unary(op, a) if self.generic => {
+                let x = self.atom(a, chunk, used);
+                let real = quote!(<T as ::filippov::runtime::Real>);
+                match op {
+                    Unary::Neg => (quote!(-#x), SUM),
+                    Unary::Recip => (quote!(#real::cst(1.0) / #x), PRODUCT),
+                    Unary::Sin => (quote!(#real::sin(#x)), ATOM),
+                    Unary::Cos => (quote!(#real::cos(#x)), ATOM),
+                    Unary::Sqrt => (quote!(#real::sqrt(#x)), ATOM),
+                    Unary::Exp => (quote!(#real::exp(#x)), ATOM),
+                    Unary::Ln => (quote!(#real::ln(#x)), ATOM),
+                }
             }
             Node::Unary(op, a) => {
                 let x = self.atom(a, chunk, used);

@@ -99,6 +99,7 @@ impl<'a> Methods<'a> {
         doc: &str,
     ) -> TokenStream {
         let sig = Signature {
+            generic: None,
             vis: quote!(),
             elements: 0,
             name: format_ident!("{}", name),
@@ -143,6 +144,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
                    doc: &str|
      -> TokenStream {
         let sig = Signature {
+            generic: None,
             vis: quote!(),
             elements: 0,
             name: format_ident!("{}", name),
@@ -331,6 +333,42 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         kernel("Kinematics", body);
     }
 
+    if emits.generic {
+        let np = params.len();
+        let sig = Signature {
+            generic: Some(np),
+            vis: quote!(),
+            elements: 0,
+            name: format_ident!("forward_dynamics_generic"),
+            inputs: vec![Q, V, Tau],
+            ret: quote!([T; #n]),
+            doc: " `v̇ = M⁻¹ (τ + τ_p − C v − g)` on any scalar, the parameters `p` in \
+                  declaration order."
+                .to_string(),
+        };
+        let e = emit(g, params, (n, nq), &sig, &k.forward, &|o: Vec<
+            TokenStream,
+        >| {
+            quote!([#(#o),*])
+        });
+        stats.push(FnStats {
+            name: "forward_dynamics_generic",
+            ops: g.count_ops(&k.forward),
+            lets: e.lets,
+        });
+        helpers.extend(e.helpers);
+        let method = e.method;
+        let names: Vec<String> = params.iter().map(|p| p.to_string()).collect();
+        optional.extend(quote! {
+            impl ::filippov::runtime::kernels::GenericDynamics<#n, #nq, #np> for #ident {
+                const PARAMETERS: [&'static str; #np] = [#(#names),*];
+                fn parameters(&self) -> [f64; #np] {
+                    [#(self.#params),*]
+                }
+                #method
+            }
+        });
+    }
     let names: Vec<Literal> = model
         .joint_names()
         .iter()
@@ -463,6 +501,7 @@ fn frames_impl(model: &Model, k: &Kernels, stats: &mut Vec<FnStats>) -> (TokenSt
     for (i, f) in k.frames.iter().enumerate() {
         let doc = format!(" World pose of frame `{}`.", f.name);
         let sig = Signature {
+            generic: None,
             vis: quote!(),
             elements: 0,
             name: format_ident!("__filippov_frame_pose_{}", i),
@@ -484,6 +523,7 @@ fn frames_impl(model: &Model, k: &Kernels, stats: &mut Vec<FnStats>) -> (TokenSt
             f.name
         );
         let sig = Signature {
+            generic: None,
             vis: quote!(),
             elements: 0,
             name: format_ident!("__filippov_frame_jacobian_{}", i),

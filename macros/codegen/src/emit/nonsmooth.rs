@@ -58,6 +58,7 @@ pub fn nonsmooth_impl(
                         );
                         let hname = format_ident!("__law_{}", i);
                         let sig = Signature {
+                            generic: None,
                             vis: quote!(),
                             elements: 0,
                             name: hname.clone(),
@@ -128,6 +129,7 @@ pub fn nonsmooth_impl(
     let count = model.elements.len();
     let inv_flat: Vec<_> = inv.iter().flatten().copied().collect();
     let sig = Signature {
+            generic: None,
         vis: quote!(),
         elements: 0,
         name: format_ident!("inverse_mass_matrix"),
@@ -213,6 +215,7 @@ fn bearing_limits(
         .map(|&i| format!("`{}`", model.elements[i].name))
         .collect();
     let sig = Signature {
+        generic: None,
         vis: quote!(),
         elements: 0,
         name: format_ident!("__bearing_limits"),
@@ -269,6 +272,7 @@ fn element_kernels(model: &Model, k: &Kernels, stats: &mut Vec<FnStats>) -> Toke
                    asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
                    doc: String| {
         let sig = Signature {
+            generic: None,
             vis: quote!(pub),
             elements: m,
             name: format_ident!("{}", name),

@@ -192,3 +192,69 @@ macro_rules! lie_benches {
 
 lie_benches!(satellite, Satellite, 8, 9);
 lie_benches!(ball_chain, BallChain, 5, 6);
+
+/// The Panda's forward dynamics on each scalar (`emit = [generic]`): one state per call
+/// on `f64`, `f32` and duals (14 directions: `∂v̇/∂(q, v)` with the value), four states
+/// per `f64x4` call and eight per `f32x8` call. Divide a batch's time by its lanes for
+/// the cost per state.
+mod panda_scalars {
+    use super::*;
+    use filippov::runtime::Dual;
+    use filippov::runtime::real::{f32x8, f64x4};
+
+    fn arrays() -> ([f64; 7], [f64; 7], [f64; 7]) {
+        let (q, v, tau) = state::<7>();
+        (q.into(), v.into(), tau.into())
+    }
+
+    #[divan::bench]
+    fn f64_kernel(b: Bencher) {
+        let (s, (q, v, tau)) = (Panda::default(), state::<7>());
+        b.bench(|| s.forward_dynamics(black_box(&q), black_box(&v), black_box(&tau)));
+    }
+
+    #[divan::bench]
+    fn f64_generic(b: Bencher) {
+        let (s, (q, v, tau)) = (Panda::default(), arrays());
+        b.bench(|| s.forward_dynamics_as::<f64>(black_box(&q), black_box(&v), black_box(&tau)));
+    }
+
+    #[divan::bench]
+    fn f32_generic(b: Bencher) {
+        let (s, (q, v, tau)) = (Panda::default(), arrays());
+        let f = |x: [f64; 7]| x.map(|x| x as f32);
+        let (q, v, tau) = (f(q), f(v), f(tau));
+        b.bench(|| s.forward_dynamics_as::<f32>(black_box(&q), black_box(&v), black_box(&tau)));
+    }
+
+    #[divan::bench]
+    fn f64x4_four_states(b: Bencher) {
+        let (s, (q, v, tau)) = (Panda::default(), arrays());
+        let f = |x: [f64; 7]| x.map(f64x4::splat);
+        let (q, v, tau) = (f(q), f(v), f(tau));
+        b.bench(|| s.forward_dynamics_as(black_box(&q), black_box(&v), black_box(&tau)));
+    }
+
+    #[divan::bench]
+    fn f32x8_eight_states(b: Bencher) {
+        let (s, (q, v, tau)) = (Panda::default(), arrays());
+        let f = |x: [f64; 7]| x.map(|x| f32x8::splat(x as f32));
+        let (q, v, tau) = (f(q), f(v), f(tau));
+        b.bench(|| s.forward_dynamics_as(black_box(&q), black_box(&v), black_box(&tau)));
+    }
+
+    #[divan::bench]
+    fn dual14_state_derivatives(b: Bencher) {
+        let (s, (q, v, tau)) = (Panda::default(), arrays());
+        let qd: [Dual<14>; 7] = std::array::from_fn(|i| Dual::variable(q[i], i));
+        let vd: [Dual<14>; 7] = std::array::from_fn(|i| Dual::variable(v[i], 7 + i));
+        let td = tau.map(Dual::constant);
+        b.bench(|| s.forward_dynamics_as(black_box(&qd), black_box(&vd), black_box(&td)));
+    }
+
+    #[divan::bench]
+    fn symbolic_jacobian(b: Bencher) {
+        let (s, (q, v, tau)) = (Panda::default(), state::<7>());
+        b.bench(|| s.forward_dynamics_jacobian(black_box(&q), black_box(&v), black_box(&tau)));
+    }
+}

@@ -211,3 +211,58 @@ fn on_f32_it_is_close_to_f64() {
     eprintln!("Panda: f32 against f64, largest difference {worst:.2e} of the accelerations' scale");
     assert!(worst <= 1e-4, "{worst:e}");
 }
+
+/// Four states in the lanes of one `f64x4` call (eight in `f32x8`): each lane is the
+/// scalar kernel's result bit for bit.
+#[test]
+fn simd_lanes_are_the_scalar_kernel_bit_for_bit() {
+    use filippov::runtime::real::{f32x8, f64x4};
+    let mut rng = Rng(23);
+    let panda = Panda::default();
+    for _ in 0..20 {
+        let states: [([f64; 7], [f64; 7], [f64; 7]); 8] =
+            std::array::from_fn(|_| (rng.array(2.0), rng.array(3.0), rng.array(5.0)));
+        let pack4 = |f: &dyn Fn(usize) -> [f64; 7]| -> [f64x4; 7] {
+            std::array::from_fn(|i| f64x4::new(std::array::from_fn(|l| f(l)[i])))
+        };
+        let a = panda.forward_dynamics_as(
+            &pack4(&|l| states[l].0),
+            &pack4(&|l| states[l].1),
+            &pack4(&|l| states[l].2),
+        );
+        for l in 0..4 {
+            let (q, v, tau) = states[l];
+            let scalar = panda.forward_dynamics(&q.into(), &v.into(), &tau.into());
+            for i in 0..7 {
+                assert_eq!(
+                    a[i].to_array()[l].to_bits(),
+                    scalar[i].to_bits(),
+                    "lane {l}"
+                );
+            }
+        }
+        let pack8 = |f: &dyn Fn(usize) -> [f64; 7]| -> [f32x8; 7] {
+            std::array::from_fn(|i| f32x8::new(std::array::from_fn(|l| f(l)[i] as f32)))
+        };
+        let a = panda.forward_dynamics_as(
+            &pack8(&|l| states[l].0),
+            &pack8(&|l| states[l].1),
+            &pack8(&|l| states[l].2),
+        );
+        for l in 0..8 {
+            let (q, v, tau) = states[l];
+            let scalar = panda.forward_dynamics_as::<f32>(
+                &q.map(|x| x as f32),
+                &v.map(|x| x as f32),
+                &tau.map(|x| x as f32),
+            );
+            for i in 0..7 {
+                assert_eq!(
+                    a[i].to_array()[l].to_bits(),
+                    scalar[i].to_bits(),
+                    "lane {l}"
+                );
+            }
+        }
+    }
+}

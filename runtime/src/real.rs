@@ -4,12 +4,20 @@
 //!
 //! A kernel generic over its scalar is one straight-line function of `+`, `−`, `×`, `÷`,
 //! `sin`, `cos`, `√`, `exp` and `ln` on the inputs and the scene's parameters; run on
-//! `f64` it is the `f64` kernel (bit for bit), on `f32` half the width, on duals it
+//! `f64` it is the `f64` kernel (bit for bit), on `f32` half the width, on SIMD lanes
+//! ([`f64x4`], [`f32x8`]) a batch of states per call, each lane bit for bit the scalar
+//! kernel's result (sine, cosine, exponential and logarithm are taken lane by lane from
+//! the standard library; the arithmetic and square root are IEEE in every lane), on duals it
 //! differentiates itself: seed a coordinate's or a parameter's derivative with 1 and the
 //! result's derivative part is the kernel's partial derivative along it, exact to
 //! rounding (no step to choose, unlike finite differences).
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// Four `f64` lanes (AVX where the build targets it, two SSE2 halves otherwise) and
+/// eight `f32` lanes: one kernel call evaluates a batch of states laid out
+/// structure-of-arrays, each coordinate a vector of lanes.
+pub use wide::{f32x8, f64x4};
 
 /// A scalar the generated kernels run on.
 pub trait Real:
@@ -93,6 +101,46 @@ impl Real for f32 {
         f32::ln(self)
     }
 }
+
+/// SIMD lanes: each lane as the scalar would compute it.
+macro_rules! lanes {
+    ($t:ty, $s:ty) => {
+        impl Real for $t {
+            #[inline(always)]
+            fn cst(x: f64) -> Self {
+                <$t>::splat(x as $s)
+            }
+            #[inline(always)]
+            fn sin(self) -> Self {
+                <$t>::new(self.to_array().map(<$s>::sin))
+            }
+            #[inline(always)]
+            fn cos(self) -> Self {
+                <$t>::new(self.to_array().map(<$s>::cos))
+            }
+            #[inline(always)]
+            fn sin_cos(self) -> (Self, Self) {
+                let sc = self.to_array().map(<$s>::sin_cos);
+                (<$t>::new(sc.map(|x| x.0)), <$t>::new(sc.map(|x| x.1)))
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                <$t>::sqrt(self)
+            }
+            #[inline(always)]
+            fn exp(self) -> Self {
+                <$t>::new(self.to_array().map(<$s>::exp))
+            }
+            #[inline(always)]
+            fn ln(self) -> Self {
+                <$t>::new(self.to_array().map(<$s>::ln))
+            }
+        }
+    };
+}
+
+lanes!(f64x4, f64);
+lanes!(f32x8, f32);
 
 /// A forward-mode dual number: a value and its derivatives along `K` directions,
 /// `x + Σ ε_k ∂_k x` with `ε_j ε_k = 0`.

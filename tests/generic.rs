@@ -5,6 +5,8 @@
 
 mod common;
 
+use common::Rng;
+
 use filippov::prelude::*;
 use filippov::runtime::Dual;
 use filippov::runtime::kernels::GenericDynamics;
@@ -42,20 +44,9 @@ const OBLIQUE: Oblique = Oblique {
     g: 9.81,
 };
 
-/// A small deterministic generator of uniform numbers.
-struct Rng(u64);
-
-impl Rng {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-    }
-    fn array<const N: usize>(&mut self, scale: f64) -> [f64; N] {
-        std::array::from_fn(|_| self.uniform(-scale, scale))
-    }
+/// Uniform random arrays from the tests' shared generator.
+fn array<const N: usize>(rng: &mut Rng, scale: f64) -> [f64; N] {
+    rng.vector::<N>(scale).into()
 }
 
 fn bits<const N: usize>(x: &[f64; N]) -> [u64; N] {
@@ -64,21 +55,21 @@ fn bits<const N: usize>(x: &[f64; N]) -> [u64; N] {
 
 #[test]
 fn on_f64_it_is_the_f64_kernel_bit_for_bit() {
-    let mut rng = Rng(7);
+    let mut rng = Rng::new(7);
     for _ in 0..50 {
         let (q, v, tau) = (
-            rng.array::<3>(2.0),
-            rng.array::<3>(3.0),
-            rng.array::<3>(5.0),
+            array::<3>(&mut rng, 2.0),
+            array::<3>(&mut rng, 3.0),
+            array::<3>(&mut rng, 5.0),
         );
         let f = OBLIQUE.forward_dynamics(&q.into(), &v.into(), &tau.into());
         let g = OBLIQUE.forward_dynamics_as::<f64>(&q, &v, &tau);
         assert_eq!(bits(&g), bits(&f.into()), "{q:?} {v:?}");
         // The Panda (`emit = all`): seven joints, literal inertias, one parameter.
         let (q, v, tau) = (
-            rng.array::<7>(2.0),
-            rng.array::<7>(3.0),
-            rng.array::<7>(5.0),
+            array::<7>(&mut rng, 2.0),
+            array::<7>(&mut rng, 3.0),
+            array::<7>(&mut rng, 5.0),
         );
         let f = Panda::default().forward_dynamics(&q.into(), &v.into(), &tau.into());
         let g = Panda::default().forward_dynamics_as::<f64>(&q, &v, &tau);
@@ -89,10 +80,10 @@ fn on_f64_it_is_the_f64_kernel_bit_for_bit() {
     let chain = BallChain::default();
     let slot = <BallChain as LieMechanism<5, 6>>::ROTATIONS[0].0;
     for _ in 0..20 {
-        let mut q: [f64; 6] = rng.array(1.0);
+        let mut q: [f64; 6] = array(&mut rng, 1.0);
         let norm = q[slot..slot + 4].iter().map(|x| x * x).sum::<f64>().sqrt();
         q[slot..slot + 4].iter_mut().for_each(|x| *x /= norm);
-        let (v, tau) = (rng.array::<5>(3.0), rng.array::<5>(5.0));
+        let (v, tau) = (array::<5>(&mut rng, 3.0), array::<5>(&mut rng, 5.0));
         let f = LieMechanism::forward_dynamics(&chain, &q.into(), &v.into(), &tau.into());
         let g = chain.forward_dynamics_as::<f64>(&q, &v, &tau);
         assert_eq!(bits(&g), bits(&f.into()));
@@ -108,13 +99,13 @@ fn on_f64_it_is_the_f64_kernel_bit_for_bit() {
 /// independent differentiations of one expression graph, equal to rounding.
 #[test]
 fn dual_derivatives_equal_the_symbolic_jacobian() {
-    let mut rng = Rng(11);
+    let mut rng = Rng::new(11);
     let mut worst = 0.0f64;
     for _ in 0..50 {
         let (q, v, tau) = (
-            rng.array::<7>(2.0),
-            rng.array::<7>(3.0),
-            rng.array::<7>(5.0),
+            array::<7>(&mut rng, 2.0),
+            array::<7>(&mut rng, 3.0),
+            array::<7>(&mut rng, 5.0),
         );
         let panda = Panda::default();
         let jac = panda.forward_dynamics_jacobian(&q.into(), &v.into(), &tau.into());
@@ -143,14 +134,14 @@ fn dual_derivatives_equal_the_symbolic_jacobian() {
 /// scale (the larger of the column's and the accelerations' over the parameter's).
 #[test]
 fn parameter_sensitivities_equal_central_differences() {
-    let mut rng = Rng(5);
+    let mut rng = Rng::new(5);
     let p0 = OBLIQUE.parameters();
     let mut worst = 0.0f64;
     for _ in 0..30 {
         let (q, v, tau) = (
-            rng.array::<3>(2.0),
-            rng.array::<3>(3.0),
-            rng.array::<3>(5.0),
+            array::<3>(&mut rng, 2.0),
+            array::<3>(&mut rng, 3.0),
+            array::<3>(&mut rng, 5.0),
         );
         let pd: [Dual<7>; 7] = std::array::from_fn(|i| Dual::variable(p0[i], i));
         let a = Oblique::forward_dynamics_generic(
@@ -189,13 +180,13 @@ fn parameter_sensitivities_equal_central_differences() {
 /// scale (measured in the report per robot).
 #[test]
 fn on_f32_it_is_close_to_f64() {
-    let mut rng = Rng(3);
+    let mut rng = Rng::new(3);
     let mut worst = 0.0f64;
     for _ in 0..50 {
         let (q, v, tau) = (
-            rng.array::<7>(2.0),
-            rng.array::<7>(1.0),
-            rng.array::<7>(5.0),
+            array::<7>(&mut rng, 2.0),
+            array::<7>(&mut rng, 1.0),
+            array::<7>(&mut rng, 5.0),
         );
         let f = Panda::default().forward_dynamics_as::<f64>(&q, &v, &tau);
         let g = Panda::default().forward_dynamics_as::<f32>(
@@ -217,11 +208,16 @@ fn on_f32_it_is_close_to_f64() {
 #[test]
 fn simd_lanes_are_the_scalar_kernel_bit_for_bit() {
     use filippov::runtime::real::{f32x8, f64x4};
-    let mut rng = Rng(23);
+    let mut rng = Rng::new(23);
     let panda = Panda::default();
     for _ in 0..20 {
-        let states: [([f64; 7], [f64; 7], [f64; 7]); 8] =
-            std::array::from_fn(|_| (rng.array(2.0), rng.array(3.0), rng.array(5.0)));
+        let states: [([f64; 7], [f64; 7], [f64; 7]); 8] = std::array::from_fn(|_| {
+            (
+                array(&mut rng, 2.0),
+                array(&mut rng, 3.0),
+                array(&mut rng, 5.0),
+            )
+        });
         let pack4 = |f: &dyn Fn(usize) -> [f64; 7]| -> [f64x4; 7] {
             std::array::from_fn(|i| f64x4::new(std::array::from_fn(|l| f(l)[i])))
         };

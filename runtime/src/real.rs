@@ -39,68 +39,44 @@ pub trait Real:
     fn ln(self) -> Self;
 }
 
-impl Real for f64 {
-    #[inline(always)]
-    fn cst(x: f64) -> Self {
-        x
-    }
-    #[inline(always)]
-    fn sin(self) -> Self {
-        f64::sin(self)
-    }
-    #[inline(always)]
-    fn cos(self) -> Self {
-        f64::cos(self)
-    }
-    #[inline(always)]
-    fn sin_cos(self) -> (Self, Self) {
-        f64::sin_cos(self)
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        f64::sqrt(self)
-    }
-    #[inline(always)]
-    fn exp(self) -> Self {
-        f64::exp(self)
-    }
-    #[inline(always)]
-    fn ln(self) -> Self {
-        f64::ln(self)
-    }
+/// A primitive float: its own operations (`cst` rounds to the nearest value of the type).
+macro_rules! primitive {
+    ($t:ty) => {
+        impl Real for $t {
+            #[inline(always)]
+            fn cst(x: f64) -> Self {
+                x as $t
+            }
+            #[inline(always)]
+            fn sin(self) -> Self {
+                <$t>::sin(self)
+            }
+            #[inline(always)]
+            fn cos(self) -> Self {
+                <$t>::cos(self)
+            }
+            #[inline(always)]
+            fn sin_cos(self) -> (Self, Self) {
+                <$t>::sin_cos(self)
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                <$t>::sqrt(self)
+            }
+            #[inline(always)]
+            fn exp(self) -> Self {
+                <$t>::exp(self)
+            }
+            #[inline(always)]
+            fn ln(self) -> Self {
+                <$t>::ln(self)
+            }
+        }
+    };
 }
 
-impl Real for f32 {
-    /// Rounded to the nearest `f32`.
-    #[inline(always)]
-    fn cst(x: f64) -> Self {
-        x as f32
-    }
-    #[inline(always)]
-    fn sin(self) -> Self {
-        f32::sin(self)
-    }
-    #[inline(always)]
-    fn cos(self) -> Self {
-        f32::cos(self)
-    }
-    #[inline(always)]
-    fn sin_cos(self) -> (Self, Self) {
-        f32::sin_cos(self)
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        f32::sqrt(self)
-    }
-    #[inline(always)]
-    fn exp(self) -> Self {
-        f32::exp(self)
-    }
-    #[inline(always)]
-    fn ln(self) -> Self {
-        f32::ln(self)
-    }
-}
+primitive!(f64);
+primitive!(f32);
 
 /// SIMD lanes: each lane as the scalar would compute it.
 macro_rules! lanes {

@@ -19,7 +19,7 @@ use filippov::runtime::{
     contact_time_stepping,
 };
 use support::{Scale, Series, line_plot, plot_path};
-use woodpecker::{GLOCKER, PUBLISHED_START, siconos_reference};
+use woodpecker::{GLOCKER, PUBLISHED_START, largest_difference, siconos_reference};
 
 type V3 = SVector<f64, 3>;
 
@@ -58,18 +58,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     println!("time-stepping (h = {h:e}): {ts_time:.2?}");
-    let worst = |sol: &Solution| {
-        let mut out = [0.0f64; 3];
-        for (t, q, _) in &reference {
-            let x = sol.at(*t).expect("inside the run");
-            for i in 0..3 {
-                out[i] = out[i].max((x[i] - q[i]).abs());
-            }
-        }
-        out
-    };
     for (name, sol) in [("event-driven", &ed), ("time-stepping", &ts)] {
-        let d = worst(sol);
+        let d = largest_difference(sol, None);
         println!(
             "{name} against Siconos (Moreau–Jean, h = 2e-5): |Δy| ≤ {:.2e} m, |Δφ_M| ≤ {:.2e} rad, |Δφ_S| ≤ {:.2e} rad",
             d[0], d[1], d[2]

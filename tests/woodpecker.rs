@@ -10,7 +10,7 @@ use filippov::runtime::{
     Method, NonSmoothProblem, Options, Solution, SwitchKind, Unforced, contact_event_driven,
     contact_time_stepping,
 };
-use woodpecker::{GLOCKER, PUBLISHED_START, beak_impacts, siconos_reference};
+use woodpecker::{GLOCKER, PUBLISHED_START, beak_impacts, largest_difference, siconos_reference};
 
 type V3 = SVector<f64, 3>;
 
@@ -27,19 +27,6 @@ fn event_driven() -> Solution {
     contact_event_driven(&GLOCKER, &Unforced, &problem(), &method).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// The largest difference of each coordinate between two runs over Siconos's samples.
-fn worst(a: &Solution, b: impl Fn(f64) -> [f64; 3]) -> [f64; 3] {
-    let mut out = [0.0f64; 3];
-    for (t, _, _) in siconos_reference() {
-        let x = a.at(t).expect("inside the run");
-        let y = b(t);
-        for i in 0..3 {
-            out[i] = out[i].max((x[i] - y[i]).abs());
-        }
-    }
-    out
-}
-
 /// Siconos's run is Moreau–Jean (θ = 0.5) at h = 2e-5: first order, its impacts and
 /// switches placed to within a step. Against the event-driven solution: the same beak
 /// impacts (each inside the millisecond where Siconos's bird reverses), the heights
@@ -52,13 +39,7 @@ fn worst(a: &Solution, b: impl Fn(f64) -> [f64; 3]) -> [f64; 3] {
 fn event_driven_follows_siconos_reference() {
     let ed = event_driven();
     let reference = siconos_reference();
-    let diff = worst(&ed, |t| {
-        let i = reference
-            .iter()
-            .position(|r| r.0 == t)
-            .expect("a sample time");
-        reference[i].1
-    });
+    let diff = largest_difference(&ed, None);
     let range = |i: usize| {
         let (lo, hi) = reference.iter().fold((f64::MAX, f64::MIN), |(lo, hi), r| {
             (lo.min(r.1[i]), hi.max(r.1[i]))
@@ -138,10 +119,7 @@ fn time_stepping_converges_to_event_driven() {
         .map(|&h| {
             let ts = contact_time_stepping(&GLOCKER, &Unforced, &problem(), h)
                 .unwrap_or_else(|e| panic!("{e}"));
-            let e = worst(&ts, |t| {
-                let x = ed.at(t).expect("inside the run");
-                [x[0], x[1], x[2]]
-            });
+            let e = largest_difference(&ts, Some(&ed));
             eprintln!("h = {h:e}: largest differences from event-driven {e:?}");
             e
         })

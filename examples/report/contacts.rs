@@ -823,7 +823,7 @@ fn bearings(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
 
 /// Glocker's woodpecker against Siconos's reference run.
 fn woodpecker(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
-    use super::woodpecker::{GLOCKER, PUBLISHED_START, siconos_reference};
+    use super::woodpecker::{GLOCKER, PUBLISHED_START, largest_difference};
     page.h3("The woodpecker toy, beside Siconos's reference run");
     page.para(
         "Glocker's woodpecker (theory §8): the published linearised model from the published state, three \
@@ -833,28 +833,8 @@ fn woodpecker(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
          smooth forces (Siconos's is implicit in the spring), so its rows at Siconos's step are not the same \
          scheme. The last column is the largest difference from the event-driven run at rtol 1e-10.",
     );
-    let reference = siconos_reference();
     let (q0, v0) = PUBLISHED_START;
     let p = NonSmoothProblem::new(0.0, 0.3, V3::from(q0), V3::from(v0));
-    let worst = |sol: &Solution, other: &dyn Fn(f64) -> [f64; 3]| {
-        let mut out = [0.0f64; 3];
-        for (t, _, _) in &reference {
-            let Some(x) = sol.at(*t) else {
-                return [f64::NAN; 3];
-            };
-            let y = other(*t);
-            for i in 0..3 {
-                out[i] = out[i].max((x[i] - y[i]).abs());
-            }
-        }
-        out
-    };
-    let siconos_at = |t: f64| {
-        reference
-            .iter()
-            .find(|r| r.0 == t)
-            .map_or([f64::NAN; 3], |r| r.1)
-    };
     let show = |d: [f64; 3]| format!("{} m, {} rad, {} rad", sci(d[0]), sci(d[1]), sci(d[2]));
     let mut rows = Vec::new();
     let mut exact: Option<Solution> = None;
@@ -868,13 +848,10 @@ fn woodpecker(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
         });
         match sol {
             Ok(sol) => {
-                let d = worst(&sol, &siconos_at);
-                let e = exact.as_ref().map_or(String::new(), |x| {
-                    show(worst(&sol, &|t| {
-                        let y = x.at(t).unwrap_or(vec![f64::NAN; 3]);
-                        [y[0], y[1], y[2]]
-                    }))
-                });
+                let d = largest_difference(&sol, None);
+                let e = exact
+                    .as_ref()
+                    .map_or(String::new(), |x| show(largest_difference(&sol, Some(x))));
                 if rtol == 1e-10 {
                     summary.push(format!(
                         "Woodpecker (Glocker): event-driven within {} of Siconos's reference run (y, φ_M, φ_S)",
@@ -906,15 +883,12 @@ fn woodpecker(config: &Config, page: &mut Page, summary: &mut Vec<String>) {
         let Ok(sol) = sol else {
             continue;
         };
-        let e = exact.as_ref().map_or(String::new(), |x| {
-            show(worst(&sol, &|t| {
-                let y = x.at(t).unwrap_or(vec![f64::NAN; 3]);
-                [y[0], y[1], y[2]]
-            }))
-        });
+        let e = exact
+            .as_ref()
+            .map_or(String::new(), |x| show(largest_difference(&sol, Some(x))));
         rows.push(vec![
             format!("time-stepping, h = {h:.0e}"),
-            show(worst(&sol, &siconos_at)),
+            show(largest_difference(&sol, None)),
             e,
             t.scaled(1e3).show(2),
         ]);

@@ -16,7 +16,7 @@
 use filippov::nalgebra::{SMatrix, SVector, Vector3};
 use filippov::runtime::contacts::Contacts;
 use filippov::runtime::numeric::Model;
-use filippov::runtime::{ForwardJacobian, Mechanism};
+use filippov::runtime::{ForwardJacobian, Mechanism, Solution};
 
 /// Glocker's woodpecker: lengths in m, masses in kg, inertias in kg m², the spring in
 /// N m/rad.
@@ -90,6 +90,22 @@ pub fn siconos_reference() -> Vec<(f64, [f64; 3], [f64; 3])> {
             (x[0], [x[1], x[3], x[5]], [x[2], x[4], x[6]])
         })
         .collect()
+}
+
+/// The largest difference of each coordinate `(y, φ_M, φ_S)` between `run` and `other`
+/// (Siconos's reference where `None`) over the reference's sample times; NaN where a run
+/// does not reach one.
+pub fn largest_difference(run: &Solution, other: Option<&Solution>) -> [f64; 3] {
+    let mut out = [0.0f64; 3];
+    for (t, q, _) in siconos_reference() {
+        let (Some(x), Some(y)) = (run.at(t), other.map_or(Some(q.to_vec()), |o| o.at(t))) else {
+            return [f64::NAN; 3];
+        };
+        for i in 0..3 {
+            out[i] = out[i].max((x[i] - y[i]).abs());
+        }
+    }
+    out
 }
 
 /// The beak's impacts in a run sampled at `rows` (as [`siconos_reference`]'s): where

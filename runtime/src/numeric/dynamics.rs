@@ -6,9 +6,9 @@
 use nalgebra::{DVector, Vector3};
 
 use super::Model;
-use super::crba::crba;
+use super::crba::{composite_inertias, crba, crba_in};
 use super::kinematics::WorldTree;
-use super::rnea::rnea;
+use super::rnea::{rnea, rnea_in};
 
 /// The configuration slot of a spring's coordinate.
 ///
@@ -131,10 +131,42 @@ pub fn forward_dynamics(
     v: &DVector<f64>,
     tau: &DVector<f64>,
 ) -> DVector<f64> {
-    let rhs = tau + passive_forces(model, q, v) - bias(model, q, v);
-    match crba(model, q).cholesky() {
-        Some(chol) => chol.solve(&rhs),
-        None => DVector::from_element(rhs.len(), f64::NAN),
+    AtConfiguration::new(model, q).forward_dynamics(v, tau)
+}
+
+/// What forward dynamics needs of one configuration `q` — the links' world motion
+/// subspaces and inertias, and the Cholesky factor of `M(q)` — computed once for any
+/// number of velocities and torques (the same numbers as [`forward_dynamics`]).
+pub(crate) struct AtConfiguration<'a> {
+    model: &'a Model,
+    q: &'a DVector<f64>,
+    tree: WorldTree,
+    chol: Option<nalgebra::Cholesky<f64, nalgebra::Dyn>>,
+}
+
+impl<'a> AtConfiguration<'a> {
+    pub(crate) fn new(model: &'a Model, q: &'a DVector<f64>) -> Self {
+        let tree = WorldTree::new(model, q);
+        let composite = composite_inertias(model, &tree);
+        let chol = crba_in(model, &tree, &composite).cholesky();
+        AtConfiguration {
+            model,
+            q,
+            tree,
+            chol,
+        }
+    }
+
+    /// `v̇ = M⁻¹ (τ + τ_p − C v − g)` at this configuration (NaN where `M` is not
+    /// positive definite).
+    pub(crate) fn forward_dynamics(&self, v: &DVector<f64>, tau: &DVector<f64>) -> DVector<f64> {
+        let zero = DVector::zeros(self.model.dof());
+        let rhs =
+            tau + passive_forces(self.model, self.q, v) - rnea_in(self.model, &self.tree, v, &zero);
+        match &self.chol {
+            Some(chol) => chol.solve(&rhs),
+            None => DVector::from_element(rhs.len(), f64::NAN),
+        }
     }
 }
 

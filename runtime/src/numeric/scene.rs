@@ -70,7 +70,11 @@ impl<const N: usize, const E: usize> Mechanism<N> for Scene<N, E> {
         v: &SVector<f64, N>,
         tau: &SVector<f64, N>,
     ) -> ForwardJacobian<N> {
-        let acceleration = self.forward_dynamics(q, v, tau);
+        // The velocity columns share `q`: its tree and the factor of `M(q)` once.
+        let (qd, taud) = (Self::d(q), Self::d(tau));
+        let at_q = dynamics::AtConfiguration::new(&self.model, &qd);
+        let at_v = |v: &SVector<f64, N>| Self::s(&at_q.forward_dynamics(&Self::d(v), &taud));
+        let acceleration = at_v(v);
         let column =
             |x: &SVector<f64, N>, j: usize, f: &dyn Fn(&SVector<f64, N>) -> SVector<f64, N>| {
                 let h = f64::EPSILON.cbrt() * x[j].abs().max(1.0);
@@ -83,7 +87,7 @@ impl<const N: usize, const E: usize> Mechanism<N> for Scene<N, E> {
         let mut d_dv = SMatrix::<f64, N, N>::zeros();
         for j in 0..N {
             d_dq.set_column(j, &column(q, j, &|q| self.forward_dynamics(q, v, tau)));
-            d_dv.set_column(j, &column(v, j, &|v| self.forward_dynamics(q, v, tau)));
+            d_dv.set_column(j, &column(v, j, &at_v));
         }
         ForwardJacobian {
             acceleration,

@@ -157,8 +157,8 @@ pub mod scenes;
 pub use filippov_macros::Mechanism;
 pub use filippov_runtime as runtime;
 pub use filippov_runtime::kernels::{
-    Bias, Christoffel, Coriolis, Energy, FrameId, GenericDynamics, Gravity, InverseDynamics,
-    Kinematics, PassiveForces,
+    Bias, Christoffel, Coriolis, Energy, FrameId, GenericDynamics, GenericJacobian, Gravity,
+    InverseDynamics, Kinematics, PassiveForces,
 };
 pub use filippov_runtime::liegroup::LieMechanism;
 pub use filippov_runtime::system::{ForwardJacobian, Mechanism};

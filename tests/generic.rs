@@ -1,21 +1,25 @@
-//! Forward dynamics on any scalar (`emit = [generic]`): on `f64` the same numbers as the
-//! `f64` kernel bit for bit; on dual numbers the derivatives with respect to the state
-//! equal the symbolic Jacobian the derive writes separately, and those with respect to
-//! the parameters equal central differences; on `f32` close to `f64`.
+//! The dynamics on any scalar (`emit = [generic]`): on `f64` the same numbers as the
+//! `f64` kernels bit for bit (forward dynamics, its Jacobian, the mass matrix, inverse
+//! dynamics); on dual numbers the derivatives with respect to the state equal the
+//! symbolic Jacobian the derive writes separately, and those with respect to the
+//! parameters equal central differences and the complex step; on `f32` close to `f64`;
+//! on SIMD lanes each lane the scalar kernel bit for bit.
 
 mod common;
+#[path = "../examples/support/complex_step.rs"]
+mod complex_step;
 
 use common::Rng;
 
 use filippov::prelude::*;
 use filippov::runtime::Dual;
-use filippov::runtime::kernels::GenericDynamics;
+use filippov::runtime::kernels::{GenericDynamics, GenericJacobian};
 use filippov::runtime::liegroup::LieMechanism;
 use filippov::scenes::{BallChain, Panda};
 
 /// An oblique spatial tree whose masses, lengths, spring and damper are parameters.
 #[derive(Mechanism, Clone, Copy)]
-#[mechanism(emit = [generic], gravity = [0.0, 0.0, -g])]
+#[mechanism(emit = [generic, inverse_dynamics], gravity = [0.0, 0.0, -g])]
 #[body(base, mass = m1, com = [0.1, 0.0, 0.05], inertia = sphere(m1, 0.2))]
 #[joint(slide: prismatic([0.6, 0.0, 0.8]), parent = world, child = base, origin = [0.0, 0.0, 1.0], rpy = [0.1, 0.2, 0.3])]
 #[spring(slide, k = k)]
@@ -53,6 +57,41 @@ fn bits<const N: usize>(x: &[f64; N]) -> [u64; N] {
     x.map(f64::to_bits)
 }
 
+/// A matrix's entries' bits, row by row.
+fn matrix_bits<const N: usize>(m: &SMatrix<f64, N, N>) -> Vec<u64> {
+    (0..N * N).map(|k| m[(k / N, k % N)].to_bits()).collect()
+}
+
+fn rows_bits<const N: usize>(m: &[[f64; N]; N]) -> Vec<u64> {
+    m.iter().flatten().map(|x| x.to_bits()).collect()
+}
+
+/// The generic mass matrix, inverse dynamics and Jacobian on `f64` against the `f64`
+/// kernels, bit for bit.
+fn other_kernels_bit_for_bit<S, const N: usize, const P: usize>(
+    s: &S,
+    q: [f64; N],
+    v: [f64; N],
+    tau: [f64; N],
+) where
+    S: Mechanism<N> + InverseDynamics<N> + GenericDynamics<N, N, P>,
+{
+    let (qs, vs, ts) = (q.into(), v.into(), tau.into());
+    assert_eq!(
+        rows_bits(&s.mass_matrix_as::<f64>(&q)),
+        matrix_bits(&s.mass_matrix(&qs))
+    );
+    assert_eq!(
+        bits(&s.inverse_dynamics_as::<f64>(&q, &v, &tau)),
+        bits(&s.inverse_dynamics(&qs, &vs, &ts).into())
+    );
+    let j: GenericJacobian<f64, N> = s.forward_dynamics_jacobian_as(&q, &v, &tau);
+    let f = Mechanism::forward_dynamics_jacobian(s, &qs, &vs, &ts);
+    assert_eq!(bits(&j.acceleration), bits(&f.acceleration.into()));
+    assert_eq!(rows_bits(&j.d_dq), matrix_bits(&f.d_dq));
+    assert_eq!(rows_bits(&j.d_dv), matrix_bits(&f.d_dv));
+}
+
 #[test]
 fn on_f64_it_is_the_f64_kernel_bit_for_bit() {
     let mut rng = Rng::new(7);
@@ -65,6 +104,7 @@ fn on_f64_it_is_the_f64_kernel_bit_for_bit() {
         let f = OBLIQUE.forward_dynamics(&q.into(), &v.into(), &tau.into());
         let g = OBLIQUE.forward_dynamics_as::<f64>(&q, &v, &tau);
         assert_eq!(bits(&g), bits(&f.into()), "{q:?} {v:?}");
+        other_kernels_bit_for_bit(&OBLIQUE, q, v, tau);
         // The Panda (`emit = all`): seven joints, literal inertias, one parameter.
         let (q, v, tau) = (
             array::<7>(&mut rng, 2.0),
@@ -74,6 +114,7 @@ fn on_f64_it_is_the_f64_kernel_bit_for_bit() {
         let f = Panda::default().forward_dynamics(&q.into(), &v.into(), &tau.into());
         let g = Panda::default().forward_dynamics_as::<f64>(&q, &v, &tau);
         assert_eq!(bits(&g), bits(&f.into()));
+        other_kernels_bit_for_bit(&Panda::default(), q, v, tau);
     }
     // A chain with a ball joint (a quaternion: six configuration slots, five
     // velocities), through the Lie-group trait.
@@ -87,6 +128,12 @@ fn on_f64_it_is_the_f64_kernel_bit_for_bit() {
         let f = LieMechanism::forward_dynamics(&chain, &q.into(), &v.into(), &tau.into());
         let g = chain.forward_dynamics_as::<f64>(&q, &v, &tau);
         assert_eq!(bits(&g), bits(&f.into()));
+        let m = LieMechanism::mass_matrix(&chain, &q.into());
+        assert_eq!(rows_bits(&chain.mass_matrix_as::<f64>(&q)), matrix_bits(&m));
+        let j = chain.forward_dynamics_jacobian_as::<f64>(&q, &v, &tau);
+        let f = LieMechanism::forward_dynamics_jacobian(&chain, &q.into(), &v.into(), &tau.into());
+        assert_eq!(rows_bits(&j.d_dq), matrix_bits(&f.d_dq));
+        assert_eq!(rows_bits(&j.d_dv), matrix_bits(&f.d_dv));
     }
     assert_eq!(
         <Oblique as GenericDynamics<3, 3, 7>>::PARAMETERS,
@@ -176,6 +223,70 @@ fn parameter_sensitivities_equal_central_differences() {
     assert!(worst <= 1e-7, "{worst:e}");
 }
 
+/// A second differentiation beside the duals: the complex step, `Im f(p + i h e_j) / h`
+/// with `h = 1e-100` — no subtraction, so exact to rounding too, but through complex
+/// arithmetic and complex elementary functions instead of the chain rule. `∂v̇/∂p` and
+/// `∂τ/∂p` (inverse dynamics) of the oblique tree, and `∂v̇/∂q` of the Panda, agree to
+/// 1e-12 of their scale.
+#[test]
+fn dual_sensitivities_equal_the_complex_step() {
+    use complex_step::{Complex, H};
+    use filippov::runtime::Real;
+    let mut rng = Rng::new(29);
+    let p0 = OBLIQUE.parameters();
+    let mut worst = 0.0f64;
+    let mut compare = |dual: &[f64], step: &[f64]| {
+        let scale = dual
+            .iter()
+            .chain(step)
+            .fold(1e-300f64, |m, x| m.max(x.abs()));
+        for (a, b) in dual.iter().zip(step) {
+            worst = worst.max((a - b).abs() / scale);
+        }
+    };
+    for _ in 0..30 {
+        let (q, v, tau) = (
+            array::<3>(&mut rng, 2.0),
+            array::<3>(&mut rng, 3.0),
+            array::<3>(&mut rng, 5.0),
+        );
+        let pd: [Dual<7>; 7] = std::array::from_fn(|i| Dual::variable(p0[i], i));
+        let (qd, vd, td) = (
+            q.map(Dual::constant),
+            v.map(Dual::constant),
+            tau.map(Dual::constant),
+        );
+        let a = Oblique::forward_dynamics_generic(&pd, &qd, &vd, &td);
+        let id = Oblique::inverse_dynamics_generic(&pd, &qd, &vd, &td);
+        let c = |x: [f64; 3]| x.map(Complex::cst);
+        for j in 0..7 {
+            let pc: [Complex; 7] =
+                std::array::from_fn(|i| Complex::new(p0[i], if i == j { H } else { 0.0 }));
+            let ac = Oblique::forward_dynamics_generic(&pc, &c(q), &c(v), &c(tau));
+            let idc = Oblique::inverse_dynamics_generic(&pc, &c(q), &c(v), &c(tau));
+            compare(&a.map(|x| x.eps[j]), &ac.map(|x| x.im / H));
+            compare(&id.map(|x| x.eps[j]), &idc.map(|x| x.im / H));
+        }
+        let (q, v, tau) = (
+            array::<7>(&mut rng, 2.0),
+            array::<7>(&mut rng, 3.0),
+            array::<7>(&mut rng, 5.0),
+        );
+        let panda = Panda::default();
+        let qd: [Dual<7>; 7] = std::array::from_fn(|i| Dual::variable(q[i], i));
+        let a = panda.forward_dynamics_as(&qd, &v.map(Dual::constant), &tau.map(Dual::constant));
+        let c = |x: [f64; 7]| x.map(Complex::cst);
+        for j in 0..7 {
+            let qc: [Complex; 7] =
+                std::array::from_fn(|i| Complex::new(q[i], if i == j { H } else { 0.0 }));
+            let ac = panda.forward_dynamics_as(&qc, &c(v), &c(tau));
+            compare(&a.map(|x| x.eps[j]), &ac.map(|x| x.im / H));
+        }
+    }
+    eprintln!("duals against the complex step, largest difference {worst:.2e} of the scale");
+    assert!(worst <= 1e-12, "{worst:e}");
+}
+
 /// `f32` holds about seven digits: its accelerations within 1e-4 of the `f64` ones'
 /// scale (measured in the report per robot).
 #[test]
@@ -201,6 +312,41 @@ fn on_f32_it_is_close_to_f64() {
     }
     eprintln!("Panda: f32 against f64, largest difference {worst:.2e} of the accelerations' scale");
     assert!(worst <= 1e-4, "{worst:e}");
+}
+
+/// A batch through [`pack`](filippov::runtime::real::pack) and `unpack`: the mass matrix,
+/// inverse dynamics and the Jacobian of three states in the four lanes of `f64x4` (the
+/// fourth lane repeating the third), each the scalar kernel's result bit for bit.
+#[test]
+fn batches_of_every_kernel_are_the_scalar_kernels_bit_for_bit() {
+    use filippov::runtime::real::{f64x4, pack, unpack};
+    let mut rng = Rng::new(31);
+    let panda = Panda::default();
+    for _ in 0..20 {
+        let q: Vec<[f64; 7]> = (0..3).map(|_| array(&mut rng, 2.0)).collect();
+        let v: Vec<[f64; 7]> = (0..3).map(|_| array(&mut rng, 3.0)).collect();
+        let a: Vec<[f64; 7]> = (0..3).map(|_| array(&mut rng, 5.0)).collect();
+        let (qb, vb, ab): ([f64x4; 7], [f64x4; 7], [f64x4; 7]) = (pack(&q), pack(&v), pack(&a));
+        let m = panda.mass_matrix_as(&qb);
+        let tau = unpack(&panda.inverse_dynamics_as(&qb, &vb, &ab), 3);
+        let j = panda.forward_dynamics_jacobian_as(&qb, &vb, &ab);
+        let acc = unpack(&j.acceleration, 3);
+        let dq: [Vec<[f64; 7]>; 7] = j.d_dq.map(|r| unpack(&r, 3));
+        for s in 0..3 {
+            let (qs, vs, as_) = (q[s].into(), v[s].into(), a[s].into());
+            let ms = panda.mass_matrix(&qs);
+            let rows: [[f64; 7]; 7] = m.map(|r| unpack(&r, 3)[s]);
+            assert_eq!(rows_bits(&rows), matrix_bits(&ms), "state {s}");
+            assert_eq!(
+                bits(&tau[s]),
+                bits(&panda.inverse_dynamics(&qs, &vs, &as_).into())
+            );
+            let f = panda.forward_dynamics_jacobian(&qs, &vs, &as_);
+            assert_eq!(bits(&acc[s]), bits(&f.acceleration.into()));
+            let rows: [[f64; 7]; 7] = std::array::from_fn(|i| dq[i][s]);
+            assert_eq!(rows_bits(&rows), matrix_bits(&f.d_dq));
+        }
+    }
 }
 
 /// Four states in the lanes of one `f64x4` call (eight in `f32x8`): each lane is the

@@ -20,7 +20,7 @@
 //! | `dae_residuals` | inherent | `momentum_residual`, `constitutive_residual` |
 //! | `switching_functions` | inherent | `switching_functions` |
 //! | `kinematics` (or any `#[frame]`) | [`Kinematics`] | `frame_pose`, `frame_jacobian`, `frame_velocity` |
-//! | `generic` | [`GenericDynamics`] | `forward_dynamics_generic` on any [`Real`](crate::Real) |
+//! | `generic` | [`GenericDynamics`] | `forward_dynamics_generic`, `mass_matrix_generic`, `inverse_dynamics_generic`, `forward_dynamics_jacobian_generic` on any [`Real`](crate::Real) |
 //!
 //! The traits take the number of velocity coordinates `N` and of configuration slots
 //! `NQ` (equal to `N` unless the scene has spherical or free joints, whose quaternions
@@ -32,13 +32,16 @@ use nalgebra::{
     Isometry3, Matrix3, Rotation3, SMatrix, SVector, Translation3, UnitQuaternion, Vector3,
 };
 
-/// Forward dynamics on any scalar, `#[mechanism(emit = [generic])]`: the same
-/// straight-line code as [`Mechanism::forward_dynamics`](crate::Mechanism::forward_dynamics),
-/// generic over [`Real`](crate::Real), with the scene's parameters (its `f64` fields, in
-/// declaration order) as an input of that scalar too — so that on
-/// [`Dual`](crate::Dual) numbers it gives the derivatives with respect to the
-/// coordinates, velocities, torques and parameters alike. `P` is the number of
-/// parameters.
+/// The dynamics on any scalar, `#[mechanism(emit = [generic])]`: the same
+/// straight-line code as [`Mechanism`](crate::Mechanism)'s forward dynamics, its
+/// Jacobian and mass matrix and as [`InverseDynamics`], generic over
+/// [`Real`](crate::Real), with the scene's parameters (its `f64` fields, in declaration
+/// order) as an input of that scalar too — so that on [`Dual`](crate::Dual) numbers it
+/// gives the derivatives with respect to the coordinates, velocities, torques and
+/// parameters alike, and on SIMD lanes ([`Lanes`](crate::real::Lanes)) a batch of
+/// states per call. `P` is the number of parameters.
+///
+/// Matrices are arrays of rows: `m[i][j]` is `M_ij`.
 #[diagnostic::on_unimplemented(
     message = "`{Self}` has no generic forward dynamics: it is emitted only on request",
     label = "needs `forward_dynamics_generic`",
@@ -61,6 +64,57 @@ pub trait GenericDynamics<const N: usize, const NQ: usize, const P: usize> {
     fn forward_dynamics_as<T: crate::Real>(&self, q: &[T; NQ], v: &[T; N], tau: &[T; N]) -> [T; N] {
         Self::forward_dynamics_generic(&self.parameters().map(T::cst), q, v, tau)
     }
+    /// The mass matrix `M(q)` at parameters `p`.
+    fn mass_matrix_generic<T: crate::Real>(p: &[T; P], q: &[T; NQ]) -> [[T; N]; N];
+    /// [`mass_matrix_generic`](Self::mass_matrix_generic) at this scene's parameters.
+    fn mass_matrix_as<T: crate::Real>(&self, q: &[T; NQ]) -> [[T; N]; N] {
+        Self::mass_matrix_generic(&self.parameters().map(T::cst), q)
+    }
+    /// Inverse dynamics `τ = M a + C v + g − τ_p` at parameters `p` (of the tree, as
+    /// [`InverseDynamics`]).
+    fn inverse_dynamics_generic<T: crate::Real>(
+        p: &[T; P],
+        q: &[T; NQ],
+        v: &[T; N],
+        a: &[T; N],
+    ) -> [T; N];
+    /// [`inverse_dynamics_generic`](Self::inverse_dynamics_generic) at this scene's
+    /// parameters.
+    fn inverse_dynamics_as<T: crate::Real>(&self, q: &[T; NQ], v: &[T; N], a: &[T; N]) -> [T; N] {
+        Self::inverse_dynamics_generic(&self.parameters().map(T::cst), q, v, a)
+    }
+    /// Forward dynamics and its symbolic Jacobian with respect to `(q, v)` at parameters
+    /// `p`, as [`Mechanism::forward_dynamics_jacobian`](crate::Mechanism::forward_dynamics_jacobian).
+    fn forward_dynamics_jacobian_generic<T: crate::Real>(
+        p: &[T; P],
+        q: &[T; NQ],
+        v: &[T; N],
+        tau: &[T; N],
+    ) -> GenericJacobian<T, N>;
+    /// [`forward_dynamics_jacobian_generic`](Self::forward_dynamics_jacobian_generic) at
+    /// this scene's parameters.
+    fn forward_dynamics_jacobian_as<T: crate::Real>(
+        &self,
+        q: &[T; NQ],
+        v: &[T; N],
+        tau: &[T; N],
+    ) -> GenericJacobian<T, N> {
+        Self::forward_dynamics_jacobian_generic(&self.parameters().map(T::cst), q, v, tau)
+    }
+}
+
+/// Forward dynamics and its Jacobian on any scalar
+/// ([`GenericDynamics::forward_dynamics_jacobian_generic`]); the matrices are arrays of
+/// rows, `d_dq[i][j] = ∂v̇_i/∂q_j` (along the tangent coordinates for Lie-group scenes,
+/// as [`ForwardJacobian`](crate::ForwardJacobian)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GenericJacobian<T, const N: usize> {
+    /// `v̇`.
+    pub acceleration: [T; N],
+    /// `∂v̇/∂q`.
+    pub d_dq: [[T; N]; N],
+    /// `∂v̇/∂v`.
+    pub d_dv: [[T; N]; N],
 }
 
 /// Christoffel symbols of the first kind, `#[mechanism(emit = [christoffel])]`.

@@ -120,7 +120,7 @@ pub use numerics::control::PiController;
 pub use numerics::tableau;
 pub use options::Options;
 pub use problem::{FnSystem, OdeSystem, Problem};
-pub use real::{Dual, Real};
+pub use real::{Dual, Lanes, Real};
 pub(crate) use solution::Keep;
 pub use solution::{Output, Solution, Switch, SwitchKind};
 pub use solve::{Observer, integrate, solve, solve_with, solve_with_events};

@@ -118,6 +118,62 @@ macro_rules! lanes {
 lanes!(f64x4, f64);
 lanes!(f32x8, f32);
 
+/// SIMD lanes as a batch of states: `L::LANES` states per kernel call, each coordinate
+/// one vector of lanes (structure of arrays). [`pack`] and [`unpack`] convert from and
+/// to one array per state.
+pub trait Lanes: Real {
+    /// The number of lanes (states per call).
+    const LANES: usize;
+    /// The vector whose lane `i` is `f(i)` (rounded to the lane's type).
+    fn from_fn(f: impl FnMut(usize) -> f64) -> Self;
+    /// Lane `i` (as `f64`).
+    fn lane(self, i: usize) -> f64;
+}
+
+macro_rules! batch {
+    ($t:ty, $s:ty, $l:literal) => {
+        impl Lanes for $t {
+            const LANES: usize = $l;
+            #[inline(always)]
+            fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
+                <$t>::new(std::array::from_fn(|i| f(i) as $s))
+            }
+            #[inline(always)]
+            fn lane(self, i: usize) -> f64 {
+                self.to_array()[i] as f64
+            }
+        }
+    };
+}
+
+batch!(f64x4, f64, 4);
+batch!(f32x8, f32, 8);
+
+/// Packs up to `L::LANES` states (one array each) into one array of lanes: lane `i` of
+/// entry `k` is `states[i][k]`. Fewer states than lanes fill the remaining lanes with
+/// the last state (so that every lane computes something finite); an empty slice gives
+/// zeros.
+///
+/// ```
+/// use filippov_runtime::real::{Lanes, f64x4, pack, unpack};
+/// let states = [[1.0, 2.0], [3.0, 4.0], [5.0, 6.0]];
+/// let x: [f64x4; 2] = pack(&states);
+/// assert_eq!(x[1].lane(2), 6.0);
+/// assert_eq!(unpack(&x, 3), states.to_vec());
+/// ```
+pub fn pack<L: Lanes, const M: usize>(states: &[[f64; M]]) -> [L; M] {
+    let last = states.len().saturating_sub(1);
+    std::array::from_fn(|k| L::from_fn(|i| states.get(i.min(last)).map_or(0.0, |s| s[k])))
+}
+
+/// The first `count` states (at most `L::LANES`) of a batch, one array each: the
+/// inverse of [`pack`].
+pub fn unpack<L: Lanes, const M: usize>(x: &[L; M], count: usize) -> Vec<[f64; M]> {
+    (0..count.min(L::LANES))
+        .map(|i| x.map(|l| l.lane(i)))
+        .collect()
+}
+
 /// A forward-mode dual number: a value and its derivatives along `K` directions,
 /// `x + Σ ε_k ∂_k x` with `ε_j ε_k = 0`.
 ///
@@ -266,7 +322,8 @@ mod tests {
     /// function's domain.
     #[test]
     fn dual_rules_match_central_differences() {
-        let fs: [(&str, fn(Dual<1>) -> Dual<1>); 9] = [
+        type Rule = (&'static str, fn(Dual<1>) -> Dual<1>);
+        let fs: [Rule; 9] = [
             ("sin", |x| x.sin()),
             ("cos", |x| x.cos()),
             ("sin_cos.0 + sin_cos.1", |x| {

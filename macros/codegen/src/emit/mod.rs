@@ -335,29 +335,79 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
 
     if emits.generic {
         let np = params.len();
-        let sig = Signature {
-            generic: Some(np),
-            vis: quote!(),
-            elements: 0,
-            name: format_ident!("forward_dynamics_generic"),
-            inputs: vec![Q, V, Tau],
-            ret: quote!([T; #n]),
-            doc: " `v̇ = M⁻¹ (τ + τ_p − C v − g)` on any scalar, the parameters `p` in \
-                  declaration order."
-                .to_string(),
+        let mut generic_fn = |name: &'static str,
+                              inputs: Vec<InputKind>,
+                              ret: TokenStream,
+                              outs: &[Id],
+                              asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
+                              doc: &str| {
+            let sig = Signature {
+                generic: Some(np),
+                vis: quote!(),
+                elements: 0,
+                name: format_ident!("{}", name),
+                inputs,
+                ret,
+                doc: doc.to_string(),
+            };
+            let e = emit(g, params, (n, nq), &sig, outs, asm);
+            stats.push(FnStats {
+                name,
+                ops: g.count_ops(outs),
+                lets: e.lets,
+            });
+            helpers.extend(e.helpers);
+            e.method
         };
-        let e = emit(g, params, (n, nq), &sig, &k.forward, &|o: Vec<
-            TokenStream,
-        >| {
-            quote!([#(#o),*])
-        });
-        stats.push(FnStats {
-            name: "forward_dynamics_generic",
-            ops: g.count_ops(&k.forward),
-            lets: e.lets,
-        });
-        helpers.extend(e.helpers);
-        let method = e.method;
+        let rows = |o: Vec<TokenStream>| -> TokenStream {
+            let rows: Vec<TokenStream> = o.chunks(n).map(|r| quote!([#(#r),*])).collect();
+            quote!([#(#rows),*])
+        };
+        let array = |o: Vec<TokenStream>| quote!([#(#o),*]);
+        let mut methods = generic_fn(
+            "forward_dynamics_generic",
+            vec![Q, V, Tau],
+            quote!([T; #n]),
+            &k.forward,
+            &array,
+            " `v̇ = M⁻¹ (τ + τ_p − C v − g)` on any scalar, the parameters `p` in \
+             declaration order.",
+        );
+        methods.extend(generic_fn(
+            "mass_matrix_generic",
+            vec![Q],
+            quote!([[T; #n]; #n]),
+            &flat(&k.mass),
+            &rows,
+            " `M(q)` on any scalar, an array of rows.",
+        ));
+        methods.extend(generic_fn(
+            "inverse_dynamics_generic",
+            vec![Q, V, A],
+            quote!([T; #n]),
+            &k.inverse,
+            &array,
+            " `τ = M a + C v + g − τ_p` on any scalar.",
+        ));
+        let mut jac_outs = k.jacobian_forward.clone();
+        jac_outs.extend(flat(&k.jac_q));
+        jac_outs.extend(flat(&k.jac_v));
+        methods.extend(generic_fn(
+            "forward_dynamics_jacobian_generic",
+            vec![Q, V, Tau],
+            quote!(::filippov::runtime::kernels::GenericJacobian<T, #n>),
+            &jac_outs,
+            &|o: Vec<TokenStream>| {
+                let acc = &o[..n];
+                let dq = rows(o[n..n + n * n].to_vec());
+                let dv = rows(o[n + n * n..].to_vec());
+                quote!(::filippov::runtime::kernels::GenericJacobian {
+                    acceleration: [#(#acc),*], d_dq: #dq, d_dv: #dv
+                })
+            },
+            " Forward dynamics and its symbolic Jacobian with respect to `(q, v)` on any \
+             scalar, the matrices arrays of rows.",
+        ));
         let names: Vec<String> = params.iter().map(|p| p.to_string()).collect();
         optional.extend(quote! {
             impl ::filippov::runtime::kernels::GenericDynamics<#n, #nq, #np> for #ident {
@@ -365,7 +415,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
                 fn parameters(&self) -> [f64; #np] {
                     [#(self.#params),*]
                 }
-                #method
+                #methods
             }
         });
     }

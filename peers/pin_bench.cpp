@@ -1,8 +1,9 @@
 // Times Pinocchio's crba, rnea, aba and computeCoriolisMatrix on a model written by
 // pin_model.write_flat or write_model (joint list with merged inertias + a fixed state;
 // joint types RX RY RZ RU PX PY PZ PU and FF, the free flyer, whose q has nv + 1 entries).
-// Usage: pin_bench MODEL.txt [aba]  -> prints results (key value lines) on stdout; with
-// `aba`, times only the ABA (what the report times beside ours).
+// Usage: pin_bench MODEL.txt [aba|crba|rnea]  -> prints results (key value lines) on
+// stdout; with an algorithm's name, times only that one (what the report times beside
+// ours).
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
@@ -107,13 +108,16 @@ int main(int argc, char **argv) {
   auto show = [](const char *key, Timing t) {
     std::printf("%s %.3f\n%s_range %.3f %.3f\n", key, t.median, key, t.min, t.max);
   };
-  const bool only_aba = argc > 2 && std::string(argv[2]) == "aba";
-  if (!only_aba) {
+  // One algorithm only (`aba`, `crba` or `rnea`): what the report times beside ours.
+  const std::string only = argc > 2 ? argv[2] : "";
+  const bool all = only.empty();
+  if (all || only == "crba")
     show("crba_ns", time_ns([&] { crba(model, data, q); sink += data.M(0, 0); }));
+  if (all || only == "rnea")
     show("rnea_ns", time_ns([&] { rnea(model, data, q, v, a); sink += data.tau[0]; }));
-  }
-  show("aba_ns", time_ns([&] { aba(model, data, q, v, tau); sink += data.ddq[0]; }));
-  if (!only_aba) {
+  if (all || only == "aba")
+    show("aba_ns", time_ns([&] { aba(model, data, q, v, tau); sink += data.ddq[0]; }));
+  if (all) {
     show("coriolis_ns", time_ns([&] { computeCoriolisMatrix(model, data, q, v); sink += data.C(0, 0); }));
   }
   std::fprintf(stderr, "(sink %g)\n", sink);

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// The sections' keys for `--only`, in the report's order.
-pub const SECTIONS: [&str; 15] = [
+pub const SECTIONS: [&str; 16] = [
     "smooth",
     "nonsmooth",
     "dense",
@@ -22,6 +22,7 @@ pub const SECTIONS: [&str; 15] = [
     "scaling",
     "chains",
     "urdf",
+    "scalars",
     "flags",
 ];
 

@@ -45,6 +45,8 @@ struct Model {
     key: &'static str,
     baseline: PathBuf,
     native: PathBuf,
+    /// Whether ours is also timed in SIMD batches (`emit = [generic]`: the URDF robots).
+    batch: bool,
 }
 
 /// The state `peers/pin_bench.py` times the scenes at.
@@ -73,8 +75,17 @@ fn source(models: &[Model], declarations: &str) -> String {
     let mut arms = String::new();
     for m in models {
         let (nq, n) = m.dims;
+        // With `batch` (models with generic kernels): four copies of the state in the
+        // lanes of one f64x4 call, ns per state.
+        let batch = if m.batch {
+            format!(
+                "            if batch || dispatch {{\n                let q4: [f64x4; {nq}] = pack(&[q.into(); 4]);\n                let v4: [f64x4; {n}] = pack(&[v.into(); 4]);\n                let t4: [f64x4; {n}] = pack(&[tau.into(); 4]);\n                let t = if dispatch {{\n                    time_ns(|| unsafe {{ fd4_avx2(bb(&sys), bb(&q4), bb(&v4), bb(&t4)) }})\n                }} else {{\n                    time_ns(|| bb(&sys).forward_dynamics_as(bb(&q4), bb(&v4), bb(&t4)))\n                }};\n                return println!(\"fd_ns {{}} {{}} {{}}\", t[0] / 4.0, t[1] / 4.0, t[2] / 4.0);\n            }}\n"
+            )
+        } else {
+            String::new()
+        };
         arms += &format!(
-            "        {:?} => {{\n            let sys = {};\n            let q = SVector::<f64, {nq}>::from_column_slice(&s[0]);\n            let v = SVector::<f64, {n}>::from_column_slice(&s[1]);\n            let tau = SVector::<f64, {n}>::from_column_slice(&s[2]);\n            time_ns(|| bb(&sys).forward_dynamics(bb(&q), bb(&v), bb(&tau)))\n        }}\n",
+            "        {:?} => {{\n            let sys = {};\n            let q = SVector::<f64, {nq}>::from_column_slice(&s[0]);\n            let v = SVector::<f64, {n}>::from_column_slice(&s[1]);\n            let tau = SVector::<f64, {n}>::from_column_slice(&s[2]);\n{batch}            time_ns(|| bb(&sys).forward_dynamics(bb(&q), bb(&v), bb(&tau)))\n        }}\n",
             m.name, m.system
         );
     }
@@ -82,10 +93,26 @@ fn source(models: &[Model], declarations: &str) -> String {
         r#"#![allow(dead_code)]
 use filippov::nalgebra::SVector;
 use filippov::prelude::*;
+use filippov::runtime::real::{{f64x4, pack}};
 use std::hint::black_box as bb;
 use std::time::Instant;
 
 {declarations}
+
+/// The f64x4 forward dynamics with AVX2 and FMA enabled (function multiversioning by
+/// hand: what a default build can reach at run time).
+#[target_feature(enable = "avx,avx2,fma")]
+unsafe fn fd4_avx2<S, const N: usize, const NQ: usize, const P: usize>(
+    s: &S,
+    q: &[f64x4; NQ],
+    v: &[f64x4; N],
+    t: &[f64x4; N],
+) -> [f64x4; N]
+where
+    S: GenericDynamics<N, NQ, P>,
+{{
+    s.forward_dynamics_as(q, v, t)
+}}
 
 /// ns per call: median, fastest and slowest of 21 batches of about 20 ms, after a warm-up
 /// (as peers/pin_bench.cpp).
@@ -120,7 +147,7 @@ fn time_ns<T>(mut f: impl FnMut() -> T) -> [f64; 3] {{
 fn main() {{
     let args: Vec<String> = std::env::args().collect();
     let (Some(name), Some(path)) = (args.get(1), args.get(2)) else {{
-        eprintln!("usage: fd MODEL STATE_FILE");
+        eprintln!("usage: fd MODEL STATE_FILE [batch]");
         std::process::exit(2);
     }};
     let text = std::fs::read_to_string(path).expect("the state file");
@@ -128,6 +155,16 @@ fn main() {{
         .lines()
         .map(|l| l.split_whitespace().map(|x| x.parse().expect("a number")).collect())
         .collect();
+    let batch = args.get(3).is_some_and(|a| a == "batch");
+    // Runtime dispatch: the batch kernel compiled a second time inside a function built
+    // for AVX2 and FMA, called when the CPU has them.
+    let dispatch = args.get(3).is_some_and(|a| a == "dispatch")
+        && is_x86_feature_detected!("avx2")
+        && is_x86_feature_detected!("fma");
+    if args.get(3).is_some_and(|a| a == "dispatch") && !dispatch {{
+        eprintln!("this CPU has no AVX2 and FMA");
+        std::process::exit(2);
+    }}
     let t = match name.as_str() {{
 {arms}        other => {{
             eprintln!("unknown model {{other}}");
@@ -160,6 +197,7 @@ fn models(config: &Config) -> (Vec<Model>, Vec<String>) {
                 key: "aba_ns",
                 baseline: pin.clone(),
                 native: pin_native.clone(),
+                batch: false,
             })
         } else {
             Err(name.to_string())
@@ -214,7 +252,7 @@ fn models(config: &Config) -> (Vec<Model>, Vec<String>) {
                     state,
                     peers.join("urdf").join(format!("{}.txt", robot.name)),
                 ) {
-                    Ok(m) => models.push(m),
+                    Ok(m) => models.push(Model { batch: true, ..m }),
                     Err(name) => missing.push(name),
                 }
             }
@@ -236,6 +274,7 @@ fn models(config: &Config) -> (Vec<Model>, Vec<String>) {
             key: "solve_ns",
             baseline: chain,
             native: chain_native,
+            batch: false,
         });
     } else {
         missing.push("chain7".into());
@@ -250,7 +289,7 @@ fn declarations() -> String {
     let mut out = String::new();
     for robot in super::urdf::ROBOTS.iter() {
         out += &format!(
-            "#[derive(Mechanism)]\n#[mechanism(urdf = {:?}, {}gravity = [0.0, 0.0, -9.81])]\nstruct Urdf{};\n\n",
+            "#[derive(Mechanism)]\n#[mechanism(urdf = {:?}, {}gravity = [0.0, 0.0, -9.81], emit = [generic])]\nstruct Urdf{};\n\n",
             root.join(robot.file).display().to_string(),
             robot.options,
             robot.ident
@@ -347,6 +386,9 @@ pub fn flags(config: &Config) -> Section {
     let ours = |target: &Path| target.join("release").join("fd");
     let mut rows = Vec::new();
     let mut head: Vec<Compared> = Vec::new();
+    // (model, ours one state per call and f64x4 per state, baseline then native).
+    #[allow(clippy::type_complexity)]
+    let mut batched: Vec<(String, Option<Timing>, Timing, Option<Timing>, Timing)> = Vec::new();
     for m in &models {
         let state = work.join(format!("{}.state", m.name));
         let our_args = [m.name.as_ref(), state.as_os_str()];
@@ -356,7 +398,29 @@ pub fn flags(config: &Config) -> Section {
         let mut on = || program_timing(&n, &our_args, "fd_ns");
         let mut pb = || program_timing(&m.baseline, &peer_args, m.key);
         let mut pn = || program_timing(&m.native, &peer_args, m.key);
-        let t = in_rounds(ROUNDS, &mut [&mut ob, &mut on, &mut pb, &mut pn]);
+        let batch_args = [m.name.as_ref(), state.as_os_str(), "batch".as_ref()];
+        let mut ob4 = || {
+            m.batch
+                .then(|| program_timing(&b, &batch_args, "fd_ns"))
+                .flatten()
+        };
+        let mut on4 = || {
+            m.batch
+                .then(|| program_timing(&n, &batch_args, "fd_ns"))
+                .flatten()
+        };
+        let dispatch_args = [m.name.as_ref(), state.as_os_str(), "dispatch".as_ref()];
+        let mut od4 = || {
+            m.batch
+                .then(|| program_timing(&b, &dispatch_args, "fd_ns"))
+                .flatten()
+        };
+        let t = in_rounds(
+            ROUNDS,
+            &mut [
+                &mut ob, &mut on, &mut pb, &mut pn, &mut ob4, &mut on4, &mut od4,
+            ],
+        );
         let cell = |t: Option<Timing>| t.map_or("failed".into(), |t| t.show(0));
         let ratio = |p: Option<Timing>, o: Option<Timing>| match (p, o) {
             (Some(p), Some(o)) => p.ratio_to(&o, 1),
@@ -372,7 +436,14 @@ pub fn flags(config: &Config) -> Section {
             cell(t[1]),
             cell(t[3]),
             ratio(t[3], t[1]),
+            if m.batch { cell(t[4]) } else { "—".into() },
+            if m.batch { cell(t[5]) } else { "—".into() },
+            if m.batch { cell(t[6]) } else { "—".into() },
+            ratio(t[3], t[5]),
         ]);
+        if let (Some(b4), Some(n4)) = (t[4], t[5]) {
+            batched.push((m.name.clone(), t[0], b4, t[1], n4));
+        }
         if let [Some(a), Some(b), Some(c), Some(d)] = t[..] {
             head.push((m.name.clone(), a, b, c, d));
             summary.push(format!(
@@ -418,9 +489,40 @@ pub fn flags(config: &Config) -> Section {
             "ours, native [ns]",
             "peer, native [ns]",
             "peer / ours, native",
+            "ours f64x4, baseline [ns/state]",
+            "ours f64x4, native [ns/state]",
+            "ours f64x4, baseline build + AVX2/FMA function [ns/state]",
+            "peer native / ours f64x4 native",
         ],
         &rows,
     );
+    if !batched.is_empty() {
+        let one = |t: &Option<Timing>, b: &Timing| t.map_or("—".into(), |t| t.ratio_to(b, 2));
+        let list: Vec<String> = batched
+            .iter()
+            .map(|(name, b1, b4, n1, n4)| {
+                format!(
+                    "{name}: one state per call / f64x4 per state {} baseline, {} native",
+                    one(b1, b4),
+                    one(n1, n4)
+                )
+            })
+            .collect();
+        summary.push(format!(
+            "SIMD batches (f64x4) and the CPU flags: {}",
+            list.join("; ")
+        ));
+        page.para(
+            "The last four columns (URDF robots, `emit = [generic]`): the same forward dynamics on four copies of the \
+             state in the lanes of one `f64x4` call, ns per state, in the same rounds. With the baseline flags each \
+             `f64x4` operation is two SSE2 halves; with `-C target-cpu=native` one AVX register. Runtime dispatch: the \
+             baseline build calling the kernel through a function compiled with `#[target_feature(enable = \"avx,avx2,fma\")]` \
+             (chosen at run time by `is_x86_feature_detected!`); the `f64x4` type itself is chosen when `wide` is \
+             compiled, so inside that function its halves are still two SSE2 operations unless LLVM fuses them, and \
+             the kernel's out-of-line parts (big robots) are not recompiled at all. (Rust contracts no `a·b + c` into \
+             a fused multiply-add unless asked, so FMA changes neither side's results.)",
+        );
+    }
     let pin: Vec<&Compared> = head.iter().filter(|h| h.0 != "chain7").collect();
     if !pin.is_empty() {
         let list = |f: &dyn Fn(&Compared) -> String| {

@@ -17,6 +17,8 @@ mod agreement;
 mod agreement_support;
 #[path = "chains.rs"]
 mod chains;
+#[path = "../support/complex_step.rs"]
+mod complex_step;
 #[path = "config.rs"]
 mod config;
 #[path = "../support/contact_agreement.rs"]
@@ -57,6 +59,8 @@ mod resting_arm;
 mod s9;
 #[path = "../support/s9.rs"]
 mod s9_support;
+#[path = "scalars.rs"]
+mod scalars;
 #[path = "scaling.rs"]
 mod scaling;
 #[path = "../support/spatial_agreement.rs"]
@@ -77,7 +81,7 @@ pub use config::Config;
 /// Runs every section and writes the report; returns the path of the Markdown page.
 pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     std::fs::create_dir_all(&config.out_dir)?;
-    let progress = config.progress(14);
+    let progress = config.progress(15);
     let load_before = timing::load();
     let started = std::time::Instant::now();
     let mut page = markdown::Page::new("filippov report");
@@ -119,9 +123,11 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     // planar chains, CPU flags, closed loops, contacts, the peers' section). It needs the scene models and the URDF
     // robots' states, written first (the URDF section's export; its page is discarded).
     let peer_script = if config.peers
-        && ["kernels", "chains", "urdf", "flags", "loops", "contacts"]
-            .iter()
-            .any(|s| config.runs(s))
+        && [
+            "kernels", "chains", "urdf", "scalars", "flags", "loops", "contacts",
+        ]
+        .iter()
+        .any(|s| config.runs(s))
     {
         progress.set_message(
             "running the peers: Pinocchio, SciPy, SymPy (peers/run.sh; minutes the first time)",
@@ -202,6 +208,11 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
         chains::chains(config)
     );
     let u = section!("urdf", "robots from URDF", urdf::urdf(config));
+    let sca = section!(
+        "scalars",
+        "kernels on every scalar and in SIMD batches, beside Pinocchio",
+        scalars::scalars(config)
+    );
     let fl = section!(
         "flags",
         "ours and the peers' compiled code, baseline and native CPU flags",
@@ -256,6 +267,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     summary.extend(sc.summary.iter().cloned());
     summary.extend(ch.summary.iter().cloned());
     summary.extend(u.summary.iter().cloned());
+    summary.extend(sca.summary.iter().cloned());
     summary.extend(fl.summary.iter().cloned());
     summary.extend(p.summary.iter().cloned());
     page.bullets(&summary);
@@ -273,6 +285,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     page.append(sc.page);
     page.append(ch.page);
     page.append(u.page);
+    page.append(sca.page);
     page.append(fl.page);
     page.append(p.page);
     let path = config.out_dir.join("report.md");

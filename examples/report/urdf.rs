@@ -24,39 +24,39 @@ use super::timing::{Timing, in_rounds, ns_timed, program_timing, timed};
     urdf = "robots/panda.urdf",
     lock = [panda_finger_joint1, panda_finger_joint2],
     gravity = [0.0, 0.0, -9.81],
-    emit = [kinematics]
+    emit = [kinematics, generic]
 )]
-struct PandaUrdf;
+pub struct PandaUrdf;
 
 #[derive(Mechanism)]
-#[mechanism(urdf = "robots/ur5.urdf", gravity = [0.0, 0.0, -9.81], emit = [kinematics])]
-struct Ur5;
+#[mechanism(urdf = "robots/ur5.urdf", gravity = [0.0, 0.0, -9.81], emit = [kinematics, generic])]
+pub struct Ur5;
 
 #[derive(Mechanism)]
 #[mechanism(
     urdf = "robots/solo12.urdf",
     base = free,
     gravity = [0.0, 0.0, -9.81],
-    emit = [kinematics]
+    emit = [kinematics, generic]
 )]
-struct Solo12;
+pub struct Solo12;
 
 #[derive(Mechanism)]
 #[mechanism(
     urdf = "robots/simple_humanoid.urdf",
     base = free,
     gravity = [0.0, 0.0, -9.81],
-    emit = [kinematics]
+    emit = [kinematics, generic]
 )]
-struct Humanoid;
+pub struct Humanoid;
 
 #[derive(Mechanism)]
 #[mechanism(
     urdf = "robots/three_link_arm.urdf",
     gravity = [0.0, 0.0, -9.81],
-    emit = [kinematics]
+    emit = [kinematics, generic]
 )]
-struct ThreeLinkArm;
+pub struct ThreeLinkArm;
 
 /// Interleaved rounds of our timing and Pinocchio's.
 const ROUNDS: usize = 3;
@@ -299,7 +299,7 @@ fn pinocchio(dir: &Path) -> Vec<(String, [f64; 6])> {
 /// the model Pinocchio built from the same URDF (`peers/urdf_pin.py` writes it to
 /// `peers/urdf/<robot>.txt` and checks the binary's ABA against the bindings'). `None`
 /// before `bash peers/run.sh`.
-fn pinocchio_aba(out_dir: &Path, robot: &str) -> Option<(PathBuf, PathBuf)> {
+pub fn pinocchio_aba(out_dir: &Path, robot: &str) -> Option<(PathBuf, PathBuf)> {
     let bin = out_dir.join("peers/build/pin_bench");
     let model = out_dir.join("peers/urdf").join(format!("{robot}.txt"));
     (bin.exists() && model.exists()).then_some((bin, model))

@@ -53,6 +53,11 @@ fn array<const N: usize>(rng: &mut Rng, scale: f64) -> [f64; N] {
     rng.vector::<N>(scale).into()
 }
 
+/// A random state: coordinates within ±2, velocities ±3, torques ±5.
+fn state<const N: usize>(rng: &mut Rng) -> ([f64; N], [f64; N], [f64; N]) {
+    (array(rng, 2.0), array(rng, 3.0), array(rng, 5.0))
+}
+
 fn bits<const N: usize>(x: &[f64; N]) -> [u64; N] {
     x.map(f64::to_bits)
 }
@@ -96,21 +101,13 @@ fn other_kernels_bit_for_bit<S, const N: usize, const P: usize>(
 fn on_f64_it_is_the_f64_kernel_bit_for_bit() {
     let mut rng = Rng::new(7);
     for _ in 0..50 {
-        let (q, v, tau) = (
-            array::<3>(&mut rng, 2.0),
-            array::<3>(&mut rng, 3.0),
-            array::<3>(&mut rng, 5.0),
-        );
+        let (q, v, tau) = state::<3>(&mut rng);
         let f = OBLIQUE.forward_dynamics(&q.into(), &v.into(), &tau.into());
         let g = OBLIQUE.forward_dynamics_as::<f64>(&q, &v, &tau);
         assert_eq!(bits(&g), bits(&f.into()), "{q:?} {v:?}");
         other_kernels_bit_for_bit(&OBLIQUE, q, v, tau);
         // The Panda (`emit = all`): seven joints, literal inertias, one parameter.
-        let (q, v, tau) = (
-            array::<7>(&mut rng, 2.0),
-            array::<7>(&mut rng, 3.0),
-            array::<7>(&mut rng, 5.0),
-        );
+        let (q, v, tau) = state::<7>(&mut rng);
         let f = Panda::default().forward_dynamics(&q.into(), &v.into(), &tau.into());
         let g = Panda::default().forward_dynamics_as::<f64>(&q, &v, &tau);
         assert_eq!(bits(&g), bits(&f.into()));
@@ -149,11 +146,7 @@ fn dual_derivatives_equal_the_symbolic_jacobian() {
     let mut rng = Rng::new(11);
     let mut worst = 0.0f64;
     for _ in 0..50 {
-        let (q, v, tau) = (
-            array::<7>(&mut rng, 2.0),
-            array::<7>(&mut rng, 3.0),
-            array::<7>(&mut rng, 5.0),
-        );
+        let (q, v, tau) = state::<7>(&mut rng);
         let panda = Panda::default();
         let jac = panda.forward_dynamics_jacobian(&q.into(), &v.into(), &tau.into());
         let qd: [Dual<14>; 7] = std::array::from_fn(|i| Dual::variable(q[i], i));
@@ -185,11 +178,7 @@ fn parameter_sensitivities_equal_central_differences() {
     let p0 = OBLIQUE.parameters();
     let mut worst = 0.0f64;
     for _ in 0..30 {
-        let (q, v, tau) = (
-            array::<3>(&mut rng, 2.0),
-            array::<3>(&mut rng, 3.0),
-            array::<3>(&mut rng, 5.0),
-        );
+        let (q, v, tau) = state::<3>(&mut rng);
         let pd: [Dual<7>; 7] = std::array::from_fn(|i| Dual::variable(p0[i], i));
         let a = Oblique::forward_dynamics_generic(
             &pd,
@@ -245,11 +234,7 @@ fn dual_sensitivities_equal_the_complex_step() {
         }
     };
     for _ in 0..30 {
-        let (q, v, tau) = (
-            array::<3>(&mut rng, 2.0),
-            array::<3>(&mut rng, 3.0),
-            array::<3>(&mut rng, 5.0),
-        );
+        let (q, v, tau) = state::<3>(&mut rng);
         let pd: [Dual<7>; 7] = std::array::from_fn(|i| Dual::variable(p0[i], i));
         let (qd, vd, td) = (
             q.map(Dual::constant),
@@ -267,11 +252,7 @@ fn dual_sensitivities_equal_the_complex_step() {
             compare(&a.map(|x| x.eps[j]), &ac.map(|x| x.im / H));
             compare(&id.map(|x| x.eps[j]), &idc.map(|x| x.im / H));
         }
-        let (q, v, tau) = (
-            array::<7>(&mut rng, 2.0),
-            array::<7>(&mut rng, 3.0),
-            array::<7>(&mut rng, 5.0),
-        );
+        let (q, v, tau) = state::<7>(&mut rng);
         let panda = Panda::default();
         let qd: [Dual<7>; 7] = std::array::from_fn(|i| Dual::variable(q[i], i));
         let a = panda.forward_dynamics_as(&qd, &v.map(Dual::constant), &tau.map(Dual::constant));

@@ -306,9 +306,7 @@ pub fn scalars(config: &Config) -> Section {
         }
     }
     if !heads.is_empty() {
-        let list = |f: &dyn Fn(&Head) -> String| {
-            heads.iter().map(f).collect::<Vec<_>>().join("; ")
-        };
+        let list = |f: &dyn Fn(&Head) -> String| heads.iter().map(f).collect::<Vec<_>>().join("; ");
         super::markdown::headline(
             "Forward dynamics per state in SIMD batches (f64x4, four states per call) against Pinocchio's ABA in C++",
             format!(

@@ -52,6 +52,9 @@ pub(crate) struct Methods<'a> {
     pub helpers: TokenStream,
     /// The methods [`add`](Self::add)ed so far.
     pub methods: TokenStream,
+    /// `Some(P)`: associated functions generic over their scalar, the `P` parameters an
+    /// input (see [`Signature::generic`]).
+    pub generic: Option<usize>,
 }
 
 impl<'a> Methods<'a> {
@@ -63,13 +66,24 @@ impl<'a> Methods<'a> {
         n: usize,
         stats: &'a mut Vec<FnStats>,
     ) -> Self {
+        Self::with_dims(graph, params, (n, n), stats)
+    }
+
+    /// No methods yet, with `(n, nq)` velocity and configuration dimensions.
+    pub fn with_dims(
+        graph: &'a crate::sym::Graph,
+        params: &'a [proc_macro2::Ident],
+        dims: (usize, usize),
+        stats: &'a mut Vec<FnStats>,
+    ) -> Self {
         Methods {
             graph,
             params,
-            dims: (n, n),
+            dims,
             stats,
             helpers: TokenStream::new(),
             methods: TokenStream::new(),
+            generic: None,
         }
     }
 
@@ -99,7 +113,7 @@ impl<'a> Methods<'a> {
         doc: &str,
     ) -> TokenStream {
         let sig = Signature {
-            generic: None,
+            generic: self.generic,
             vis: quote!(),
             elements: 0,
             name: format_ident!("{}", name),
@@ -136,31 +150,14 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
     let flat = |m: &[Vec<Id>]| m.iter().flatten().copied().collect::<Vec<Id>>();
     let mut helpers = TokenStream::new();
     let mut stats = Vec::new();
+    let mut core = Methods::with_dims(g, params, (n, nq), &mut stats);
     let mut add = |name: &'static str,
                    inputs: Vec<InputKind>,
                    ret: TokenStream,
                    outs: Vec<Id>,
                    asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
                    doc: &str|
-     -> TokenStream {
-        let sig = Signature {
-            generic: None,
-            vis: quote!(),
-            elements: 0,
-            name: format_ident!("{}", name),
-            inputs,
-            ret,
-            doc: doc.to_string(),
-        };
-        let e = emit(g, params, (n, nq), &sig, &outs, asm);
-        stats.push(FnStats {
-            name,
-            ops: g.count_ops(&outs),
-            lets: e.lets,
-        });
-        helpers.extend(e.helpers);
-        e.method
-    };
+     -> TokenStream { core.emit(name, inputs, ret, &outs, asm, doc) };
     let vasm = |o: Vec<TokenStream>| vector(o, n);
     let masm = |o: Vec<TokenStream>| matrix(o, n);
     let emits = model.emit;
@@ -327,6 +324,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         kernel("Energy", body);
     }
 
+    helpers.extend(core.helpers);
     if !k.frames.is_empty() {
         let (body, frame_helpers) = frames_impl(model, k, &mut stats);
         helpers.extend(frame_helpers);
@@ -335,36 +333,14 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
 
     if emits.generic {
         let np = params.len();
-        let mut generic_fn = |name: &'static str,
-                              inputs: Vec<InputKind>,
-                              ret: TokenStream,
-                              outs: &[Id],
-                              asm: &dyn Fn(Vec<TokenStream>) -> TokenStream,
-                              doc: &str| {
-            let sig = Signature {
-                generic: Some(np),
-                vis: quote!(),
-                elements: 0,
-                name: format_ident!("{}", name),
-                inputs,
-                ret,
-                doc: doc.to_string(),
-            };
-            let e = emit(g, params, (n, nq), &sig, outs, asm);
-            stats.push(FnStats {
-                name,
-                ops: g.count_ops(outs),
-                lets: e.lets,
-            });
-            helpers.extend(e.helpers);
-            e.method
-        };
+        let mut gm = Methods::with_dims(g, params, (n, nq), &mut stats);
+        gm.generic = Some(np);
         let rows = |o: Vec<TokenStream>| -> TokenStream {
             let rows: Vec<TokenStream> = o.chunks(n).map(|r| quote!([#(#r),*])).collect();
             quote!([#(#rows),*])
         };
         let array = |o: Vec<TokenStream>| quote!([#(#o),*]);
-        let mut methods = generic_fn(
+        let mut methods = gm.emit(
             "forward_dynamics_generic",
             vec![Q, V, Tau],
             quote!([T; #n]),
@@ -373,7 +349,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
             " `v̇ = M⁻¹ (τ + τ_p − C v − g)` on any scalar, the parameters `p` in \
              declaration order.",
         );
-        methods.extend(generic_fn(
+        methods.extend(gm.emit(
             "mass_matrix_generic",
             vec![Q],
             quote!([[T; #n]; #n]),
@@ -381,7 +357,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
             &rows,
             " `M(q)` on any scalar, an array of rows.",
         ));
-        methods.extend(generic_fn(
+        methods.extend(gm.emit(
             "inverse_dynamics_generic",
             vec![Q, V, A],
             quote!([T; #n]),
@@ -392,7 +368,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         let mut jac_outs = k.jacobian_forward.clone();
         jac_outs.extend(flat(&k.jac_q));
         jac_outs.extend(flat(&k.jac_v));
-        methods.extend(generic_fn(
+        methods.extend(gm.emit(
             "forward_dynamics_jacobian_generic",
             vec![Q, V, Tau],
             quote!(::filippov::runtime::kernels::GenericJacobian<T, #n>),
@@ -408,6 +384,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
             " Forward dynamics and its symbolic Jacobian with respect to `(q, v)` on any \
              scalar, the matrices arrays of rows.",
         ));
+        helpers.extend(gm.helpers);
         let names: Vec<String> = params.iter().map(|p| p.to_string()).collect();
         optional.extend(quote! {
             impl ::filippov::runtime::kernels::GenericDynamics<#n, #nq, #np> for #ident {

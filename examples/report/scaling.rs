@@ -1,7 +1,9 @@
 //! How the generated kernels scale with the number of joints, per algorithm: planar
-//! chains of 7…50 links declared with `forward_dynamics = crba` and `= aba`, each built
-//! as its own release crate (the build a user runs) whose binary times the generated
-//! forward dynamics and its Jacobian beside the numeric implementation.
+//! chains of 7…50 links declared with `forward_dynamics = crba` and `= aba`, and random
+//! oblique 3-D trees of the same sizes (nothing axis-aligned to fold) as `auto` builds
+//! them, each built as its own release crate (the build a user runs) whose binary times
+//! the generated forward dynamics and its Jacobian beside the numeric implementation;
+//! with the forward dynamics' machine code size from the binary's symbols.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -30,6 +32,93 @@ fn chain_source(n: usize, algorithm: &str) -> String {
     }
     s += "pub struct Chain { pub m: f64, pub l: f64 }\n";
     s
+}
+
+/// A random 3-D tree of `n` bodies with nothing axis-aligned to fold: oblique joint axes,
+/// rpy origins, off-axis centres of mass, full inertia tensors, every seventh joint
+/// prismatic, each body's parent one of the three before it (seeded by `n`, so the same
+/// tree every run). The fields `m` and `l` scale the masses and the offsets.
+fn oblique_source(n: usize, algorithm: &str) -> String {
+    let mut state = 0x9E37_79B9_7F4A_7C15u64 ^ n as u64;
+    let mut uniform = |lo: f64, hi: f64| {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        lo + (hi - lo) * ((state >> 11) as f64 / (1u64 << 53) as f64)
+    };
+    let mut s = format!(
+        "#[derive(filippov::Mechanism)]\n#[mechanism(gravity = [0.0, 0.0, -9.81], forward_dynamics = {algorithm})]\n"
+    );
+    for i in 0..n {
+        let parent = if i == 0 {
+            "world".to_string()
+        } else {
+            format!("b{}", i - 1 - (uniform(0.0, 3.0) as usize).min(i - 1))
+        };
+        let mut axis = [uniform(-1.0, 1.0), uniform(-1.0, 1.0), uniform(0.2, 1.0)];
+        let norm = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
+        axis.iter_mut().for_each(|x| *x /= norm);
+        let kind = if i % 7 == 6 { "prismatic" } else { "revolute" };
+        let o = [uniform(0.05, 0.3), uniform(-0.1, 0.1), uniform(-0.1, 0.1)];
+        let rpy = [uniform(-0.5, 0.5), uniform(-0.5, 0.5), uniform(-0.5, 0.5)];
+        let c = [
+            uniform(0.02, 0.15),
+            uniform(-0.05, 0.05),
+            uniform(-0.05, 0.05),
+        ];
+        let w = uniform(0.5, 2.0);
+        // Moments within [0.02, 0.03] (any two sum beyond the third, as a real body's
+        // must) and small products: positive definite.
+        let (ixx, iyy, izz) = (
+            uniform(0.02, 0.03),
+            uniform(0.02, 0.03),
+            uniform(0.02, 0.03),
+        );
+        let (ixy, ixz, iyz) = (
+            uniform(-0.002, 0.002),
+            uniform(-0.002, 0.002),
+            uniform(-0.002, 0.002),
+        );
+        s += &format!(
+            "#[body(b{i}: {kind}([{:.4}, {:.4}, {:.4}]), parent = {parent}, origin = [l * {:.4}, l * {:.4}, l * {:.4}], \
+             rpy = [{:.4}, {:.4}, {:.4}], mass = m * {w:.4}, com = [{:.4}, {:.4}, {:.4}], \
+             inertia = [[{ixx:.5}, {ixy:.5}, {ixz:.5}], [{ixy:.5}, {iyy:.5}, {iyz:.5}], [{ixz:.5}, {iyz:.5}, {izz:.5}]])]\n",
+            axis[0], axis[1], axis[2], o[0], o[1], o[2], rpy[0], rpy[1], rpy[2], c[0], c[1], c[2]
+        );
+    }
+    s += "pub struct Chain { pub m: f64, pub l: f64 }\n";
+    s
+}
+
+/// The declaration of a scene of `geometry` (`planar` or `oblique`).
+fn source(geometry: &str, n: usize, algorithm: &str) -> String {
+    match geometry {
+        "oblique" => oblique_source(n, algorithm),
+        _ => chain_source(n, algorithm),
+    }
+}
+
+/// The machine code of the generated forward dynamics in `binary` (the method and its
+/// out-of-line parts, from the symbol table), in bytes; `None` when the method was
+/// inlined into its caller or the table could not be read.
+fn fd_code_bytes(binary: &Path) -> Option<u64> {
+    let out = Command::new("nm")
+        .args(["-S", "-C", "--defined-only"])
+        .arg(binary)
+        .output()
+        .ok()?;
+    let text = String::from_utf8(out.stdout).ok()?;
+    let bytes: u64 = text
+        .lines()
+        .filter(|l| {
+            l.contains("forward_dynamics")
+                && !l.contains("jacobian")
+                && !l.contains("numeric")
+                && !l.contains("{{closure}}")
+        })
+        .filter_map(|l| u64::from_str_radix(l.split_whitespace().nth(1)?, 16).ok())
+        .sum();
+    (bytes > 0).then_some(bytes)
 }
 
 /// The crate's binary: ns per call (median, min, max of 7 batches) of the generated
@@ -81,14 +170,22 @@ fn main() {
 
 struct Run {
     n: usize,
+    geometry: &'static str,
     algorithm: &'static str,
+    /// The generated forward dynamics' machine code, bytes.
+    code: Option<u64>,
     build_s: f64,
     /// FD, Jacobian, numeric FD: `[median, min, max]` ns.
     ns: [[f64; 3]; 3],
     diff: f64,
 }
 
-fn write_crate(dir: &Path, root: &Path, name: &str, n: usize, algorithm: &str) -> Option<()> {
+fn write_crate(
+    dir: &Path,
+    root: &Path,
+    name: &str,
+    (geometry, n, algorithm): (&str, usize, &str),
+) -> Option<()> {
     std::fs::create_dir_all(dir.join("src")).ok()?;
     let manifest = format!(
         "[package]\nname = \"{name}\"\nversion = \"0.0.0\"\nedition = \"2024\"\n\n[dependencies]\nfilippov = {{ path = {root:?} }}\n\n[workspace]\n"
@@ -96,7 +193,7 @@ fn write_crate(dir: &Path, root: &Path, name: &str, n: usize, algorithm: &str) -
     std::fs::write(dir.join("Cargo.toml"), manifest).ok()?;
     let src = format!(
         "{}\nconst N: usize = {n};\n{MAIN}",
-        chain_source(n, algorithm)
+        source(geometry, n, algorithm)
     );
     std::fs::write(dir.join("src/main.rs"), src).ok()
 }
@@ -118,8 +215,8 @@ fn run(target: &Path, name: &str) -> Option<([[f64; 3]; 3], f64)> {
     })
 }
 
-fn ops(n: usize, algorithm: &str) -> Option<(usize, usize)> {
-    let tokens: proc_macro2::TokenStream = chain_source(n, algorithm).parse().ok()?;
+fn ops(geometry: &str, n: usize, algorithm: &str) -> Option<(usize, usize)> {
+    let tokens: proc_macro2::TokenStream = source(geometry, n, algorithm).parse().ok()?;
     let e = filippov_codegen::expand_with_stats(tokens).ok()?;
     let get = |f: &str| {
         e.functions
@@ -145,7 +242,7 @@ pub fn scaling(config: &Config) -> Section {
     let target = work.join("target");
     // Dependencies first (untimed), so each timed build compiles its own crate only.
     let warm = work.join("warm");
-    let _ = write_crate(&warm, root, "warm", 2, "auto");
+    let _ = write_crate(&warm, root, "warm", ("planar", 2, "auto"));
     if timed_build(&warm, &target).is_none() {
         page.para("**The warm-up crate did not build**; nothing measured.");
         return Section {
@@ -160,17 +257,22 @@ pub fn scaling(config: &Config) -> Section {
     };
     let mut runs = Vec::new();
     let mut failed = Vec::new();
+    // Planar chains by both algorithms; oblique trees (nothing to fold) as `auto` builds
+    // them.
+    let cases = [("planar", "crba"), ("planar", "aba"), ("oblique", "auto")];
     for &n in sizes {
-        for algorithm in ["crba", "aba"] {
-            let name = format!("chain{n}_{algorithm}");
+        for (geometry, algorithm) in cases {
+            let name = format!("{geometry}{n}_{algorithm}");
             let dir = work.join(&name);
-            let measured = write_crate(&dir, root, &name, n, algorithm)
+            let measured = write_crate(&dir, root, &name, (geometry, n, algorithm))
                 .and_then(|()| timed_build(&dir, &target))
                 .and_then(|build_s| run(&target, &name).map(|(ns, diff)| (build_s, ns, diff)));
             match measured {
                 Some((build_s, ns, diff)) => runs.push(Run {
                     n,
+                    geometry,
                     algorithm,
+                    code: fd_code_bytes(&target.join("release").join(&name)),
                     build_s,
                     ns,
                     diff,
@@ -183,24 +285,27 @@ pub fn scaling(config: &Config) -> Section {
     // What auto's forward dynamics comes to, once per size.
     let auto: Vec<(usize, Option<usize>)> = sizes
         .iter()
-        .map(|&n| (n, ops(n, "auto").map(|(f, _)| f)))
+        .map(|&n| (n, ops("planar", n, "auto").map(|(f, _)| f)))
         .collect();
     let mut rows = Vec::new();
     for r in &runs {
-        let (fd_ops, jac_ops) = ops(r.n, r.algorithm).unwrap_or_default();
+        let (fd_ops, jac_ops) = ops(r.geometry, r.n, r.algorithm).unwrap_or_default();
         let auto = auto.iter().find(|(n, _)| *n == r.n).and_then(|(_, f)| *f);
         rows.push(vec![
             r.n.to_string(),
+            r.geometry.to_string(),
             format!(
                 "{}{}",
                 r.algorithm,
-                if auto == Some(fd_ops) {
+                if r.geometry == "planar" && auto == Some(fd_ops) {
                     " (auto's FD)"
                 } else {
                     ""
                 }
             ),
             fd_ops.to_string(),
+            r.code
+                .map_or("inlined".into(), |b| format!("{:.1}", b as f64 / 1024.0)),
             jac_ops.to_string(),
             format!("{:.1}", r.build_s),
             cell(r.ns[0]),
@@ -220,11 +325,20 @@ pub fn scaling(config: &Config) -> Section {
          operations; the row marked is the one auto's forward dynamics matches. Last column: the largest difference of \
          the generated FD from the numeric one, relative to the largest acceleration.",
     );
+    page.para(
+        "Oblique trees: `n` bodies in a random 3-D tree (seeded by `n`) with nothing axis-aligned to fold — oblique \
+         joint axes, rpy origins, off-axis centres of mass, full inertia tensors, every seventh joint prismatic, each \
+         body's parent one of the three before it — as `auto` builds them. FD code: the machine code of the generated \
+         forward dynamics and its out-of-line parts in the release binary (symbol sizes), in KiB, against this \
+         machine's 32 KiB L1 instruction cache; \"inlined\" where the compiler inlined it into the timing loop.",
+    );
     page.table(
         &[
             "joints",
+            "geometry",
             "algorithm",
             "FD ops",
+            "FD code [KiB]",
             "Jacobian ops",
             "release build [s]",
             "FD ns",
@@ -242,13 +356,13 @@ pub fn scaling(config: &Config) -> Section {
         ));
     }
     let series = |f: &dyn Fn(&Run) -> f64| -> Vec<Series> {
-        ["crba", "aba"]
+        cases
             .iter()
-            .map(|a| {
+            .map(|(g, a)| {
                 Series::new(
-                    format!("forward_dynamics = {a}"),
+                    format!("{g}, forward_dynamics = {a}"),
                     runs.iter()
-                        .filter(|r| r.algorithm == *a)
+                        .filter(|r| r.geometry == *g && r.algorithm == *a)
                         .map(|r| (r.n as f64, f(r)))
                         .collect(),
                 )
@@ -257,7 +371,7 @@ pub fn scaling(config: &Config) -> Section {
     };
     line_plot(
         &config.out_dir.join("scaling_build.svg"),
-        "Release build of a crate holding one planar chain",
+        "Release build of a crate holding one chain or tree",
         "joints",
         "build time [s]",
         &series(&|r| r.build_s),
@@ -268,24 +382,52 @@ pub fn scaling(config: &Config) -> Section {
     fd.push(Series::new(
         "numeric FD (run-time CRBA + Cholesky)",
         runs.iter()
-            .filter(|r| r.algorithm == "aba")
+            .filter(|r| r.geometry == "planar" && r.algorithm == "aba")
             .map(|r| (r.n as f64, r.ns[2][0]))
             .collect(),
     ));
     line_plot(
         &config.out_dir.join("scaling_fd.svg"),
-        "Forward dynamics of a planar chain, ns per call (median)",
+        "Forward dynamics, ns per call (median)",
         "joints",
         "ns per call",
         &fd,
         Scale::Log,
         Scale::Log,
     );
+    let code: Vec<Series> = cases
+        .iter()
+        .map(|(g, a)| {
+            Series::new(
+                format!("{g}, forward_dynamics = {a}"),
+                runs.iter()
+                    .filter(|r| r.geometry == *g && r.algorithm == *a)
+                    .filter_map(|r| Some((r.code? as f64 / 1024.0, r.ns[0][0])))
+                    .collect(),
+            )
+        })
+        .collect();
+    line_plot(
+        &config.out_dir.join("scaling_code.svg"),
+        "Forward dynamics: time per call against its machine code (L1i: 32 KiB)",
+        "machine code [KiB]",
+        "ns per call",
+        &code,
+        Scale::Log,
+        Scale::Log,
+    );
     page.image("release build time against joints", "scaling_build.svg");
+    page.image(
+        "forward dynamics time against its machine code",
+        "scaling_code.svg",
+    );
     page.image("forward dynamics ns against joints", "scaling_fd.svg");
     let mut summary = Vec::new();
     let largest = sizes.last().copied().unwrap_or(0);
-    let at = |a: &str| runs.iter().find(|r| r.n == largest && r.algorithm == a);
+    let at = |a: &str| {
+        runs.iter()
+            .find(|r| r.n == largest && r.geometry == "planar" && r.algorithm == a)
+    };
     if let (Some(aba), Some(crba)) = (at("aba"), at("crba")) {
         summary.push(format!(
             "{largest}-link planar chain: FD {:.0} ns by ABA, {:.0} ns by CRBA + LᵀDL, numeric {:.0} ns; release build {:.0} s and {:.0} s",
@@ -308,6 +450,18 @@ pub fn scaling(config: &Config) -> Section {
             ),
             "one binary per algorithm, medians of 7 batches; section \"Scaling with the number of joints\"",
         );
+    }
+    if let Some(r) = runs
+        .iter()
+        .find(|r| r.n == largest && r.geometry == "oblique")
+    {
+        summary.push(format!(
+            "{largest}-body oblique tree (nothing to fold): FD {:.0} ns ({}), machine code {}, release build {:.0} s",
+            r.ns[0][0],
+            r.algorithm,
+            r.code.map_or("inlined".into(), |b| format!("{:.0} KiB", b as f64 / 1024.0)),
+            r.build_s
+        ));
     }
     Section { page, summary }
 }

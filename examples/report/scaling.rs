@@ -14,11 +14,16 @@ use super::release_build::timed_build;
 use super::support::{Scale, Series, line_plot};
 use super::workprecision::Section;
 
+/// The derive and `#[mechanism]` line of a scene under `gravity` solved with `algorithm`.
+fn header(gravity: &str, algorithm: &str) -> String {
+    format!(
+        "#[derive(filippov::Mechanism)]\n#[mechanism(gravity = {gravity}, forward_dynamics = {algorithm})]\n"
+    )
+}
+
 /// A planar chain of `n` rods solved with `algorithm`.
 fn chain_source(n: usize, algorithm: &str) -> String {
-    let mut s = format!(
-        "#[derive(filippov::Mechanism)]\n#[mechanism(gravity = [0.0, -9.81, 0.0], forward_dynamics = {algorithm})]\n"
-    );
+    let mut s = header("[0.0, -9.81, 0.0]", algorithm);
     for i in 0..n {
         let parent = if i == 0 {
             "world".to_string()
@@ -39,16 +44,9 @@ fn chain_source(n: usize, algorithm: &str) -> String {
 /// prismatic, each body's parent one of the three before it (seeded by `n`, so the same
 /// tree every run). The fields `m` and `l` scale the masses and the offsets.
 fn oblique_source(n: usize, algorithm: &str) -> String {
-    let mut state = 0x9E37_79B9_7F4A_7C15u64 ^ n as u64;
-    let mut uniform = |lo: f64, hi: f64| {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        lo + (hi - lo) * ((state >> 11) as f64 / (1u64 << 53) as f64)
-    };
-    let mut s = format!(
-        "#[derive(filippov::Mechanism)]\n#[mechanism(gravity = [0.0, 0.0, -9.81], forward_dynamics = {algorithm})]\n"
-    );
+    let mut rng = super::agreement_support::Rng::new(n as u64);
+    let mut uniform = |lo: f64, hi: f64| rng.uniform(lo, hi);
+    let mut s = header("[0.0, 0.0, -9.81]", algorithm);
     for i in 0..n {
         let parent = if i == 0 {
             "world".to_string()

@@ -123,7 +123,7 @@ fn tree2() {
 }
 
 #[derive(Mechanism)]
-#[mechanism(emit = all, forward_dynamics = auto, gravity = [1.165, 1.878, -8.076])]
+#[mechanism(emit = all, forward_dynamics = compact, gravity = [1.165, 1.878, -8.076])]
 #[body(b0, mass = m * 1.732, com = [0.096, 0.244, -0.166], inertia = cuboid(m * 1.732, 0.471, 0.401, l))]
 #[joint(j0: fixed, parent = world, child = b0, origin = [0.289, 0.0, l], rpy = [0.088, 0.272, -0.622])]
 #[body(b1, mass = m * 1.762, com = [-0.161, 0.155, 0.185], inertia = cuboid(m * 1.762, 0.422, 0.437, l))]
@@ -154,7 +154,7 @@ fn tree3() {
 }
 
 #[derive(Mechanism)]
-#[mechanism(emit = all, forward_dynamics = aba, gravity = [2.320, -2.227, -0.811])]
+#[mechanism(emit = all, forward_dynamics = auto, gravity = [2.320, -2.227, -0.811])]
 #[body(b0, mass = m * 0.834, com = [0.271, 0.244, 0.100], inertia = rod(m * 0.834, l))]
 #[joint(j0: revolute([0.6, 0.0, 0.8]), parent = world, child = b0, origin = [-0.380, 0.0, l], rpy = [0.570, -0.041, 0.043])]
 #[body(b1, mass = m * 1.572, com = [-0.183, -0.001, 0.251], inertia = cuboid(m * 1.572, 0.249, 0.069, l))]
@@ -182,7 +182,7 @@ fn tree4() {
 }
 
 #[derive(Mechanism)]
-#[mechanism(emit = all, forward_dynamics = crba, gravity = [2.960, -1.225, -2.720])]
+#[mechanism(emit = all, forward_dynamics = aba, gravity = [2.960, -1.225, -2.720])]
 #[body(b0, mass = m * 1.140, com = [-0.167, -0.028, 0.012], inertia = cylinder(m * 1.140, 0.027, l))]
 #[joint(j0: prismatic(-x), parent = world, child = b0, origin = [0.067, 0.0, l], rpy = [0.313, -1.327, -0.031])]
 #[body(b1, mass = m * 0.828, com = [0.147, 0.076, -0.222], inertia = cylinder(m * 0.828, 0.155, l))]
@@ -213,6 +213,75 @@ fn tree5() {
     };
     assert_eq!(Tree5::DOF, 5);
     common::check(&tree, 105);
+}
+
+#[derive(Mechanism)]
+#[mechanism(emit = all, forward_dynamics = crba, gravity = [-2.777, -0.896, -2.839])]
+#[body(b0, mass = m * 1.961, com = [0.149, 0.087, 0.130], inertia = rod(m * 1.961, l))]
+#[joint(j0: fixed, parent = world, child = b0, origin = [0.183, 0.0, l], rpy = [-0.847, 1.082, -0.674])]
+#[body(b1, mass = m * 1.307, com = [-0.258, -0.034, -0.013], inertia = cylinder(m * 1.307, 0.111, l))]
+#[joint(j1: revolute(-z), parent = b0, child = b1, origin = [0.284, 0.0, l], rpy = [-0.391, 0.595, 1.372])]
+#[body(b2, mass = m * 0.298, com = [0.213, 0.251, 0.197], inertia = cylinder(m * 0.298, 0.117, l))]
+#[joint(j2: prismatic([-0.3, 0.4, 0.0]), parent = b1, child = b2, origin = [0.144, 0.0, l], rpy = [0.779, -0.434, -0.119])]
+#[body(b3, mass = m * 1.512, com = [-0.225, -0.120, -0.054], inertia = cylinder(m * 1.512, 0.111, l))]
+#[joint(j3: revolute(-z), parent = world, child = b3, origin = [-0.001, 0.0, l], rpy = [-0.824, -0.573, -1.135])]
+#[body(b4, mass = m * 0.409, com = [-0.007, 0.204, 0.101], inertia = rod(m * 0.409, l))]
+#[joint(j4: prismatic(y), parent = b0, child = b4, origin = [-0.212, 0.0, l], rpy = [-0.862, 1.191, -0.383])]
+#[body(b5, mass = m * 1.007, com = [-0.264, -0.017, 0.068], inertia = rod(m * 1.007, l))]
+#[joint(j5: prismatic(y), parent = b3, child = b5, origin = [-0.123, 0.0, l], rpy = [-1.082, 0.137, -1.219])]
+#[body(b6, mass = m * 1.824, com = [-0.264, -0.022, 0.153], inertia = cuboid(m * 1.824, 0.131, 0.062, l))]
+#[joint(j6: revolute(-x), parent = world, child = b6, origin = [-0.328, 0.0, l], rpy = [0.114, 1.324, -1.027])]
+#[damper(j1, c = 0.002)]
+#[damper(j2, c = 0.382)]
+#[damper(j4, c = 0.176)]
+#[spring(j5, k = k, rest = -0.250)]
+#[spring(j6, k = k, rest = -0.060)]
+struct Tree6 {
+    m: f64,
+    l: f64,
+    k: f64,
+}
+
+#[test]
+fn tree6() {
+    let tree = Tree6 {
+        m: 0.614,
+        l: 0.241,
+        k: 5.094,
+    };
+    assert_eq!(Tree6::DOF, 6);
+    common::check(&tree, 106);
+}
+
+#[derive(Mechanism)]
+#[mechanism(emit = all, forward_dynamics = compact, gravity = [0.117, -0.379, -7.473])]
+#[body(b0, mass = m * 0.230, com = [0.179, -0.044, -0.257], inertia = rod(m * 0.230, l))]
+#[joint(j0: revolute(y), parent = world, child = b0, origin = [-0.443, 0.0, l], rpy = [1.310, -0.775, 0.128])]
+#[body(b1, mass = m * 0.789, com = [-0.039, 0.220, -0.105], inertia = cylinder(m * 0.789, 0.066, l))]
+#[joint(j1: revolute([-0.3, 0.4, 0.0]), parent = b0, child = b1, origin = [-0.121, 0.0, l], rpy = [0.568, 0.291, -1.071])]
+#[body(b2, mass = m * 1.653, com = [-0.036, -0.072, 0.081], inertia = rod(m * 1.653, l))]
+#[joint(j2: revolute(y), parent = b0, child = b2, origin = [-0.180, 0.0, l], rpy = [-0.339, -1.334, 1.066])]
+#[body(b3, mass = m * 1.129, com = [0.241, -0.129, 0.200], inertia = cylinder(m * 1.129, 0.108, l))]
+#[joint(j3: revolute(y), parent = b2, child = b3, origin = [-0.054, 0.0, l], rpy = [-0.094, -0.984, 0.726])]
+#[spring(j0, k = k, rest = 0.492)]
+#[spring(j1, k = k, rest = 0.416)]
+#[spring(j2, k = k, rest = -0.026)]
+#[spring(j3, k = k, rest = -0.365)]
+struct Tree7 {
+    m: f64,
+    l: f64,
+    k: f64,
+}
+
+#[test]
+fn tree7() {
+    let tree = Tree7 {
+        m: 1.627,
+        l: 0.416,
+        k: 7.790,
+    };
+    assert_eq!(Tree7::DOF, 4);
+    common::check(&tree, 107);
 }
 
 #[test]

@@ -77,6 +77,7 @@
 //! Generated scenes are plain `f64` structs: `Send + Sync + Copy`. [`Solution`],
 //! [`Stats`], [`Options`], [`Problem`], [`NonSmoothProblem`] and the steppers are `Send +
 //! Sync`; a parameter sweep may run one integration per thread.
+pub mod compact;
 mod conservative;
 pub mod contacts;
 mod element;

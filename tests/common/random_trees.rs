@@ -5,7 +5,7 @@
 
 use super::Rng;
 
-pub const TREES: usize = 6;
+pub const TREES: usize = 8;
 pub const SEED: u64 = 0x5EED_2026;
 
 fn pick<'a>(rng: &mut Rng, items: &[&'a str]) -> &'a str {
@@ -35,8 +35,9 @@ pub fn source() -> String {
             num(&mut rng, -3.0, 3.0),
             num(&mut rng, -10.0, 0.0),
         ];
-        // Both ways of solving with M, and the automatic choice, in turn.
-        let algorithm = ["auto", "aba", "crba"][t % 3];
+        // Every way of solving with M (unrolled both ways, the compact loops), and the
+        // automatic choice, in turn.
+        let algorithm = ["auto", "aba", "crba", "compact"][t % 4];
         out += "#[derive(Mechanism)]\n";
         out += &format!(
             "#[mechanism(emit = all, forward_dynamics = {algorithm}, gravity = [{}, {}, {}])]\n",

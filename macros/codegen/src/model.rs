@@ -286,14 +286,52 @@ pub enum Algorithm {
     Crba,
     /// The articulated-body algorithm, unrolled per link.
     Aba,
+    /// The articulated-body algorithm as one loop over a table of the bodies' constants
+    /// (`runtime::compact`): code whose size does not grow with the tree. Trees of
+    /// revolute, prismatic and fixed joints without loop joints.
+    Compact,
 }
 
 impl Algorithm {
-    pub const NAMES: [(&'static str, Algorithm); 3] = [
+    pub const NAMES: [(&'static str, Algorithm); 4] = [
         ("auto", Algorithm::Auto),
         ("crba", Algorithm::Crba),
         ("aba", Algorithm::Aba),
+        ("compact", Algorithm::Compact),
     ];
+}
+
+impl Model {
+    /// Why the compact kernels cannot take this scene (`None`: they can): they run on
+    /// trees of one-dof and fixed joints, each link after its parent.
+    pub fn compact_unsupported(&self) -> Option<String> {
+        if let Some(l) = self.links.iter().find(|l| l.kind.is_lie()) {
+            return Some(format!(
+                "joint `{}` is a ball, translation or free joint; the compact kernels take \
+                 revolute, prismatic and fixed joints",
+                l.joint_name
+            ));
+        }
+        if let Some(l) = self.loops.first() {
+            return Some(format!(
+                "loop joint `{}` closes a loop; the compact kernels take trees",
+                l.name
+            ));
+        }
+        if let Some((i, l)) = self
+            .links
+            .iter()
+            .enumerate()
+            .find(|(i, l)| l.parent.is_some_and(|p| p >= *i))
+        {
+            return Some(format!(
+                "link `{}` (number {i}) comes before its parent; the compact kernels need \
+                 parents first",
+                l.name
+            ));
+        }
+        None
+    }
 }
 
 /// A frame fixed to a link: `link · Trans(origin) · Rot(rpy)` (URDF convention), a

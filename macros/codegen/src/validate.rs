@@ -75,6 +75,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
     let mut emit = crate::model::Emit::default();
     let mut emit_expr: Option<syn::Expr> = None;
     let mut algorithm = crate::model::Algorithm::default();
+    let mut algorithm_expr: Option<syn::Expr> = None;
     let mut mechanism_seen = false;
     let mut bodies = Vec::new();
     let mut joints = Vec::new();
@@ -110,6 +111,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
                 }
                 if let Some((_, e)) = raw.take("forward_dynamics", diag) {
                     algorithm = read_algorithm(&e, diag);
+                    algorithm_expr = Some(e);
                 }
                 raw.reject_rest(
                     &[
@@ -268,7 +270,7 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         return None;
     }
     let (springs, dampers, potentials) = springs_dampers;
-    Some(Model {
+    let model = Model {
         ident: input.ident.clone(),
         params: fields,
         gravity,
@@ -286,10 +288,22 @@ pub fn validate(input: &DeriveInput, diag: &mut Diagnostics) -> Option<Model> {
         loops,
         point_springs,
         contacts,
-    })
+    };
+    if model.algorithm == crate::model::Algorithm::Compact
+        && let (Some(why), Some(e)) = (model.compact_unsupported(), &algorithm_expr)
+    {
+        diag.error_at(
+            e,
+            format!(
+                "`forward_dynamics = compact` cannot take this scene: {why}; use `auto`, `crba` or `aba`"
+            ),
+        );
+        return None;
+    }
+    Some(model)
 }
 
-/// `forward_dynamics = auto | crba | aba`.
+/// `forward_dynamics = auto | crba | aba | compact`.
 fn read_algorithm(e: &syn::Expr, diag: &mut Diagnostics) -> crate::model::Algorithm {
     use crate::model::Algorithm;
     let found = ident_of(e).and_then(|i| {
@@ -301,8 +315,10 @@ fn read_algorithm(e: &syn::Expr, diag: &mut Diagnostics) -> crate::model::Algori
     found.unwrap_or_else(|| {
         diag.error_at(
             e,
-            "`forward_dynamics` is `auto` (the default: per kernel, whichever emits fewer operations), \
-             `crba` (mass matrix, then its sparse LᵀDL) or `aba` (the articulated-body algorithm)",
+            "`forward_dynamics` is `auto` (the default: per kernel, whichever emits fewer operations, \
+             and `compact` for large trees), `crba` (mass matrix, then its sparse LᵀDL), `aba` (the \
+             articulated-body algorithm, unrolled) or `compact` (the articulated-body algorithm as one \
+             loop over a table of the bodies)",
         );
         Algorithm::default()
     })

@@ -2,6 +2,7 @@
 //! ([`function`]), the numeric model description ([`describe`]) and, on error, a stub
 //! impl that keeps secondary errors away ([`fallback`]).
 
+pub mod compact;
 pub mod contacts;
 pub mod describe;
 pub mod fallback;
@@ -150,6 +151,11 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
     let flat = |m: &[Vec<Id>]| m.iter().flatten().copied().collect::<Vec<Id>>();
     let mut helpers = TokenStream::new();
     let mut stats = Vec::new();
+    // Large trees: forward dynamics and its Jacobian as loops over a table.
+    let compact = k
+        .compact
+        .as_ref()
+        .map(|ck| compact::compact_impl(model, k, ck, &mut stats));
     let mut core = Methods::with_dims(g, params, (n, nq), &mut stats);
     let mut add = |name: &'static str,
                    inputs: Vec<InputKind>,
@@ -170,21 +176,25 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         &masm,
         " Mass matrix `M(q)` (composite-rigid-body algorithm, unrolled).",
     );
-    methods.extend(add(
-        "forward_dynamics",
-        vec![Q, V, Tau],
-        vec_t.clone(),
-        k.forward.clone(),
-        &vasm,
-        &format!(
-            " Forward dynamics `M⁻¹ (τ + τ_p − C v − g)` {}.",
-            algorithm_doc(k.algorithms[0])
-        ),
-    ));
-    let mut jac_outs = k.jacobian_forward.clone();
-    jac_outs.extend(flat(&k.jac_q));
-    jac_outs.extend(flat(&k.jac_v));
-    methods.extend(add(
+    if let Some(c) = &compact {
+        methods.extend(c.core.clone());
+        helpers.extend(c.helpers.clone());
+    } else {
+        methods.extend(add(
+            "forward_dynamics",
+            vec![Q, V, Tau],
+            vec_t.clone(),
+            k.forward.clone(),
+            &vasm,
+            &format!(
+                " Forward dynamics `M⁻¹ (τ + τ_p − C v − g)` {}.",
+                algorithm_doc(k.algorithms[0])
+            ),
+        ));
+        let mut jac_outs = k.jacobian_forward.clone();
+        jac_outs.extend(flat(&k.jac_q));
+        jac_outs.extend(flat(&k.jac_v));
+        methods.extend(add(
         "forward_dynamics_jacobian",
         vec![Q, V, Tau],
         quote!(::filippov::runtime::system::ForwardJacobian<#n>),
@@ -201,6 +211,7 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
             algorithm_doc(k.algorithms[1])
         ),
     ));
+    }
 
     // Asked for by name (`emit = [...]`): one trait each, so that a kernel the scene
     // did not ask for is a compile error naming the option, not dead code in every build.
@@ -340,15 +351,18 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
             quote!([#(#rows),*])
         };
         let array = |o: Vec<TokenStream>| quote!([#(#o),*]);
-        let mut methods = gm.emit(
-            "forward_dynamics_generic",
-            vec![Q, V, Tau],
-            quote!([T; #n]),
-            &k.forward,
-            &array,
-            " `v̇ = M⁻¹ (τ + τ_p − C v − g)` on any scalar, the parameters `p` in \
-             declaration order.",
-        );
+        let mut methods = match &compact {
+            Some(c) => c.generic.clone(),
+            None => gm.emit(
+                "forward_dynamics_generic",
+                vec![Q, V, Tau],
+                quote!([T; #n]),
+                &k.forward,
+                &array,
+                " `v̇ = M⁻¹ (τ + τ_p − C v − g)` on any scalar, the parameters `p` in \
+                 declaration order.",
+            ),
+        };
         methods.extend(gm.emit(
             "mass_matrix_generic",
             vec![Q],

@@ -23,6 +23,7 @@ pub mod aba;
 pub mod bearing;
 pub mod chart;
 pub mod christoffel;
+pub mod compact;
 pub mod contacts;
 pub mod crba;
 pub mod frames;
@@ -79,7 +80,23 @@ pub struct Kernels {
     /// Gaps, normal and tangential Jacobians and `γ` of the contacts; only for scenes
     /// that declare some.
     pub contacts: Option<contacts::ContactKernels>,
+    /// For scenes whose forward dynamics and its Jacobian run as compact loops
+    /// ([`Algorithm::Compact`]): the table and the forces. `forward` is then empty, and
+    /// the symbolic Jacobian is built only for the generic kernels.
+    pub compact: Option<CompactKernels>,
 }
+
+/// What the compact kernels read: the table of the tree and the generalised forces.
+pub struct CompactKernels {
+    pub tree: compact::Tree,
+    /// `τ + τ_p`, `None` when the scene has no springs or dampers (then `τ`).
+    pub forces: Option<Vec<Id>>,
+}
+
+/// Under `forward_dynamics = auto`, a tree the compact kernels take gets them when its
+/// unrolled forward dynamics would take more operations than this. Measured in the
+/// report's scaling section (docs/measurements.md, "Compact kernels").
+pub const COMPACT_ABOVE: usize = 10_000;
 
 /// What a scene with loop joints emits besides its constrained forward dynamics.
 pub struct LoopOutputs {
@@ -187,10 +204,21 @@ impl Kernels {
         // §5): the free accelerations corrected by the constraint forces `λ`.
         let loop_k =
             (!model.loops.is_empty()).then(|| loops::loop_constraints(&mut g, model, &kin));
+        let compact_ok = model.compact_unsupported().is_none();
         let (forward, forward_algorithm, loop_lambda) = match &loop_k {
+            None if model.algorithm == Algorithm::Compact => {
+                (Vec::new(), Algorithm::Compact, Vec::new())
+            }
             None => {
                 let (f, used) = solver.choose(&mut g, solve_forward);
-                (f, used, Vec::new())
+                if model.algorithm == Algorithm::Auto
+                    && compact_ok
+                    && g.count_ops(&f).total() > COMPACT_ABOVE
+                {
+                    (Vec::new(), Algorithm::Compact, Vec::new())
+                } else {
+                    (f, used, Vec::new())
+                }
             }
             Some(lk) => {
                 let (out, used) = solver.choose(&mut g, |g, s| {
@@ -229,11 +257,28 @@ impl Kernels {
             transpose_cols(&cols)
         });
 
+        let compact = (forward_algorithm == Algorithm::Compact).then(|| {
+            let tree = compact::tree(&mut g, model, &inertia);
+            let forces = passive
+                .iter()
+                .any(|&p| !g.is_zero(p))
+                .then(|| (0..n).map(|i| g.add(tau[i], passive[i])).collect());
+            CompactKernels { tree, forces }
+        });
+        // The compact kernels' Jacobian runs dual numbers through their loops: the
+        // symbolic one is built only for the generic kernels.
+        let symbolic_jacobian = compact.is_none() || emit.generic;
+
         // ∂v̇/∂x = −M⁻¹ ∂ID(q, v, a)/∂x evaluated at a = v̇: differentiate inverse
         // dynamics with a held fixed (cheap: RNEA is linear-size), then substitute v̇
         // as the same algorithm computes it (the Jacobian's code computes v̇ too).
         let mut d_x: Vec<Vec<Id>> = Vec::with_capacity(2 * n);
-        for kind in [InputKind::Q, InputKind::V] {
+        let kinds: &[InputKind] = if symbolic_jacobian {
+            &[InputKind::Q, InputKind::V]
+        } else {
+            &[]
+        };
+        for &kind in kinds {
             for k in 0..n {
                 let x = Input {
                     kind,
@@ -252,7 +297,8 @@ impl Kernels {
         // algorithm for all. The substitution's memo is kept per algorithm.
         let mut substitutions: [Option<(FastMap<Id, Id>, FastMap<Id, Id>)>; 2] = [None, None];
         let mut constrained: [Option<loops::Constrained>; 2] = [None, None];
-        let (mut cols, jacobian_algorithm) = solver.choose_columns(&mut g, 2 * n + 1, |g, s, k| {
+        let columns = if symbolic_jacobian { 2 * n + 1 } else { 0 };
+        let (mut cols, jacobian_algorithm) = solver.choose_columns(&mut g, columns, |g, s, k| {
             if let Some(lk) = &loop_k {
                 // The constrained system's: v̇ = a, and the columns of the augmented
                 // system's derivative (see `loops::Constrained::column`).
@@ -333,10 +379,17 @@ impl Kernels {
                 .collect();
             s.solve(g, &rhs, None)
         });
-        let jacobian_forward = cols.remove(0);
+        let (jacobian_forward, jacobian_algorithm) = if symbolic_jacobian {
+            (cols.remove(0), jacobian_algorithm)
+        } else {
+            (Vec::new(), Algorithm::Compact)
+        };
         // cols[k][i] = ∂v̇_i/∂x_k → rows
-        let jac_q = transpose_cols(&cols[..n]);
-        let jac_v = transpose_cols(&cols[n..]);
+        let (jac_q, jac_v) = if symbolic_jacobian {
+            (transpose_cols(&cols[..n]), transpose_cols(&cols[n..]))
+        } else {
+            (Vec::new(), Vec::new())
+        };
 
         // Energies: T = ½ vᵀ M v; U = −gravity · (first moment of everything) + springs.
         let energy = emit.energy.then(|| {
@@ -465,6 +518,7 @@ impl Kernels {
             frames,
             loops,
             contacts,
+            compact,
         }
     }
 }
@@ -508,7 +562,7 @@ impl<'m> Solver<'m> {
         match model.algorithm {
             Algorithm::Crba => Solver::Crba(ltdl::factor(g, mass, &parents)),
             Algorithm::Aba => Solver::Aba(aba::Articulated::new(g, model, kin, inertia)),
-            Algorithm::Auto => Solver::Both(
+            Algorithm::Auto | Algorithm::Compact => Solver::Both(
                 ltdl::factor(g, mass, &parents),
                 aba::Articulated::new(g, model, kin, inertia),
             ),

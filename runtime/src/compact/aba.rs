@@ -1,0 +1,165 @@
+//! Forward dynamics of a compact tree by the articulated-body algorithm (Featherstone,
+//! *Rigid Body Dynamics Algorithms*, §7.3), in three loops over the table: velocities
+//! and bias terms outwards, articulated inertias inwards, accelerations outwards.
+//! Gravity is the world's acceleration `−γ`.
+
+use super::algebra::{Inertia, M3, Spatial, V3, add, cross, turn_z};
+use super::{Body, Joint, Node};
+use crate::real::Real;
+
+/// A body's transform from its parent: its axes `R` in the parent's frame and its
+/// origin `p` there.
+#[inline(always)]
+pub fn placement<T: Real>(body: &Body<T>, joint: Joint, q: &[T]) -> (M3<T>, V3<T>) {
+    match joint {
+        Joint::Revolute(k) => {
+            let (s, c) = q[k].sin_cos();
+            (turn_z(&body.rotation, s, c), body.translation)
+        }
+        Joint::Prismatic(k) => {
+            let r = &body.rotation;
+            let z = [r[0][2], r[1][2], r[2][2]];
+            (
+                *r,
+                add(body.translation, [z[0] * q[k], z[1] * q[k], z[2] * q[k]]),
+            )
+        }
+        Joint::Fixed => (body.rotation, body.translation),
+    }
+}
+
+/// `v̇ = M(q)⁻¹ (τ − C(q, v) v − g(q))` of the tree `nodes`/`bodies` (parents before
+/// children) under gravity `gravity` (world frame), `N` its coordinates.
+///
+/// The work arrays live on the stack: no allocation.
+pub fn forward_dynamics<T: Real, const B: usize, const N: usize>(
+    nodes: &[Node; B],
+    bodies: &[Body<T>; B],
+    gravity: [T; 3],
+    q: &[T; N],
+    v: &[T; N],
+    tau: &[T; N],
+) -> [T; N] {
+    let zero = T::cst(0.0);
+    let mut rot = [[[zero; 3]; 3]; B];
+    let mut pos = [[zero; 3]; B];
+    let mut vel = [Spatial::zero(); B];
+    let mut bias_acc = [Spatial::zero(); B];
+    let mut bias = [Spatial::zero(); B];
+    let mut art = [Inertia::rigid(zero, [zero; 3], [zero; 6]); B];
+    // Per joint: U = I S, 1 / (Sᵀ I S), and τ − Sᵀ p.
+    let mut u_col = [Spatial::zero(); B];
+    let mut d_inv = [zero; B];
+    let mut u_tau = [zero; B];
+    let mut out = [zero; N];
+
+    // Outwards: placements, velocities, velocity-product accelerations and forces.
+    for i in 0..B {
+        let (node, body) = (&nodes[i], &bodies[i]);
+        let (r, p) = placement(body, node.joint, q);
+        let mut vi = match node.parent {
+            Some(pa) => vel[pa].motion_to_child(&r, p),
+            None => Spatial::zero(),
+        };
+        let mut ci = Spatial::zero();
+        match node.joint {
+            Joint::Revolute(k) => {
+                let e = [zero, zero, v[k]];
+                vi.w[2] = vi.w[2] + v[k];
+                ci.w = cross(vi.w, e);
+                ci.l = cross(vi.l, e);
+            }
+            Joint::Prismatic(k) => {
+                let e = [zero, zero, v[k]];
+                vi.l[2] = vi.l[2] + v[k];
+                ci.l = cross(vi.w, e);
+            }
+            Joint::Fixed => {}
+        }
+        let inertia = Inertia::rigid(body.mass, body.first_moment, body.inertia);
+        bias[i] = vi.cross_force(inertia.apply(vi));
+        art[i] = inertia;
+        vel[i] = vi;
+        bias_acc[i] = ci;
+        rot[i] = r;
+        pos[i] = p;
+    }
+
+    // Inwards: articulated inertias and bias forces.
+    for i in (0..B).rev() {
+        let ia = art[i];
+        let (ia_child, pa_child) = match nodes[i].joint {
+            Joint::Revolute(k) | Joint::Prismatic(k) => {
+                let revolute = matches!(nodes[i].joint, Joint::Revolute(_));
+                // U = I S: the inertia's third or sixth column.
+                let u = if revolute {
+                    Spatial {
+                        w: [ia.a[4], ia.a[5], ia.a[2]],
+                        l: ia.b[2],
+                    }
+                } else {
+                    Spatial {
+                        w: [ia.b[0][2], ia.b[1][2], ia.b[2][2]],
+                        l: [ia.c[4], ia.c[5], ia.c[2]],
+                    }
+                };
+                let d = if revolute { u.w[2] } else { u.l[2] };
+                let inv = T::cst(1.0) / d;
+                let s_p = if revolute { bias[i].w[2] } else { bias[i].l[2] };
+                let ut = tau[k] - s_p;
+                u_col[i] = u;
+                d_inv[i] = inv;
+                u_tau[i] = ut;
+                let ia2 = ia.minus_rank_one(u, inv);
+                let gain = ut * inv;
+                let c = ia2.apply(bias_acc[i]);
+                let pa = Spatial {
+                    w: add(
+                        add(bias[i].w, c.w),
+                        [u.w[0] * gain, u.w[1] * gain, u.w[2] * gain],
+                    ),
+                    l: add(
+                        add(bias[i].l, c.l),
+                        [u.l[0] * gain, u.l[1] * gain, u.l[2] * gain],
+                    ),
+                };
+                (ia2, pa)
+            }
+            Joint::Fixed => (ia, bias[i]),
+        };
+        if let Some(pa) = nodes[i].parent {
+            let moved = ia_child.to_parent(&rot[i], pos[i]);
+            art[pa].add_to(&moved);
+            bias[pa] = bias[pa].plus(pa_child.force_to_parent(&rot[i], pos[i]));
+        }
+    }
+
+    // Outwards: accelerations, the world accelerating as −γ.
+    let world = Spatial {
+        w: [zero; 3],
+        l: [-gravity[0], -gravity[1], -gravity[2]],
+    };
+    let mut acc = [Spatial::zero(); B];
+    for i in 0..B {
+        let parent = match nodes[i].parent {
+            Some(pa) => acc[pa],
+            None => world,
+        };
+        let mut ai = parent.motion_to_child(&rot[i], pos[i]).plus(bias_acc[i]);
+        match nodes[i].joint {
+            Joint::Revolute(k) => {
+                let qdd = (u_tau[i] - u_col[i].dot(ai)) * d_inv[i];
+                ai.w[2] = ai.w[2] + qdd;
+                out[k] = qdd;
+            }
+            Joint::Prismatic(k) => {
+                let qdd = (u_tau[i] - u_col[i].dot(ai)) * d_inv[i];
+                ai.l[2] = ai.l[2] + qdd;
+                out[k] = qdd;
+            }
+            Joint::Fixed => {}
+        }
+        acc[i] = ai;
+    }
+    out
+}

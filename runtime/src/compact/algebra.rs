@@ -1,0 +1,275 @@
+//! The spatial algebra of the compact kernels, on any [`Real`]: 3-vectors, 3×3 blocks,
+//! motion and force vectors as pairs of 3-vectors, and articulated inertias as three
+//! 3×3 blocks (Featherstone, *Rigid Body Dynamics Algorithms*, ch. 2 and 7). Every
+//! function is `#[inline(always)]`: the loops of [`aba`](super::aba) are the only code.
+
+use crate::real::Real;
+
+pub type V3<T> = [T; 3];
+pub type M3<T> = [[T; 3]; 3];
+
+#[inline(always)]
+pub fn add<T: Real>(a: V3<T>, b: V3<T>) -> V3<T> {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+#[inline(always)]
+pub fn sub<T: Real>(a: V3<T>, b: V3<T>) -> V3<T> {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+#[inline(always)]
+pub fn scale<T: Real>(k: T, a: V3<T>) -> V3<T> {
+    [k * a[0], k * a[1], k * a[2]]
+}
+
+#[inline(always)]
+pub fn dot<T: Real>(a: V3<T>, b: V3<T>) -> T {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[inline(always)]
+pub fn cross<T: Real>(a: V3<T>, b: V3<T>) -> V3<T> {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// `R x`.
+#[inline(always)]
+pub fn mul<T: Real>(r: &M3<T>, x: V3<T>) -> V3<T> {
+    [dot(r[0], x), dot(r[1], x), dot(r[2], x)]
+}
+
+/// `Rᵀ x`.
+#[inline(always)]
+pub fn mul_t<T: Real>(r: &M3<T>, x: V3<T>) -> V3<T> {
+    [
+        r[0][0] * x[0] + r[1][0] * x[1] + r[2][0] * x[2],
+        r[0][1] * x[0] + r[1][1] * x[1] + r[2][1] * x[2],
+        r[0][2] * x[0] + r[1][2] * x[1] + r[2][2] * x[2],
+    ]
+}
+
+/// `C Rz(θ)` from `(sin θ, cos θ)`: the first two columns turn, the third stays.
+#[inline(always)]
+pub fn turn_z<T: Real>(c: &M3<T>, s: T, co: T) -> M3<T> {
+    let row = |r: [T; 3]| [r[0] * co + r[1] * s, r[1] * co - r[0] * s, r[2]];
+    [row(c[0]), row(c[1]), row(c[2])]
+}
+
+/// A symmetric 3×3 block `[xx, yy, zz, xy, xz, yz]`.
+pub type Sym<T> = [T; 6];
+
+#[inline(always)]
+pub fn sym_full<T: Real>(s: &Sym<T>) -> M3<T> {
+    [[s[0], s[3], s[4]], [s[3], s[1], s[5]], [s[4], s[5], s[2]]]
+}
+
+#[inline(always)]
+pub fn sym_mul<T: Real>(s: &Sym<T>, x: V3<T>) -> V3<T> {
+    [
+        s[0] * x[0] + s[3] * x[1] + s[4] * x[2],
+        s[3] * x[0] + s[1] * x[1] + s[5] * x[2],
+        s[4] * x[0] + s[5] * x[1] + s[2] * x[2],
+    ]
+}
+
+/// `R S Rᵀ` of a symmetric `S`.
+#[inline(always)]
+pub fn sym_rotate<T: Real>(r: &M3<T>, s: &Sym<T>) -> Sym<T> {
+    // rows of R S
+    let rs = [sym_mul(s, r[0]), sym_mul(s, r[1]), sym_mul(s, r[2])];
+    [
+        dot(rs[0], r[0]),
+        dot(rs[1], r[1]),
+        dot(rs[2], r[2]),
+        dot(rs[0], r[1]),
+        dot(rs[0], r[2]),
+        dot(rs[1], r[2]),
+    ]
+}
+
+/// `R B Rᵀ` of a general `B`.
+#[inline(always)]
+pub fn rotate<T: Real>(r: &M3<T>, b: &M3<T>) -> M3<T> {
+    // (R B)_i = Bᵀ applied to row i of R, as a row
+    let rb = [mul_t(b, r[0]), mul_t(b, r[1]), mul_t(b, r[2])];
+    [
+        [dot(rb[0], r[0]), dot(rb[0], r[1]), dot(rb[0], r[2])],
+        [dot(rb[1], r[0]), dot(rb[1], r[1]), dot(rb[1], r[2])],
+        [dot(rb[2], r[0]), dot(rb[2], r[1]), dot(rb[2], r[2])],
+    ]
+}
+
+/// A spatial vector: angular part then linear part (a motion `(ω, v)` or a force
+/// `(n, f)`).
+#[derive(Clone, Copy, Debug)]
+pub struct Spatial<T> {
+    pub w: V3<T>,
+    pub l: V3<T>,
+}
+
+impl<T: Real> Spatial<T> {
+    #[inline(always)]
+    pub fn zero() -> Self {
+        let z = T::cst(0.0);
+        Spatial {
+            w: [z; 3],
+            l: [z; 3],
+        }
+    }
+
+    #[inline(always)]
+    pub fn plus(self, o: Self) -> Self {
+        Spatial {
+            w: add(self.w, o.w),
+            l: add(self.l, o.l),
+        }
+    }
+
+    /// A motion from the parent's frame to the child's (`R` the child's axes in the
+    /// parent's frame, `r` its origin there).
+    #[inline(always)]
+    pub fn motion_to_child(self, r: &M3<T>, p: V3<T>) -> Self {
+        Spatial {
+            w: mul_t(r, self.w),
+            l: mul_t(r, sub(self.l, cross(p, self.w))),
+        }
+    }
+
+    /// A force from the child's frame to the parent's.
+    #[inline(always)]
+    pub fn force_to_parent(self, r: &M3<T>, p: V3<T>) -> Self {
+        let f = mul(r, self.l);
+        Spatial {
+            w: add(mul(r, self.w), cross(p, f)),
+            l: f,
+        }
+    }
+
+    /// `self ×* f`: the motion's cross product with a force.
+    #[inline(always)]
+    pub fn cross_force(self, f: Self) -> Self {
+        Spatial {
+            w: add(cross(self.w, f.w), cross(self.l, f.l)),
+            l: cross(self.w, f.l),
+        }
+    }
+
+    #[inline(always)]
+    pub fn dot(self, o: Self) -> T {
+        dot(self.w, o.w) + dot(self.l, o.l)
+    }
+}
+
+/// An articulated-body inertia `[[A, B], [Bᵀ, C]]` (angular rows first), `A` and `C`
+/// symmetric; a rigid body's is `[[Ī, h×], [−h×, m 1]]`.
+#[derive(Clone, Copy, Debug)]
+pub struct Inertia<T> {
+    pub a: Sym<T>,
+    pub b: M3<T>,
+    pub c: Sym<T>,
+}
+
+impl<T: Real> Inertia<T> {
+    /// A rigid body's: mass, first moment `h` and rotational inertia `Ī` about the origin.
+    #[inline(always)]
+    pub fn rigid(m: T, h: V3<T>, i: Sym<T>) -> Self {
+        let z = T::cst(0.0);
+        Inertia {
+            a: i,
+            b: [[z, -h[2], h[1]], [h[2], z, -h[0]], [-h[1], h[0], z]],
+            c: [m, m, m, z, z, z],
+        }
+    }
+
+    /// `I x`.
+    #[inline(always)]
+    pub fn apply(&self, x: Spatial<T>) -> Spatial<T> {
+        Spatial {
+            w: add(sym_mul(&self.a, x.w), mul(&self.b, x.l)),
+            l: add(mul_t(&self.b, x.w), sym_mul(&self.c, x.l)),
+        }
+    }
+
+    #[inline(always)]
+    pub fn add_to(&mut self, o: &Self) {
+        for k in 0..6 {
+            self.a[k] = self.a[k] + o.a[k];
+            self.c[k] = self.c[k] + o.c[k];
+        }
+        for i in 0..3 {
+            for j in 0..3 {
+                self.b[i][j] = self.b[i][j] + o.b[i][j];
+            }
+        }
+    }
+
+    /// `I − U Uᵀ / d` with `U = (u_w, u_l)`, `inv = 1 / d`.
+    #[inline(always)]
+    pub fn minus_rank_one(&self, u: Spatial<T>, inv: T) -> Self {
+        let uw = scale(inv, u.w);
+        let ul = scale(inv, u.l);
+        let s = |s: &Sym<T>, x: V3<T>, y: V3<T>| {
+            [
+                s[0] - y[0] * x[0],
+                s[1] - y[1] * x[1],
+                s[2] - y[2] * x[2],
+                s[3] - y[0] * x[1],
+                s[4] - y[0] * x[2],
+                s[5] - y[1] * x[2],
+            ]
+        };
+        let mut b = self.b;
+        for (i, row) in b.iter_mut().enumerate() {
+            for (j, x) in row.iter_mut().enumerate() {
+                *x = *x - uw[i] * u.l[j];
+            }
+        }
+        Inertia {
+            a: s(&self.a, u.w, uw),
+            b,
+            c: s(&self.c, u.l, ul),
+        }
+    }
+
+    /// The inertia in the parent's frame, `Xᵀ I X` (`R` the child's axes in the
+    /// parent's frame, `p` its origin there).
+    #[inline(always)]
+    pub fn to_parent(&self, r: &M3<T>, p: V3<T>) -> Self {
+        let a = sym_rotate(r, &self.a);
+        let b = rotate(r, &self.b);
+        let c = sym_rotate(r, &self.c);
+        // Shift by p: B'' = B + p× C, A'' = A + p× Bᵀ + (p× B''ᵀ)ᵀ.
+        let cf = sym_full(&c);
+        let px = |x: V3<T>| cross(p, x);
+        // columns of p× C are p × (columns of C); C symmetric, so its rows.
+        let pc = [px(cf[0]), px(cf[1]), px(cf[2])]; // pc[j] = column j of p×C
+        let mut b2 = b;
+        for (i, row) in b2.iter_mut().enumerate() {
+            for (j, x) in row.iter_mut().enumerate() {
+                *x = *x + pc[j][i];
+            }
+        }
+        // p× Bᵀ: column j = p × (row j of B); (p× B''ᵀ)ᵀ: row i = p × (row i of B'').
+        let k = [px(b[0]), px(b[1]), px(b[2])]; // k[j] = column j of p×Bᵀ
+        let l = [px(b2[0]), px(b2[1]), px(b2[2])]; // l[i] = row i of (p×B''ᵀ)ᵀ
+        // entry (i, j) = A_ij + k[j][i] + l[i][j]
+        let e = |i: usize, j: usize| k[j][i] + l[i][j];
+        Inertia {
+            a: [
+                a[0] + e(0, 0),
+                a[1] + e(1, 1),
+                a[2] + e(2, 2),
+                a[3] + e(0, 1),
+                a[4] + e(0, 2),
+                a[5] + e(1, 2),
+            ],
+            b: b2,
+            c,
+        }
+    }
+}

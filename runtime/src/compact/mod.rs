@@ -1,0 +1,75 @@
+//! Compact kernels for large trees: one loop over the bodies, their geometry a table.
+//!
+//! Fully unrolled code is the fastest a small robot can get, but its size grows with
+//! the number of operations, and past the instruction cache (32 KiB of L1i on common
+//! x86 cores) a kernel spends its time fetching itself. For such trees the derive emits
+//! a table of the bodies' constants instead ([`Body`], [`Node`]) and calls the loops
+//! here, which are small enough to stay in the cache whatever the tree's size
+//! (`#[mechanism(forward_dynamics = compact)]`, or `auto` past a size; see the guide).
+//!
+//! Every body's frame is *aligned with its joint* when the derive builds the table: the
+//! joint turns about, or slides along, the body frame's `z` axis, so the motion subspace
+//! is a unit vector and the joint's rotation `Rz(q)` costs one `sin_cos` and a handful
+//! of products, whatever the URDF's axis. The link's own frame is a constant rotation
+//! away and never appears at run time.
+//!
+//! - [`algebra`]: 3-vectors, 3×3 blocks and articulated inertias on any [`Real`];
+//! - [`aba`]: forward dynamics by the articulated-body algorithm;
+//! - [`jacobian`]: its Jacobian with respect to `(q, v)`, by dual numbers through it.
+
+pub mod aba;
+pub mod algebra;
+pub mod jacobian;
+
+use crate::real::Real;
+
+/// How a body moves relative to its parent, along its own frame's `z` axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Joint {
+    /// Turns about `z` by coordinate `.0`.
+    Revolute(usize),
+    /// Slides along `z` by coordinate `.0`.
+    Prismatic(usize),
+    /// Welded to its parent.
+    Fixed,
+}
+
+/// A body's place in the tree: its parent (`None`: the world) and its joint. Parents
+/// come before their children in a tree's table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Node {
+    pub parent: Option<usize>,
+    pub joint: Joint,
+}
+
+/// A body's constants, in its joint-aligned frame: where its joint sits on the parent
+/// and its inertia.
+///
+/// The body frame is `parent · Trans(translation) · Rot(rotation) · J(q)`, `J` the
+/// joint's motion along `z`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Body<T> {
+    /// The joint frame's axes in the parent's frame (columns), row-major.
+    pub rotation: [[T; 3]; 3],
+    /// The joint frame's origin in the parent's frame.
+    pub translation: [T; 3],
+    pub mass: T,
+    /// `h = m c`, `c` the centre of mass in the body frame.
+    pub first_moment: [T; 3],
+    /// Rotational inertia about the body frame's origin: `[xx, yy, zz, xy, xz, yz]`.
+    pub inertia: [T; 6],
+}
+
+impl Body<f64> {
+    /// The same constants in another scalar (for the Jacobian's dual numbers).
+    pub fn lift<T: Real>(&self) -> Body<T> {
+        let c = |x: f64| T::cst(x);
+        Body {
+            rotation: self.rotation.map(|r| r.map(c)),
+            translation: self.translation.map(c),
+            mass: c(self.mass),
+            first_moment: self.first_moment.map(c),
+            inertia: self.inertia.map(c),
+        }
+    }
+}

@@ -1,0 +1,203 @@
+//! The compact kernels (`forward_dynamics = compact`: the articulated-body algorithm as
+//! one loop over a table of the bodies in joint-aligned frames, `runtime::compact`)
+//! against the unrolled ones the derive writes for the same scene: forward dynamics,
+//! its Jacobian (dual numbers through the loop against the symbolic Jacobian), the
+//! generic kernels on dual parameters and SIMD lanes, on a parametric oblique tree with
+//! springs and dampers and on URDF robots. `tests/random_trees.rs` checks compact trees
+//! against the numeric implementation too.
+
+// clippy's duplicated_attributes misreads repeated derive-helper attributes.
+#![allow(clippy::duplicated_attributes)]
+
+mod common;
+
+use common::{Rng, assert_close};
+use filippov::nalgebra::SVector;
+use filippov::prelude::*;
+use filippov::runtime::Dual;
+use filippov::runtime::kernels::GenericDynamics;
+
+/// Declares the same scene twice: compact, and unrolled by the articulated-body
+/// algorithm.
+macro_rules! both {
+    ($compact:ident, $unrolled:ident, $fields:tt, [$($mech:tt)*], $($attrs:tt)*) => {
+        #[derive(Mechanism, Clone, Copy)]
+        #[mechanism(forward_dynamics = compact, $($mech)*)]
+        $($attrs)*
+        struct $compact $fields
+
+        #[derive(Mechanism, Clone, Copy)]
+        #[mechanism(forward_dynamics = aba, $($mech)*)]
+        $($attrs)*
+        struct $unrolled $fields
+    };
+}
+
+both!(ObliqueCompact, ObliqueUnrolled,
+    { m1: f64, m2: f64, m3: f64, l: f64, k: f64, c: f64, g: f64 },
+    [emit = [generic], gravity = [0.3, -0.2, -g]],
+    #[body(base, mass = m1, com = [0.1, 0.0, 0.05], inertia = sphere(m1, 0.2))]
+    #[joint(slide: prismatic([0.6, 0.0, 0.8]), parent = world, child = base, origin = [0.0, 0.0, 1.0], rpy = [0.1, 0.2, 0.3])]
+    #[spring(slide, k = k)]
+    #[damper(slide, c = c)]
+    #[body(arm, mass = m2, com = [l / 2.0, 0.05, 0.0], inertia = rod(m2, l))]
+    #[joint(shoulder: revolute([0.0, 0.6, 0.8]), parent = base, child = arm, origin = [0.1, 0.2, 0.0], rpy = [0.3, -0.2, 0.5])]
+    #[body(hand, mass = m3, com = [0.05, 0.0, 0.02], inertia = sphere(m3, 0.05))]
+    #[joint(wrist: revolute([1.0, 1.0, 0.0]), parent = arm, child = hand, origin = [l, 0.0, 0.1], rpy = [-0.2, 0.1, 0.0])]
+    #[body(tool, mass = m3 / 2.0, com = [0.0, 0.02, 0.01], inertia = cuboid(m3 / 2.0, 0.02, 0.03, 0.04))]
+    #[joint(weld: fixed, parent = hand, child = tool, origin = [0.0, 0.1, l], rpy = [0.4, 0.0, -0.3])]
+    #[body(finger, mass = m3 / 3.0, com = [0.01, 0.0, 0.02], inertia = rod(m3 / 3.0, 0.05))]
+    #[joint(knuckle: revolute(-y), parent = tool, child = finger, origin = [0.0, 0.0, 0.05])]
+    #[damper(knuckle, c = 0.1)]
+    #[body(side, mass = m2, com = [0.0, 0.1, 0.0], inertia = cylinder(m2, 0.03, l))]
+    #[joint(elbow: revolute(x), parent = base, child = side, origin = [0.0, -0.1, 0.2], rpy = [0.0, 0.0, 0.7])]
+    #[body(rail, mass = m3, com = [0.0, 0.0, 0.0], inertia = sphere(m3, 0.03))]
+    #[joint(rail: prismatic(z), parent = side, child = rail, origin = [0.0, l, 0.0])]
+);
+
+fn oblique<S>(make: fn(f64, f64, f64, f64, f64, f64, f64) -> S) -> S {
+    make(1.0, 0.5, 0.3, 0.4, 20.0, 0.7, 9.81)
+}
+
+fn compact() -> ObliqueCompact {
+    oblique(|m1, m2, m3, l, k, c, g| ObliqueCompact {
+        m1,
+        m2,
+        m3,
+        l,
+        k,
+        c,
+        g,
+    })
+}
+
+fn unrolled() -> ObliqueUnrolled {
+    oblique(|m1, m2, m3, l, k, c, g| ObliqueUnrolled {
+        m1,
+        m2,
+        m3,
+        l,
+        k,
+        c,
+        g,
+    })
+}
+
+#[derive(Mechanism)]
+#[mechanism(
+    urdf = "robots/panda.urdf",
+    lock = [panda_finger_joint1, panda_finger_joint2],
+    gravity = [0.0, 0.0, -9.81],
+    forward_dynamics = compact,
+    emit = [generic]
+)]
+struct PandaCompact;
+
+#[derive(Mechanism)]
+#[mechanism(
+    urdf = "robots/panda.urdf",
+    lock = [panda_finger_joint1, panda_finger_joint2],
+    gravity = [0.0, 0.0, -9.81],
+    forward_dynamics = aba
+)]
+struct PandaUnrolled;
+
+#[derive(Mechanism)]
+#[mechanism(urdf = "robots/ur5.urdf", gravity = [0.0, 0.0, -9.81], forward_dynamics = compact)]
+struct Ur5Compact;
+
+#[derive(Mechanism)]
+#[mechanism(urdf = "robots/ur5.urdf", gravity = [0.0, 0.0, -9.81], forward_dynamics = aba)]
+struct Ur5Unrolled;
+
+/// Forward dynamics and its Jacobian of two declarations of one scene at random states.
+fn agree<A: Mechanism<N>, B: Mechanism<N>, const N: usize>(a: &A, b: &B, seed: u64) {
+    let mut rng = Rng::new(seed);
+    for _ in 0..50 {
+        let q: SVector<f64, N> = rng.vector(2.5);
+        let v: SVector<f64, N> = rng.vector(3.0);
+        let tau: SVector<f64, N> = rng.vector(5.0);
+        let fa = a.forward_dynamics(&q, &v, &tau);
+        let fb = b.forward_dynamics(&q, &v, &tau);
+        assert_close(
+            fa.as_slice(),
+            fb.as_slice(),
+            1e-12,
+            1e-12,
+            "forward dynamics",
+        );
+        let ja = a.forward_dynamics_jacobian(&q, &v, &tau);
+        let jb = b.forward_dynamics_jacobian(&q, &v, &tau);
+        // The Jacobian kernel's v̇ is the forward dynamics kernel's, bit for bit.
+        assert_eq!(ja.acceleration, fa, "the Jacobian's v̇");
+        assert_close(ja.d_dq.as_slice(), jb.d_dq.as_slice(), 1e-11, 1e-9, "∂v̇/∂q");
+        assert_close(ja.d_dv.as_slice(), jb.d_dv.as_slice(), 1e-11, 1e-9, "∂v̇/∂v");
+    }
+}
+
+#[test]
+fn oblique_tree_compact_equals_unrolled() {
+    agree(&compact(), &unrolled(), 1);
+}
+
+#[test]
+fn urdf_robots_compact_equal_unrolled() {
+    agree(&PandaCompact, &PandaUnrolled, 2);
+    agree(&Ur5Compact, &Ur5Unrolled, 3);
+}
+
+/// Derivatives with respect to the parameters (masses, a length, the spring and damper,
+/// gravity) by duals through the compact loop against those through the unrolled code.
+#[test]
+fn parameter_sensitivities_compact_equal_unrolled() {
+    let mut rng = Rng::new(4);
+    let p = compact().parameters();
+    assert_eq!(p, unrolled().parameters());
+    let pd: [Dual<7>; 7] = std::array::from_fn(|k| Dual::variable(p[k], k));
+    for _ in 0..20 {
+        let q: [f64; 6] = rng.vector::<6>(2.0).into();
+        let v: [f64; 6] = rng.vector::<6>(3.0).into();
+        let tau: [f64; 6] = rng.vector::<6>(5.0).into();
+        let c = |x: [f64; 6]| x.map(Dual::<7>::constant);
+        let a = ObliqueCompact::forward_dynamics_generic(&pd, &c(q), &c(v), &c(tau));
+        let b = ObliqueUnrolled::forward_dynamics_generic(&pd, &c(q), &c(v), &c(tau));
+        let flat = |x: &[Dual<7>; 6]| -> Vec<f64> {
+            x.iter()
+                .flat_map(|d| std::iter::once(d.re).chain(d.eps))
+                .collect()
+        };
+        assert_close(&flat(&a), &flat(&b), 1e-11, 1e-9, "v̇ and ∂v̇/∂p");
+        // On f64, the generic compact kernel is the f64 one bit for bit.
+        let f = compact().forward_dynamics_as::<f64>(&q, &v, &tau);
+        let s = compact().forward_dynamics(&q.into(), &v.into(), &tau.into());
+        assert_eq!(f.map(f64::to_bits), <[f64; 6]>::from(s).map(f64::to_bits));
+    }
+}
+
+/// Four states in the lanes of one `f64x4` call: each lane is the scalar compact kernel
+/// bit for bit.
+#[test]
+fn lanes_are_the_scalar_compact_kernel_bit_for_bit() {
+    use filippov::runtime::real::{f64x4, pack, unpack};
+    let mut rng = Rng::new(5);
+    for _ in 0..20 {
+        let draw = |rng: &mut Rng, s: f64| -> Vec<[f64; 7]> {
+            (0..4).map(|_| rng.vector::<7>(s).into()).collect()
+        };
+        let (q, v, tau) = (
+            draw(&mut rng, 2.5),
+            draw(&mut rng, 3.0),
+            draw(&mut rng, 5.0),
+        );
+        let (qb, vb, tb): ([f64x4; 7], [f64x4; 7], [f64x4; 7]) = (pack(&q), pack(&v), pack(&tau));
+        let out = unpack(&PandaCompact.forward_dynamics_as(&qb, &vb, &tb), 4);
+        for s in 0..4 {
+            let scalar = PandaCompact.forward_dynamics(&q[s].into(), &v[s].into(), &tau[s].into());
+            assert_eq!(
+                out[s].map(f64::to_bits),
+                <[f64; 7]>::from(scalar).map(f64::to_bits),
+                "lane {s}"
+            );
+        }
+    }
+}

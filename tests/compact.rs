@@ -201,3 +201,75 @@ fn lanes_are_the_scalar_compact_kernel_bit_for_bit() {
         }
     }
 }
+
+/// The generic Jacobian (dual numbers of the scalar through the loop): on `f64` the
+/// `f64` kernel bit for bit, on `f64x4` each lane the scalar kernel bit for bit.
+#[test]
+fn generic_jacobian_is_the_scalar_one_bit_for_bit() {
+    use filippov::runtime::real::{f64x4, pack, unpack};
+    let mut rng = Rng::new(6);
+    let bits = |m: &filippov::nalgebra::SMatrix<f64, 7, 7>| -> Vec<u64> {
+        (0..49).map(|k| m[(k / 7, k % 7)].to_bits()).collect()
+    };
+    let rows =
+        |m: &[[f64; 7]; 7]| -> Vec<u64> { m.iter().flatten().map(|x| x.to_bits()).collect() };
+    for _ in 0..5 {
+        let draw = |rng: &mut Rng, s: f64| -> Vec<[f64; 7]> {
+            (0..4).map(|_| rng.vector::<7>(s).into()).collect()
+        };
+        let (q, v, tau) = (
+            draw(&mut rng, 2.5),
+            draw(&mut rng, 3.0),
+            draw(&mut rng, 5.0),
+        );
+        let (qb, vb, tb): ([f64x4; 7], [f64x4; 7], [f64x4; 7]) = (pack(&q), pack(&v), pack(&tau));
+        let batch = PandaCompact.forward_dynamics_jacobian_as(&qb, &vb, &tb);
+        for s in 0..4 {
+            let f =
+                PandaCompact.forward_dynamics_jacobian(&q[s].into(), &v[s].into(), &tau[s].into());
+            let g = PandaCompact.forward_dynamics_jacobian_as::<f64>(&q[s], &v[s], &tau[s]);
+            assert_eq!(rows(&g.d_dq), bits(&f.d_dq));
+            assert_eq!(rows(&g.d_dv), bits(&f.d_dv));
+            let lane: [[f64; 7]; 7] = batch.d_dq.map(|r| unpack(&r, 4)[s]);
+            assert_eq!(rows(&lane), bits(&f.d_dq), "lane {s}");
+            let lane: [[f64; 7]; 7] = batch.d_dv.map(|r| unpack(&r, 4)[s]);
+            assert_eq!(rows(&lane), bits(&f.d_dv), "lane {s}");
+        }
+    }
+}
+
+/// The mass matrix by the compact composite-rigid-body loop against the unrolled CRBA,
+/// and its lanes against the scalar loop bit for bit.
+#[test]
+fn compact_mass_matrix_equals_unrolled() {
+    use filippov::runtime::real::{f64x4, pack, unpack};
+    let mut rng = Rng::new(7);
+    for _ in 0..50 {
+        let q: SVector<f64, 6> = rng.vector(2.5);
+        let a = compact().mass_matrix(&q);
+        let b = unrolled().mass_matrix(&q);
+        assert_close(a.as_slice(), b.as_slice(), 1e-13, 1e-12, "oblique M");
+        let q: SVector<f64, 7> = rng.vector(2.5);
+        let a = PandaCompact.mass_matrix(&q);
+        let b = PandaUnrolled.mass_matrix(&q);
+        assert_close(a.as_slice(), b.as_slice(), 1e-13, 1e-12, "Panda M");
+        let q: SVector<f64, 6> = rng.vector(2.5);
+        let a = Ur5Compact.mass_matrix(&q);
+        let b = Ur5Unrolled.mass_matrix(&q);
+        assert_close(a.as_slice(), b.as_slice(), 1e-13, 1e-12, "UR5 M");
+    }
+    for _ in 0..5 {
+        let qs: Vec<[f64; 7]> = (0..4).map(|_| rng.vector::<7>(2.5).into()).collect();
+        let qb: [f64x4; 7] = pack(&qs);
+        let m = PandaCompact.mass_matrix_as(&qb);
+        for (s, q) in qs.iter().enumerate() {
+            let scalar = PandaCompact.mass_matrix(&(*q).into());
+            let lane: [[f64; 7]; 7] = m.map(|r| unpack(&r, 4)[s]);
+            for i in 0..7 {
+                for j in 0..7 {
+                    assert_eq!(lane[i][j].to_bits(), scalar[(i, j)].to_bits(), "lane {s}");
+                }
+            }
+        }
+    }
+}

@@ -285,6 +285,7 @@ pub fn compile_times(config: &Config) -> Section {
         ("solo12.urdf", "base = free, ", 18, 19),
         ("simple_humanoid.urdf", "base = free, ", 35, 36),
         ("three_link_arm.urdf", "", 3, 3),
+        ("oblique36.urdf", "", 36, 36),
     ]
     .map(|(file, options, n, nq)| {
         let path = root.join("robots").join(file);

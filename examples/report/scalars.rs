@@ -15,7 +15,9 @@ use super::complex_step::{self, Complex};
 use super::config::Config;
 use super::markdown::{Page, sci};
 use super::timing::{Timing, in_rounds, ns_timed, program_timing};
-use super::urdf::{Humanoid, PandaUrdf, ROBOTS, Solo12, ThreeLinkArm, Ur5, pinocchio_aba};
+use super::urdf::{
+    Humanoid, Oblique36, PandaUrdf, ROBOTS, Solo12, ThreeLinkArm, Ur5, pinocchio_aba,
+};
 
 #[derive(Default)]
 pub struct Section {
@@ -253,6 +255,7 @@ pub fn scalars(config: &Config) -> Section {
             "panda" => tree!(PandaUrdf, 7),
             "ur5" => tree!(Ur5, 6),
             "three_link_arm" => tree!(ThreeLinkArm, 3),
+            "oblique36" => tree!(Oblique36, 36),
             "solo12" => free!(Solo12, 18, 19),
             _ => free!(Humanoid, 35, 36),
         };

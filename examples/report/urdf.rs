@@ -58,6 +58,16 @@ pub struct Humanoid;
 )]
 pub struct ThreeLinkArm;
 
+/// A random oblique 3-D tree of 36 joints (`examples/oblique_tree.rs`): nothing to fold,
+/// so `auto` gives it the compact kernels.
+#[derive(Mechanism)]
+#[mechanism(
+    urdf = "robots/oblique36.urdf",
+    gravity = [0.0, 0.0, -9.81],
+    emit = [kinematics, generic]
+)]
+pub struct Oblique36;
+
 /// Interleaved rounds of our timing and Pinocchio's.
 const ROUNDS: usize = 3;
 
@@ -78,7 +88,7 @@ pub struct Robot {
     pub options: &'static str,
 }
 
-pub const ROBOTS: [Robot; 5] = [
+pub const ROBOTS: [Robot; 6] = [
     Robot {
         name: "panda",
         ident: "Panda",
@@ -115,6 +125,14 @@ pub const ROBOTS: [Robot; 5] = [
         name: "three_link_arm",
         ident: "ThreeLinkArm",
         file: "robots/three_link_arm.urdf",
+        lock: &[],
+        free_base: false,
+        options: "",
+    },
+    Robot {
+        name: "oblique36",
+        ident: "Oblique36",
+        file: "robots/oblique36.urdf",
         lock: &[],
         free_base: false,
         options: "",
@@ -396,6 +414,11 @@ pub fn urdf(config: &Config) -> Section {
                     measure!(ThreeLinkArm, 3, 3, &[]),
                     ThreeLinkArm::JOINTS.to_vec(),
                     ThreeLinkArm::FRAMES,
+                ),
+                "oblique36" => (
+                    measure!(Oblique36, 36, 36, &[]),
+                    Oblique36::JOINTS.to_vec(),
+                    Oblique36::FRAMES,
                 ),
                 _ => (
                     measure!(Humanoid, 35, 36, Humanoid::ROTATIONS),

@@ -175,7 +175,8 @@ pub fn unpack<L: Lanes, const M: usize>(x: &[L; M], count: usize) -> Vec<[f64; M
 }
 
 /// A forward-mode dual number: a value and its derivatives along `K` directions,
-/// `x + Σ ε_k ∂_k x` with `ε_j ε_k = 0`.
+/// `x + Σ ε_k ∂_k x` with `ε_j ε_k = 0`, all of scalar `T` (`f64` unless named:
+/// `Dual<8, f64x4>` carries the derivatives of four states at once).
 ///
 /// ```
 /// use filippov_runtime::real::{Dual, Real};
@@ -185,17 +186,21 @@ pub fn unpack<L: Lanes, const M: usize>(x: &[L; M], count: usize) -> Vec<[f64; M
 /// assert!((y.eps[0] - (2.0f64.sin() + 2.0 * 2.0f64.cos())).abs() < 1e-15);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Dual<const K: usize> {
+pub struct Dual<const K: usize, T = f64> {
     /// The value.
-    pub re: f64,
+    pub re: T,
     /// Its derivatives along the `K` directions.
-    pub eps: [f64; K],
+    pub eps: [T; K],
 }
 
-impl<const K: usize> Dual<K> {
+impl<const K: usize, T: Real> Dual<K, T> {
     /// A constant: no derivatives.
-    pub fn constant(re: f64) -> Self {
-        Dual { re, eps: [0.0; K] }
+    #[inline(always)]
+    pub fn constant(re: T) -> Self {
+        Dual {
+            re,
+            eps: [T::cst(0.0); K],
+        }
     }
 
     /// The variable along direction `k`: value `re`, derivative 1 along `k`, 0 along the
@@ -203,15 +208,15 @@ impl<const K: usize> Dual<K> {
     ///
     /// # Panics
     /// If `k ≥ K`.
-    pub fn variable(re: f64, k: usize) -> Self {
-        let mut eps = [0.0; K];
-        eps[k] = 1.0;
+    pub fn variable(re: T, k: usize) -> Self {
+        let mut eps = [T::cst(0.0); K];
+        eps[k] = T::cst(1.0);
         Dual { re, eps }
     }
 
     /// The chain rule for a function with value `f` and derivative `df` at `self.re`.
     #[inline(always)]
-    fn chain(self, f: f64, df: f64) -> Self {
+    fn chain(self, f: T, df: T) -> Self {
         Dual {
             re: f,
             eps: self.eps.map(|e| df * e),
@@ -219,7 +224,7 @@ impl<const K: usize> Dual<K> {
     }
 }
 
-impl<const K: usize> Add for Dual<K> {
+impl<const K: usize, T: Real> Add for Dual<K, T> {
     type Output = Self;
     #[inline(always)]
     fn add(self, o: Self) -> Self {
@@ -230,7 +235,7 @@ impl<const K: usize> Add for Dual<K> {
     }
 }
 
-impl<const K: usize> Sub for Dual<K> {
+impl<const K: usize, T: Real> Sub for Dual<K, T> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, o: Self) -> Self {
@@ -241,7 +246,7 @@ impl<const K: usize> Sub for Dual<K> {
     }
 }
 
-impl<const K: usize> Mul for Dual<K> {
+impl<const K: usize, T: Real> Mul for Dual<K, T> {
     type Output = Self;
     // The product rule: the derivative of a product is a sum.
     #[allow(clippy::suspicious_arithmetic_impl)]
@@ -254,11 +259,11 @@ impl<const K: usize> Mul for Dual<K> {
     }
 }
 
-impl<const K: usize> Div for Dual<K> {
+impl<const K: usize, T: Real> Div for Dual<K, T> {
     type Output = Self;
     #[inline(always)]
     fn div(self, o: Self) -> Self {
-        let inv = 1.0 / o.re;
+        let inv = T::cst(1.0) / o.re;
         let re = self.re * inv;
         Dual {
             re,
@@ -267,7 +272,7 @@ impl<const K: usize> Div for Dual<K> {
     }
 }
 
-impl<const K: usize> Neg for Dual<K> {
+impl<const K: usize, T: Real> Neg for Dual<K, T> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
@@ -278,10 +283,12 @@ impl<const K: usize> Neg for Dual<K> {
     }
 }
 
-impl<const K: usize> Real for Dual<K> {
+/// On any scalar: `Dual<K, f64>` for derivatives of `f64` kernels, `Dual<K, f64x4>` for
+/// derivatives of four states at once, nested duals for second derivatives.
+impl<const K: usize, T: Real> Real for Dual<K, T> {
     #[inline(always)]
     fn cst(x: f64) -> Self {
-        Dual::constant(x)
+        Dual::constant(T::cst(x))
     }
     #[inline(always)]
     fn sin(self) -> Self {
@@ -301,7 +308,7 @@ impl<const K: usize> Real for Dual<K> {
     #[inline(always)]
     fn sqrt(self) -> Self {
         let r = self.re.sqrt();
-        self.chain(r, 0.5 / r)
+        self.chain(r, T::cst(0.5) / r)
     }
     #[inline(always)]
     fn exp(self) -> Self {
@@ -310,7 +317,7 @@ impl<const K: usize> Real for Dual<K> {
     }
     #[inline(always)]
     fn ln(self) -> Self {
-        self.chain(self.re.ln(), 1.0 / self.re)
+        self.chain(self.re.ln(), T::cst(1.0) / self.re)
     }
 }
 

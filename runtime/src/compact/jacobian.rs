@@ -4,39 +4,40 @@
 //! kernels' symbolic Jacobian; no table of derivatives is emitted.
 
 use super::{Body, Node, aba};
-use crate::real::Dual;
+use crate::real::{Dual, Real};
 
 /// Directions per pass.
 pub const CHUNK: usize = 8;
 
-/// `(v̇, ∂v̇/∂q, ∂v̇/∂v)`, the matrices as arrays of rows; `forces(q, v)` the
-/// generalised forces `τ + τ_p` (their derivatives enter too).
+/// `(v̇, ∂v̇/∂q, ∂v̇/∂v)` on any scalar, the matrices as arrays of rows; `forces(q, v)`
+/// the generalised forces `τ + τ_p` (their derivatives enter too).
 #[allow(clippy::type_complexity)]
-pub fn forward_dynamics_jacobian<const B: usize, const N: usize>(
+pub fn forward_dynamics_jacobian<T: Real, const B: usize, const N: usize>(
     nodes: &[Node; B],
-    bodies: &[Body<f64>; B],
-    gravity: [f64; 3],
-    q: &[f64; N],
-    v: &[f64; N],
-    forces: impl Fn(&[Dual<CHUNK>; N], &[Dual<CHUNK>; N]) -> [Dual<CHUNK>; N],
-) -> ([f64; N], [[f64; N]; N], [[f64; N]; N]) {
-    let lifted: [Body<Dual<CHUNK>>; B] = std::array::from_fn(|i| bodies[i].lift());
+    bodies: &[Body<T>; B],
+    gravity: [T; 3],
+    q: &[T; N],
+    v: &[T; N],
+    forces: impl Fn(&[Dual<CHUNK, T>; N], &[Dual<CHUNK, T>; N]) -> [Dual<CHUNK, T>; N],
+) -> ([T; N], [[T; N]; N], [[T; N]; N]) {
+    let lifted: [Body<Dual<CHUNK, T>>; B] = std::array::from_fn(|i| bodies[i].map(Dual::constant));
     let g = gravity.map(Dual::constant);
-    let mut acc = [0.0; N];
-    let mut d_dq = [[0.0; N]; N];
-    let mut d_dv = [[0.0; N]; N];
+    let zero = T::cst(0.0);
+    let mut acc = [zero; N];
+    let mut d_dq = [[zero; N]; N];
+    let mut d_dv = [[zero; N]; N];
     let mut start = 0;
     while start < 2 * N {
         // Direction `start + k` seeds q_j (j < N) or v_(j − N).
-        let seed = |x: f64, j: usize| {
+        let seed = |x: T, j: usize| {
             let mut d = Dual::constant(x);
             if (start..start + CHUNK).contains(&j) {
-                d.eps[j - start] = 1.0;
+                d.eps[j - start] = T::cst(1.0);
             }
             d
         };
-        let qd: [Dual<CHUNK>; N] = std::array::from_fn(|j| seed(q[j], j));
-        let vd: [Dual<CHUNK>; N] = std::array::from_fn(|j| seed(v[j], N + j));
+        let qd: [Dual<CHUNK, T>; N] = std::array::from_fn(|j| seed(q[j], j));
+        let vd: [Dual<CHUNK, T>; N] = std::array::from_fn(|j| seed(v[j], N + j));
         let t = forces(&qd, &vd);
         let out = aba::forward_dynamics(nodes, &lifted, g, &qd, &vd, &t);
         for (i, o) in out.iter().enumerate() {

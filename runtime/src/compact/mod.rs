@@ -15,10 +15,12 @@
 //!
 //! - [`algebra`]: 3-vectors, 3×3 blocks and articulated inertias on any [`Real`];
 //! - [`aba`]: forward dynamics by the articulated-body algorithm;
+//! - [`crba`]: the mass matrix by the composite-rigid-body algorithm;
 //! - [`jacobian`]: its Jacobian with respect to `(q, v)`, by dual numbers through it.
 
 pub mod aba;
 pub mod algebra;
+pub mod crba;
 pub mod jacobian;
 
 use crate::real::Real;
@@ -60,16 +62,22 @@ pub struct Body<T> {
     pub inertia: [T; 6],
 }
 
-impl Body<f64> {
-    /// The same constants in another scalar (for the Jacobian's dual numbers).
-    pub fn lift<T: Real>(&self) -> Body<T> {
-        let c = |x: f64| T::cst(x);
+impl<T: Copy> Body<T> {
+    /// The same table with `f` applied to every entry.
+    pub fn map<U>(&self, f: impl Fn(T) -> U) -> Body<U> {
         Body {
-            rotation: self.rotation.map(|r| r.map(c)),
-            translation: self.translation.map(c),
-            mass: c(self.mass),
-            first_moment: self.first_moment.map(c),
-            inertia: self.inertia.map(c),
+            rotation: self.rotation.map(|r| r.map(&f)),
+            translation: self.translation.map(&f),
+            mass: f(self.mass),
+            first_moment: self.first_moment.map(&f),
+            inertia: self.inertia.map(&f),
         }
+    }
+}
+
+impl Body<f64> {
+    /// The same constants in another scalar.
+    pub fn lift<T: Real>(&self) -> Body<T> {
+        self.map(T::cst)
     }
 }

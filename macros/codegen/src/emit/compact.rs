@@ -19,6 +19,12 @@ pub struct Compact {
     pub core: TokenStream,
     /// `forward_dynamics_generic` (trait `GenericDynamics`).
     pub generic: TokenStream,
+    /// `forward_dynamics_jacobian_generic` (trait `GenericDynamics`).
+    pub generic_jacobian: TokenStream,
+    /// `mass_matrix` (trait `Mechanism`).
+    pub mass: TokenStream,
+    /// `mass_matrix_generic` (trait `GenericDynamics`).
+    pub generic_mass: TokenStream,
     /// The table, the forces and their helper chunks (inherent items).
     pub helpers: TokenStream,
 }
@@ -181,6 +187,10 @@ pub fn compact_impl(
         Some(()) => quote!(let pd = [#(self.#params),*].map(::filippov::runtime::Dual::constant);),
         None => quote!(),
     };
+    let dual_params_generic = match forces {
+        Some(()) => quote!(let pd = p.map(::filippov::runtime::Dual::constant);),
+        None => quote!(let _ = p;),
+    };
     stats.push(FnStats {
         name: "compact_table",
         ops: g.count_ops(&entries),
@@ -247,9 +257,54 @@ pub fn compact_impl(
             )
         }
     };
+    let generic_jacobian = quote! {
+        #[doc = " Forward dynamics and its Jacobian with respect to `(q, v)` on any scalar, by \
+                 dual numbers of that scalar through the compact articulated-body algorithm, \
+                 the matrices arrays of rows."]
+        fn forward_dynamics_jacobian_generic<T: ::filippov::runtime::Real>(
+            p: &[T; #np],
+            q: &[T; #n],
+            v: &[T; #n],
+            tau: &[T; #n],
+        ) -> ::filippov::runtime::kernels::GenericJacobian<T, #n> {
+            #dual_params_generic
+            let td = tau.map(::filippov::runtime::Dual::constant);
+            let (bodies, gravity) = #table_generic;
+            let (acceleration, d_dq, d_dv) =
+                ::filippov::runtime::compact::jacobian::forward_dynamics_jacobian(
+                    &Self::__FILIPPOV_NODES, &bodies, gravity, q, v, #forces_dual,
+                );
+            ::filippov::runtime::kernels::GenericJacobian { acceleration, d_dq, d_dv }
+        }
+    };
+    let mat_t = quote!(::filippov::nalgebra::SMatrix<f64, #n, #n>);
+    let mass = quote! {
+        /// Mass matrix `M(q)` by the composite-rigid-body algorithm, one loop over a
+        /// table of the bodies (`runtime::compact`).
+        #[inline]
+        fn mass_matrix(&self, q: &#vec_t) -> #mat_t {
+            let q: [f64; #n] = (*q).into();
+            let (bodies, _) = &#table_f64;
+            let m = ::filippov::runtime::compact::crba::mass_matrix(&Self::__FILIPPOV_NODES, bodies, &q);
+            ::filippov::nalgebra::SMatrix::<f64, #n, #n>::from_fn(|i, j| m[i][j])
+        }
+    };
+    let generic_mass = quote! {
+        #[doc = " `M(q)` on any scalar, an array of rows, by the compact composite-rigid-body \
+                 algorithm."]
+        #[inline]
+        fn mass_matrix_generic<T: ::filippov::runtime::Real>(p: &[T; #np], q: &[T; #n]) -> [[T; #n]; #n] {
+            let _ = p;
+            let (bodies, _) = #table_generic;
+            ::filippov::runtime::compact::crba::mass_matrix(&Self::__FILIPPOV_NODES, &bodies, q)
+        }
+    };
     Compact {
         core,
         generic,
+        generic_jacobian,
+        mass,
+        generic_mass,
         helpers,
     }
 }

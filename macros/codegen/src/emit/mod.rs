@@ -168,14 +168,17 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
     let masm = |o: Vec<TokenStream>| matrix(o, n);
     let emits = model.emit;
     // What every integrator calls: in the core trait.
-    let mut methods = add(
-        "mass_matrix",
-        vec![Q],
-        mat_t.clone(),
-        flat(&k.mass),
-        &masm,
-        " Mass matrix `M(q)` (composite-rigid-body algorithm, unrolled).",
-    );
+    let mut methods = match &compact {
+        Some(c) => c.mass.clone(),
+        None => add(
+            "mass_matrix",
+            vec![Q],
+            mat_t.clone(),
+            flat(&k.mass),
+            &masm,
+            " Mass matrix `M(q)` (composite-rigid-body algorithm, unrolled).",
+        ),
+    };
     if let Some(c) = &compact {
         methods.extend(c.core.clone());
         helpers.extend(c.helpers.clone());
@@ -363,14 +366,17 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
                  declaration order.",
             ),
         };
-        methods.extend(gm.emit(
-            "mass_matrix_generic",
-            vec![Q],
-            quote!([[T; #n]; #n]),
-            &flat(&k.mass),
-            &rows,
-            " `M(q)` on any scalar, an array of rows.",
-        ));
+        methods.extend(match &compact {
+            Some(c) => c.generic_mass.clone(),
+            None => gm.emit(
+                "mass_matrix_generic",
+                vec![Q],
+                quote!([[T; #n]; #n]),
+                &flat(&k.mass),
+                &rows,
+                " `M(q)` on any scalar, an array of rows.",
+            ),
+        });
         methods.extend(gm.emit(
             "inverse_dynamics_generic",
             vec![Q, V, A],
@@ -382,22 +388,26 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         let mut jac_outs = k.jacobian_forward.clone();
         jac_outs.extend(flat(&k.jac_q));
         jac_outs.extend(flat(&k.jac_v));
-        methods.extend(gm.emit(
-            "forward_dynamics_jacobian_generic",
-            vec![Q, V, Tau],
-            quote!(::filippov::runtime::kernels::GenericJacobian<T, #n>),
-            &jac_outs,
-            &|o: Vec<TokenStream>| {
-                let acc = &o[..n];
-                let dq = rows(o[n..n + n * n].to_vec());
-                let dv = rows(o[n + n * n..].to_vec());
-                quote!(::filippov::runtime::kernels::GenericJacobian {
-                    acceleration: [#(#acc),*], d_dq: #dq, d_dv: #dv
-                })
-            },
-            " Forward dynamics and its symbolic Jacobian with respect to `(q, v)` on any \
+        if let Some(c) = &compact {
+            methods.extend(c.generic_jacobian.clone());
+        } else {
+            methods.extend(gm.emit(
+                "forward_dynamics_jacobian_generic",
+                vec![Q, V, Tau],
+                quote!(::filippov::runtime::kernels::GenericJacobian<T, #n>),
+                &jac_outs,
+                &|o: Vec<TokenStream>| {
+                    let acc = &o[..n];
+                    let dq = rows(o[n..n + n * n].to_vec());
+                    let dv = rows(o[n + n * n..].to_vec());
+                    quote!(::filippov::runtime::kernels::GenericJacobian {
+                        acceleration: [#(#acc),*], d_dq: #dq, d_dv: #dv
+                    })
+                },
+                " Forward dynamics and its symbolic Jacobian with respect to `(q, v)` on any \
              scalar, the matrices arrays of rows.",
-        ));
+            ));
+        }
         helpers.extend(gm.helpers);
         let names: Vec<String> = params.iter().map(|p| p.to_string()).collect();
         optional.extend(quote! {

@@ -81,8 +81,8 @@ pub struct Kernels {
     /// that declare some.
     pub contacts: Option<contacts::ContactKernels>,
     /// For scenes whose forward dynamics and its Jacobian run as compact loops
-    /// ([`Algorithm::Compact`]): the table and the forces. `forward` is then empty, and
-    /// the symbolic Jacobian is built only for the generic kernels.
+    /// ([`Algorithm::Compact`]): the table and the forces. `forward` and the Jacobian's
+    /// nodes are then empty.
     pub compact: Option<CompactKernels>,
 }
 
@@ -265,9 +265,9 @@ impl Kernels {
                 .then(|| (0..n).map(|i| g.add(tau[i], passive[i])).collect());
             CompactKernels { tree, forces }
         });
-        // The compact kernels' Jacobian runs dual numbers through their loops: the
-        // symbolic one is built only for the generic kernels.
-        let symbolic_jacobian = compact.is_none() || emit.generic;
+        // The compact kernels' Jacobian runs dual numbers through their loops (on any
+        // scalar): no symbolic one.
+        let symbolic_jacobian = compact.is_none();
 
         // ∂v̇/∂x = −M⁻¹ ∂ID(q, v, a)/∂x evaluated at a = v̇: differentiate inverse
         // dynamics with a held fixed (cheap: RNEA is linear-size), then substitute v̇

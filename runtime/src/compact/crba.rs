@@ -1,0 +1,130 @@
+//! The mass matrix of a compact tree by the composite-rigid-body algorithm
+//! (Featherstone, *Rigid Body Dynamics Algorithms*, §6.2): composite inertias inwards,
+//! then each joint's column of `M` by carrying its force `I_c S` towards the root.
+
+use super::aba::placement;
+use super::algebra::{M3, Spatial, Sym, V3, add, cross, dot, mul, scale, sym_mul, sym_rotate};
+use super::{Body, Joint, Node};
+use crate::real::Real;
+
+/// A rigid body's inertia `(m, h, Ī)`: mass, first moment, rotational inertia about the
+/// frame's origin.
+#[derive(Clone, Copy, Debug)]
+struct Rigid<T> {
+    m: T,
+    h: V3<T>,
+    i: Sym<T>,
+}
+
+impl<T: Real> Rigid<T> {
+    /// In the parent's frame: `h' = R h + m p`,
+    /// `Ī' = R Ī Rᵀ − (p aᵀ + a pᵀ − 2 (a·p) 1) − m (p pᵀ − |p|² 1)` with `a = R h`.
+    #[inline(always)]
+    fn to_parent(&self, r: &M3<T>, p: V3<T>) -> Self {
+        let a = mul(r, self.h);
+        let ri = sym_rotate(r, &self.i);
+        let ap = dot(a, p);
+        let pp = dot(p, p);
+        let two = T::cst(2.0);
+        let diag = two * ap + self.m * pp;
+        let e = |i: usize, j: usize| p[i] * a[j] + a[i] * p[j] + self.m * p[i] * p[j];
+        Rigid {
+            m: self.m,
+            h: add(a, scale(self.m, p)),
+            i: [
+                ri[0] - e(0, 0) + diag,
+                ri[1] - e(1, 1) + diag,
+                ri[2] - e(2, 2) + diag,
+                ri[3] - e(0, 1),
+                ri[4] - e(0, 2),
+                ri[5] - e(1, 2),
+            ],
+        }
+    }
+
+    #[inline(always)]
+    fn plus(&self, o: &Self) -> Self {
+        Rigid {
+            m: self.m + o.m,
+            h: add(self.h, o.h),
+            i: std::array::from_fn(|k| self.i[k] + o.i[k]),
+        }
+    }
+
+    /// `I S` for a joint along `z`: the force a unit motion of the joint needs.
+    #[inline(always)]
+    fn times_joint(&self, revolute: bool) -> Spatial<T> {
+        let z = T::cst(0.0);
+        let e = [z, z, T::cst(1.0)];
+        if revolute {
+            Spatial {
+                w: sym_mul(&self.i, e),
+                l: cross(e, self.h),
+            }
+        } else {
+            Spatial {
+                w: cross(self.h, e),
+                l: [z, z, self.m],
+            }
+        }
+    }
+}
+
+/// `Sᵀ f` of a joint along `z`.
+#[inline(always)]
+fn joint_part<T: Real>(f: &Spatial<T>, joint: Joint) -> Option<(usize, T)> {
+    match joint {
+        Joint::Revolute(k) => Some((k, f.w[2])),
+        Joint::Prismatic(k) => Some((k, f.l[2])),
+        Joint::Fixed => None,
+    }
+}
+
+/// `M(q)` of the tree `nodes`/`bodies` (parents before children), an array of rows.
+pub fn mass_matrix<T: Real, const B: usize, const N: usize>(
+    nodes: &[Node; B],
+    bodies: &[Body<T>; B],
+    q: &[T; N],
+) -> [[T; N]; N] {
+    let zero = T::cst(0.0);
+    let mut rot = [[[zero; 3]; 3]; B];
+    let mut pos = [[zero; 3]; B];
+    let mut composite: [Rigid<T>; B] = std::array::from_fn(|i| Rigid {
+        m: bodies[i].mass,
+        h: bodies[i].first_moment,
+        i: bodies[i].inertia,
+    });
+    for i in 0..B {
+        let (r, p) = placement(&bodies[i], nodes[i].joint, q);
+        rot[i] = r;
+        pos[i] = p;
+    }
+    for i in (0..B).rev() {
+        if let Some(pa) = nodes[i].parent {
+            let moved = composite[i].to_parent(&rot[i], pos[i]);
+            composite[pa] = composite[pa].plus(&moved);
+        }
+    }
+    let mut m = [[zero; N]; N];
+    for i in 0..B {
+        let joint = nodes[i].joint;
+        let revolute = matches!(joint, Joint::Revolute(_));
+        let Some((ci, _)) = joint_part(&Spatial::<T>::zero(), joint) else {
+            continue;
+        };
+        let mut f = composite[i].times_joint(revolute);
+        if let Some((_, d)) = joint_part(&f, joint) {
+            m[ci][ci] = d;
+        }
+        let mut j = i;
+        while let Some(pa) = nodes[j].parent {
+            f = f.force_to_parent(&rot[j], pos[j]);
+            j = pa;
+            if let Some((cj, x)) = joint_part(&f, nodes[j].joint) {
+                m[ci][cj] = x;
+                m[cj][ci] = x;
+            }
+        }
+    }
+    m
+}

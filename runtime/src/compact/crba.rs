@@ -20,7 +20,7 @@ impl<T: Real> Rigid<T> {
     /// In the parent's frame: `h' = R h + m p`,
     /// `Ī' = R Ī Rᵀ − (p aᵀ + a pᵀ − 2 (a·p) 1) − m (p pᵀ − |p|² 1)` with `a = R h`.
     #[inline(always)]
-    fn to_parent(&self, r: &M3<T>, p: V3<T>) -> Self {
+    fn in_parent(&self, r: &M3<T>, p: V3<T>) -> Self {
         let a = mul(r, self.h);
         let ri = sym_rotate(r, &self.i);
         let ap = dot(a, p);
@@ -101,7 +101,7 @@ pub fn mass_matrix<T: Real, const B: usize, const N: usize>(
     }
     for i in (0..B).rev() {
         if let Some(pa) = nodes[i].parent {
-            let moved = composite[i].to_parent(&rot[i], pos[i]);
+            let moved = composite[i].in_parent(&rot[i], pos[i]);
             composite[pa] = composite[pa].plus(&moved);
         }
     }

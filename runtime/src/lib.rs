@@ -87,6 +87,7 @@ pub mod geometry;
 mod input;
 pub mod kernels;
 pub mod liegroup;
+pub mod lockstep;
 pub mod loops;
 mod mechanical;
 pub mod method;

@@ -149,6 +149,19 @@ macro_rules! batch {
 batch!(f64x4, f64, 4);
 batch!(f32x8, f32, 8);
 
+/// One lane: the scalar itself, so that code written for batches runs on single states.
+impl Lanes for f64 {
+    const LANES: usize = 1;
+    #[inline(always)]
+    fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
+        f(0)
+    }
+    #[inline(always)]
+    fn lane(self, _: usize) -> f64 {
+        self
+    }
+}
+
 /// Packs up to `L::LANES` states (one array each) into one array of lanes: lane `i` of
 /// entry `k` is `states[i][k]`. Fewer states than lanes fill the remaining lanes with
 /// the last state (so that every lane computes something finite); an empty slice gives

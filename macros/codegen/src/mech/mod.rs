@@ -94,9 +94,16 @@ pub struct CompactKernels {
 }
 
 /// Under `forward_dynamics = auto`, a tree the compact kernels take gets them when its
-/// unrolled forward dynamics would take more operations than this. Measured in the
-/// report's scaling section (docs/measurements.md, "Compact kernels").
-pub const COMPACT_ABOVE: usize = 10_000;
+/// unrolled forward dynamics would take more operations than this in all, and more than
+/// [`COMPACT_PER_JOINT`] per joint (geometry that does not fold). Measured in the
+/// report's scaling section (docs/measurements.md, "Compact kernels"): on random oblique
+/// trees the compact forward dynamics was faster from 7 joints on, but its Jacobian
+/// (duals) 8× slower at 15 joints (12,373 operations unrolled) and 1.7× slower at 30
+/// (26,890), where it built in 9 s against 113 s; planar chains, which fold to about 110
+/// operations per joint, stayed faster unrolled up to 50 joints.
+pub const COMPACT_ABOVE: usize = 20_000;
+/// See [`COMPACT_ABOVE`].
+pub const COMPACT_PER_JOINT: usize = 300;
 
 /// What a scene with loop joints emits besides its constrained forward dynamics.
 pub struct LoopOutputs {
@@ -211,9 +218,11 @@ impl Kernels {
             }
             None => {
                 let (f, used) = solver.choose(&mut g, solve_forward);
+                let ops = g.count_ops(&f).total();
                 if model.algorithm == Algorithm::Auto
                     && compact_ok
-                    && g.count_ops(&f).total() > COMPACT_ABOVE
+                    && ops > COMPACT_ABOVE
+                    && ops > COMPACT_PER_JOINT * n.max(1)
                 {
                     (Vec::new(), Algorithm::Compact, Vec::new())
                 } else {

@@ -27,4 +27,11 @@ struct Third { m: f64 }
 #[joint(hinge: revolute(z), parent = world, child = link)]
 struct Fourth { m: f64 }
 
+// The compact kernels take trees of one-dof joints: not a ball joint.
+#[derive(Mechanism)]
+#[mechanism(forward_dynamics = compact)]
+#[body(link, mass = m, com = [0.5, 0.0, 0.0], inertia = rod(m, 1.0))]
+#[joint(shoulder: spherical, parent = world, child = link)]
+struct Fifth { m: f64 }
+
 fn main() {}

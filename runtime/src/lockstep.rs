@@ -1,6 +1,6 @@
 //! Ensembles in lockstep: independent runs of one scene (each with its own parameters
 //! and initial state) integrated together in the lanes of a SIMD batch
-//! ([`Lanes`](crate::real::Lanes): `f64x4` holds four runs), every right-hand side one
+//! ([`Lanes`]: `f64x4` holds four runs), every right-hand side one
 //! call of the scene's generic forward dynamics for all lanes at once.
 //!
 //! The lanes share one step: Dormand–Prince 5(4) with the step chosen by the worst

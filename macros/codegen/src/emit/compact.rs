@@ -115,6 +115,7 @@ pub fn compact_impl(
             let ty = table_t(quote!(f64));
             helpers.extend(quote! {
                 /// The bodies of the compact kernels in their joint-aligned frames, and gravity.
+                #[allow(clippy::all)]
                 const __FILIPPOV_TABLE: #ty = #value;
             });
             (

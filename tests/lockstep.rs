@@ -6,33 +6,14 @@
 mod common;
 
 use common::Rng;
-use filippov::prelude::*;
 use filippov::runtime::kernels::GenericDynamics;
 use filippov::runtime::lockstep::{Final, LockstepError, LockstepOptions, Run, lockstep};
 use filippov::runtime::real::f64x4;
 use filippov::runtime::{MechanicalSystem, Method, Options, Problem, solve};
 
-/// An oblique spatial tree whose masses, length, spring, damper and gravity are
-/// parameters.
-#[derive(Mechanism, Clone, Copy)]
-#[mechanism(emit = [generic], gravity = [0.0, 0.0, -g])]
-#[body(base, mass = m1, com = [0.1, 0.0, 0.05], inertia = sphere(m1, 0.2))]
-#[joint(slide: prismatic([0.6, 0.0, 0.8]), parent = world, child = base, origin = [0.0, 0.0, 1.0], rpy = [0.1, 0.2, 0.3])]
-#[spring(slide, k = k)]
-#[damper(slide, c = c)]
-#[body(arm, mass = m2, com = [l / 2.0, 0.05, 0.0], inertia = rod(m2, l))]
-#[joint(shoulder: revolute([0.0, 0.6, 0.8]), parent = base, child = arm, origin = [0.1, 0.2, 0.0], rpy = [0.3, -0.2, 0.5])]
-#[body(hand, mass = m3, com = [0.05, 0.0, 0.02], inertia = sphere(m3, 0.05))]
-#[joint(wrist: revolute([1.0, 1.0, 0.0]), parent = arm, child = hand, origin = [l, 0.0, 0.1], rpy = [-0.2, 0.1, 0.0])]
-struct Oblique {
-    m1: f64,
-    m2: f64,
-    m3: f64,
-    l: f64,
-    k: f64,
-    c: f64,
-    g: f64,
-}
+#[path = "common/oblique.rs"]
+mod oblique;
+use oblique::{OBLIQUE, Oblique};
 
 fn scene(p: &[f64; 7]) -> Oblique {
     let [m1, m2, m3, l, k, c, g] = *p;
@@ -47,13 +28,13 @@ fn scene(p: &[f64; 7]) -> Oblique {
     }
 }
 
-const BASE: [f64; 7] = [1.0, 0.5, 0.3, 0.4, 20.0, 0.7, 9.81];
-
 /// Runs with every parameter moved by up to ±20 % and random initial states.
 fn runs(rng: &mut Rng, count: usize) -> Vec<Run<3, 7>> {
     (0..count)
         .map(|_| Run {
-            parameters: BASE.map(|p| p * (1.0 + rng.uniform(-0.2, 0.2))),
+            parameters: OBLIQUE
+                .parameters()
+                .map(|p| p * (1.0 + rng.uniform(-0.2, 0.2))),
             q0: rng.vector::<3>(1.0).into(),
             v0: rng.vector::<3>(1.0).into(),
         })

@@ -10,6 +10,7 @@
 //! what the ensemble is measured against.
 
 use crate::kernels::GenericDynamics;
+use crate::numerics::control::PiController;
 use crate::numerics::tableau::DOPRI5;
 use crate::real::Lanes;
 
@@ -62,6 +63,10 @@ pub enum LockstepError {
     NonFinite { run: usize, t: f64 },
     /// The batch holding run `run` took `LockstepOptions::max_steps` steps by time `t`.
     StepLimit { run: usize, t: f64 },
+    /// The batch holding run `run` needed a step too small to advance time at `t`.
+    StepTooSmall { run: usize, t: f64 },
+    /// An option (or the end time) cannot be used: `what` names it and says why.
+    InvalidOptions { what: &'static str },
 }
 
 impl std::fmt::Display for LockstepError {
@@ -75,6 +80,11 @@ impl std::fmt::Display for LockstepError {
                 "the batch holding run {run} reached the step limit at t = {t}; raise \
                  `LockstepOptions::max_steps` or loosen the tolerances"
             ),
+            LockstepError::StepTooSmall { run, t } => write!(
+                f,
+                "the batch holding run {run} needed a step too small to advance t = {t}"
+            ),
+            LockstepError::InvalidOptions { what } => write!(f, "lockstep: {what}"),
         }
     }
 }
@@ -95,6 +105,18 @@ where
     S: GenericDynamics<N, N, P>,
     L: Lanes,
 {
+    let bad = if !(t_end.is_finite() && t_end >= 0.0) {
+        Some("the end time must be finite and ≥ 0")
+    } else if !(options.first_step.is_finite() && options.first_step > 0.0) {
+        Some("`first_step` must be finite and > 0")
+    } else if !(options.rtol >= 0.0 && options.atol >= 0.0) || options.rtol + options.atol <= 0.0 {
+        Some("`rtol` and `atol` must be ≥ 0, not both zero")
+    } else {
+        None
+    };
+    if let Some(what) = bad {
+        return Err(LockstepError::InvalidOptions { what });
+    }
     let mut out = Vec::with_capacity(runs.len());
     for (b, batch) in runs.chunks(L::LANES).enumerate() {
         let first = b * L::LANES;
@@ -142,9 +164,13 @@ where
     kv[0] = f(&q, &v);
     let (mut t, mut h) = (0.0f64, o.first_step.min(t_end));
     let (mut steps, mut rejected) = (0usize, 0usize);
+    let mut control = PiController::new(4);
     while t < t_end {
         if steps + rejected >= o.max_steps {
             return Err(LockstepError::StepLimit { run: first, t });
+        }
+        if h <= 16.0 * f64::EPSILON * t.abs() || h <= f64::MIN_POSITIVE {
+            return Err(LockstepError::StepTooSmall { run: first, t });
         }
         h = h.min(t_end - t);
         let hl = L::cst(h);
@@ -168,31 +194,43 @@ where
         }
         // The 7th stage's argument is the 5th-order solution (first same as last).
         let (q1, v1) = (qs, vs);
-        // Each lane's weighted RMS error; the batch steps by the worst.
+        // Each lane's weighted RMS error; the batch steps by the worst. A lane whose new
+        // state is not finite stops the batch, naming its run; a finite state with a huge
+        // error is only a rejected step.
         let mut worst = 0.0f64;
         for lane in 0..used {
-            let mut sum = 0.0;
-            for k in 0..N {
-                for (y0, y1, kk) in [(q[k], q1[k], &kq), (v[k], v1[k], &kv)] {
-                    let err: f64 = h * (0..7).map(|j| e[j] * kk[j][k].lane(lane)).sum::<f64>();
-                    let scale = o.atol + o.rtol * y0.lane(lane).abs().max(y1.lane(lane).abs());
-                    sum += (err / scale) * (err / scale);
-                }
-            }
-            let norm = (sum / (2 * N) as f64).sqrt();
-            if !norm.is_finite() {
+            let finite = (0..N).all(|k| {
+                q1[k].lane(lane).is_finite()
+                    && v1[k].lane(lane).is_finite()
+                    && kv[6][k].lane(lane).is_finite()
+            });
+            if !finite {
                 return Err(LockstepError::NonFinite {
                     run: first + lane,
                     t,
                 });
             }
+            let mut scaled = [[0.0f64; 2]; N];
+            for (k, pair) in scaled.iter_mut().enumerate() {
+                for (slot, (y0, y1, kk)) in [(q[k], q1[k], &kq), (v[k], v1[k], &kv)]
+                    .into_iter()
+                    .enumerate()
+                {
+                    let err: f64 = h * (0..7).map(|j| e[j] * kk[j][k].lane(lane)).sum::<f64>();
+                    let scale = o.atol + o.rtol * y0.lane(lane).abs().max(y1.lane(lane).abs());
+                    pair[slot] = (err / scale).abs();
+                }
+            }
+            // RMS without overflow: scaled by the largest entry first.
+            let big = scaled.iter().flatten().fold(0.0f64, |m, x| m.max(*x));
+            let norm = if big == 0.0 || !big.is_finite() {
+                big
+            } else {
+                let sum: f64 = scaled.iter().flatten().map(|x| (x / big) * (x / big)).sum();
+                big * (sum / (2 * N) as f64).sqrt()
+            };
             worst = worst.max(norm);
         }
-        let factor = if worst == 0.0 {
-            5.0
-        } else {
-            (0.9 * worst.powf(-0.2)).clamp(0.2, 5.0)
-        };
         if worst <= 1.0 {
             t += h;
             q = q1;
@@ -200,10 +238,10 @@ where
             kq[0] = kq[6];
             kv[0] = kv[6];
             steps += 1;
-            h *= factor;
+            h *= control.accept(worst);
         } else {
             rejected += 1;
-            h *= factor.min(1.0);
+            h *= control.reject(worst);
         }
     }
     Ok((q, v, steps, rejected))

@@ -9,11 +9,15 @@
 //!   traits of the kernels a scene asks for by name (Coriolis matrix, energies, …).
 //! * [`numeric`]: plain numeric RNEA / CRBA / exact `∂M/∂q` over a runtime
 //!   [`numeric::Model`] — the cross-check and the baseline.
+//! * [`compact`]: the loops the derive calls for large trees (ABA, CRBA and the
+//!   Jacobian by duals over a table of the bodies); [`real`]: the scalars every generic
+//!   kernel runs on ([`Real`], [`Dual`], SIMD [`Lanes`]).
 //! * Integration, in layers whose arrows point down:
 //!   - drivers: [`solve`] (smooth), [`solve_nonsmooth`] (event-driven or
 //!     time-stepping, [`nonsmooth`]; its step-level form
 //!     [`nonsmooth::Integrator`], which a controller drives with `set_input` and
-//!     `advance_to`), the Lie-group methods' own `solve` ([`liegroup`]); user
+//!     `advance_to`), the Lie-group methods' own `solve` ([`liegroup`]), ensembles
+//!     of runs in SIMD lanes ([`lockstep`]); user
 //!     [`Event`]s, located the same way by every driver ([`events`]);
 //!   - methods ([`method`]): [`Rk4`], [`Dopri5`], [`Sdirk4`], [`Bdf`], each a
 //!     configuration that makes a [`Stepper`] — the step-level trait every driver runs

@@ -3,30 +3,9 @@
 //! and bias terms outwards, articulated inertias inwards, accelerations outwards.
 //! Gravity is the world's acceleration `−γ`.
 
-use super::algebra::{Inertia, M3, Spatial, V3, add, cross, turn_z};
-use super::{Body, Joint, Node};
+use super::algebra::{Inertia, Spatial, add, cross};
+use super::{Body, Joint, Node, placement};
 use crate::real::Real;
-
-/// A body's transform from its parent: its axes `R` in the parent's frame and its
-/// origin `p` there.
-#[inline(always)]
-pub fn placement<T: Real>(body: &Body<T>, joint: Joint, q: &[T]) -> (M3<T>, V3<T>) {
-    match joint {
-        Joint::Revolute(k) => {
-            let (s, c) = q[k].sin_cos();
-            (turn_z(&body.rotation, s, c), body.translation)
-        }
-        Joint::Prismatic(k) => {
-            let r = &body.rotation;
-            let z = [r[0][2], r[1][2], r[2][2]];
-            (
-                *r,
-                add(body.translation, [z[0] * q[k], z[1] * q[k], z[2] * q[k]]),
-            )
-        }
-        Joint::Fixed => (body.rotation, body.translation),
-    }
-}
 
 /// `v̇ = M(q)⁻¹ (τ − C(q, v) v − g(q))` of the tree `nodes`/`bodies` (parents before
 /// children) under gravity `gravity` (world frame), `N` its coordinates.

@@ -1,7 +1,8 @@
 //! The spatial algebra of the compact kernels, on any [`Real`]: 3-vectors, 3×3 blocks,
 //! motion and force vectors as pairs of 3-vectors, and articulated inertias as three
 //! 3×3 blocks (Featherstone, *Rigid Body Dynamics Algorithms*, ch. 2 and 7). Every
-//! function is `#[inline(always)]`: the loops of [`aba`](super::aba) are the only code.
+//! function is `#[inline(always)]`: the loops of [`aba`](super::aba) and
+//! [`crba`](super::crba) are the only code.
 
 use crate::real::Real;
 
@@ -130,8 +131,8 @@ impl<T: Real> Spatial<T> {
         }
     }
 
-    /// A motion from the parent's frame to the child's (`R` the child's axes in the
-    /// parent's frame, `r` its origin there).
+    /// A motion from the parent's frame to the child's (`r` the child's axes in the
+    /// parent's frame, `p` its origin there).
     #[inline(always)]
     pub fn motion_to_child(self, r: &M3<T>, p: V3<T>) -> Self {
         Spatial {

@@ -2,9 +2,8 @@
 //! (Featherstone, *Rigid Body Dynamics Algorithms*, §6.2): composite inertias inwards,
 //! then each joint's column of `M` by carrying its force `I_c S` towards the root.
 
-use super::aba::placement;
 use super::algebra::{M3, Spatial, Sym, V3, add, cross, dot, mul, scale, sym_mul, sym_rotate};
-use super::{Body, Joint, Node};
+use super::{Body, Joint, Node, placement};
 use crate::real::Real;
 
 /// A rigid body's inertia `(m, h, Ī)`: mass, first moment, rotational inertia about the
@@ -109,7 +108,7 @@ pub fn mass_matrix<T: Real, const B: usize, const N: usize>(
     for i in 0..B {
         let joint = nodes[i].joint;
         let revolute = matches!(joint, Joint::Revolute(_));
-        let Some((ci, _)) = joint_part(&Spatial::<T>::zero(), joint) else {
+        let Some(ci) = joint.coordinate() else {
             continue;
         };
         let mut f = composite[i].times_joint(revolute);

@@ -24,6 +24,7 @@ pub mod crba;
 pub mod jacobian;
 
 use crate::real::Real;
+use algebra::{M3, V3, add, turn_z};
 
 /// How a body moves relative to its parent, along its own frame's `z` axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -34,6 +35,16 @@ pub enum Joint {
     Prismatic(usize),
     /// Welded to its parent.
     Fixed,
+}
+
+impl Joint {
+    /// The joint's coordinate (`None` for a fixed joint).
+    pub fn coordinate(self) -> Option<usize> {
+        match self {
+            Joint::Revolute(k) | Joint::Prismatic(k) => Some(k),
+            Joint::Fixed => None,
+        }
+    }
 }
 
 /// A body's place in the tree: its parent (`None`: the world) and its joint. Parents
@@ -79,5 +90,26 @@ impl Body<f64> {
     /// The same constants in another scalar.
     pub fn lift<T: Real>(&self) -> Body<T> {
         self.map(T::cst)
+    }
+}
+
+/// A body's transform from its parent: its axes `R` in the parent's frame and its
+/// origin `p` there.
+#[inline(always)]
+pub fn placement<T: Real>(body: &Body<T>, joint: Joint, q: &[T]) -> (M3<T>, V3<T>) {
+    match joint {
+        Joint::Revolute(k) => {
+            let (s, c) = q[k].sin_cos();
+            (turn_z(&body.rotation, s, c), body.translation)
+        }
+        Joint::Prismatic(k) => {
+            let r = &body.rotation;
+            let z = [r[0][2], r[1][2], r[2][2]];
+            (
+                *r,
+                add(body.translation, [z[0] * q[k], z[1] * q[k], z[2] * q[k]]),
+            )
+        }
+        Joint::Fixed => (body.rotation, body.translation),
     }
 }

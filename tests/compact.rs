@@ -174,6 +174,16 @@ fn parameter_sensitivities_compact_equal_unrolled() {
     }
 }
 
+/// Four random Panda states: coordinates within ±2.5, velocities ±3, torques ±5.
+#[allow(clippy::type_complexity)]
+fn four_states(rng: &mut Rng) -> (Vec<[f64; 7]>, Vec<[f64; 7]>, Vec<[f64; 7]>) {
+    let mut draw =
+        |s: f64| -> Vec<[f64; 7]> { (0..4).map(|_| rng.vector::<7>(s).into()).collect() };
+    let q = draw(2.5);
+    let v = draw(3.0);
+    (q, v, draw(5.0))
+}
+
 /// Four states in the lanes of one `f64x4` call: each lane is the scalar compact kernel
 /// bit for bit.
 #[test]
@@ -181,14 +191,7 @@ fn lanes_are_the_scalar_compact_kernel_bit_for_bit() {
     use filippov::runtime::real::{f64x4, pack, unpack};
     let mut rng = Rng::new(5);
     for _ in 0..20 {
-        let draw = |rng: &mut Rng, s: f64| -> Vec<[f64; 7]> {
-            (0..4).map(|_| rng.vector::<7>(s).into()).collect()
-        };
-        let (q, v, tau) = (
-            draw(&mut rng, 2.5),
-            draw(&mut rng, 3.0),
-            draw(&mut rng, 5.0),
-        );
+        let (q, v, tau) = four_states(&mut rng);
         let (qb, vb, tb): ([f64x4; 7], [f64x4; 7], [f64x4; 7]) = (pack(&q), pack(&v), pack(&tau));
         let out = unpack(&PandaCompact.forward_dynamics_as(&qb, &vb, &tb), 4);
         for s in 0..4 {
@@ -214,14 +217,7 @@ fn generic_jacobian_is_the_scalar_one_bit_for_bit() {
     let rows =
         |m: &[[f64; 7]; 7]| -> Vec<u64> { m.iter().flatten().map(|x| x.to_bits()).collect() };
     for _ in 0..5 {
-        let draw = |rng: &mut Rng, s: f64| -> Vec<[f64; 7]> {
-            (0..4).map(|_| rng.vector::<7>(s).into()).collect()
-        };
-        let (q, v, tau) = (
-            draw(&mut rng, 2.5),
-            draw(&mut rng, 3.0),
-            draw(&mut rng, 5.0),
-        );
+        let (q, v, tau) = four_states(&mut rng);
         let (qb, vb, tb): ([f64x4; 7], [f64x4; 7], [f64x4; 7]) = (pack(&q), pack(&v), pack(&tau));
         let batch = PandaCompact.forward_dynamics_jacobian_as(&qb, &vb, &tb);
         for s in 0..4 {

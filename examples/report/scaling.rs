@@ -1,7 +1,7 @@
 //! How the generated kernels scale with the number of joints, per algorithm: planar
-//! chains of 7…50 links declared with `forward_dynamics = crba` and `= aba`, and random
-//! oblique 3-D trees of the same sizes (nothing axis-aligned to fold) as `auto` builds
-//! them, each built as its own release crate (the build a user runs) whose binary times
+//! chains of 7…50 links and random oblique 3-D trees of the same sizes (nothing
+//! axis-aligned to fold), each declared with `forward_dynamics = crba`, `= aba` and
+//! `= compact` and built as its own release crate (the build a user runs) whose binary times
 //! the generated forward dynamics and its Jacobian beside the numeric implementation;
 //! with the forward dynamics' machine code size from the binary's symbols.
 
@@ -379,7 +379,8 @@ pub fn scaling(config: &Config) -> Section {
             failed.join(", ")
         ));
     }
-    let series = |f: &dyn Fn(&Run) -> f64| -> Vec<Series> {
+    // One series per case, its points `point(run)` (a run without one is left out).
+    let series = |point: &dyn Fn(&Run) -> Option<(f64, f64)>| -> Vec<Series> {
         cases
             .iter()
             .map(|(g, a)| {
@@ -387,7 +388,7 @@ pub fn scaling(config: &Config) -> Section {
                     format!("{g}, forward_dynamics = {a}"),
                     runs.iter()
                         .filter(|r| r.geometry == *g && r.algorithm == *a)
-                        .map(|r| (r.n as f64, f(r)))
+                        .filter_map(point)
                         .collect(),
                 )
             })
@@ -398,11 +399,11 @@ pub fn scaling(config: &Config) -> Section {
         "Release build of a crate holding one chain or tree",
         "joints",
         "build time [s]",
-        &series(&|r| r.build_s),
+        &series(&|r| Some((r.n as f64, r.build_s))),
         Scale::Log,
         Scale::Log,
     );
-    let mut fd = series(&|r| r.ns[0][0]);
+    let mut fd = series(&|r| Some((r.n as f64, r.ns[0][0])));
     fd.push(Series::new(
         "numeric FD (run-time CRBA + Cholesky)",
         runs.iter()
@@ -419,18 +420,7 @@ pub fn scaling(config: &Config) -> Section {
         Scale::Log,
         Scale::Log,
     );
-    let code: Vec<Series> = cases
-        .iter()
-        .map(|(g, a)| {
-            Series::new(
-                format!("{g}, forward_dynamics = {a}"),
-                runs.iter()
-                    .filter(|r| r.geometry == *g && r.algorithm == *a)
-                    .filter_map(|r| Some((r.code? as f64 / 1024.0, r.ns[0][0])))
-                    .collect(),
-            )
-        })
-        .collect();
+    let code = series(&|r| Some((r.code? as f64 / 1024.0, r.ns[0][0])));
     line_plot(
         &config.out_dir.join("scaling_code.svg"),
         "Forward dynamics: time per call against its machine code (L1i: 32 KiB)",

@@ -155,6 +155,11 @@ extern crate self as filippov;
 pub mod scenes;
 
 pub use filippov_macros::Mechanism;
+/// Python extension modules of scenes (feature `python`): `module!(name, [Scene, …])`
+/// makes each scene a Python class with its kernels on NumPy arrays and its runs; see
+/// docs/python.md.
+#[cfg(feature = "python")]
+pub use filippov_python as python;
 pub use filippov_runtime as runtime;
 pub use filippov_runtime::kernels::{
     Bias, Christoffel, Coriolis, Energy, FrameId, GenericDynamics, GenericJacobian, Gravity,

@@ -20,7 +20,7 @@ const ATOL: f64 = 1e-12;
 const TIME_TOL: f64 = 1e-9;
 
 type V1 = SVector<f64, 1>;
-type EventFn = Box<dyn Fn(f64, &[f64]) -> f64>;
+type EventFn = Box<dyn Fn(f64, &[f64]) -> f64 + Sync>;
 
 #[derive(Mechanism)]
 #[body(block, mass = m, com = [0.0, 0.0, 0.0], inertia = point)]
@@ -330,8 +330,8 @@ fn a_reset_event_bounces_a_smooth_ball_at_the_closed_form_times() {
     }
 }
 
-type Clock = Box<dyn Fn(f64, &[f64]) -> f64>;
-type Push = Box<dyn Fn(f64, &mut [f64])>;
+type Clock = Box<dyn Fn(f64, &[f64]) -> f64 + Sync>;
+type Push = Box<dyn Fn(f64, &mut [f64]) + Sync>;
 
 /// One time event per kick `(t_k, Δv)`: `t_k − t`, falling through zero at `t_k`, and the
 /// reset adding `Δv` to the velocity.

@@ -61,8 +61,11 @@ pub enum EventDirection {
 
 /// An event function `g(t, y)` (see the [module documentation](self)); `Y` is the state
 /// type of the run: `[f64]` (`[q; v]` for mechanisms) or a Lie-group state.
+///
+/// The function and the reset are `Sync` (closures are, unless they capture a `Cell` or
+/// an `Rc`), so that a run with events can move to another thread.
 pub struct Event<'a, Y: ?Sized = [f64]> {
-    pub function: &'a dyn Fn(f64, &Y) -> f64,
+    pub function: &'a (dyn Fn(f64, &Y) -> f64 + Sync),
     /// End the run at the first crossing.
     pub terminal: bool,
     pub direction: EventDirection,
@@ -72,7 +75,7 @@ pub struct Event<'a, Y: ?Sized = [f64]> {
 }
 
 /// A reset: changes the state `y` at the crossing's time `t`, in place.
-pub type Reset<Y> = dyn Fn(f64, &mut Y);
+pub type Reset<Y> = dyn Fn(f64, &mut Y) + Sync;
 
 impl<Y: ?Sized> Clone for Event<'_, Y> {
     fn clone(&self) -> Self {
@@ -84,7 +87,7 @@ impl<Y: ?Sized> Copy for Event<'_, Y> {}
 
 impl<'a, Y: ?Sized> Event<'a, Y> {
     /// A non-terminal event in both directions.
-    pub fn new(function: &'a dyn Fn(f64, &Y) -> f64) -> Self {
+    pub fn new(function: &'a (dyn Fn(f64, &Y) -> f64 + Sync)) -> Self {
         Event {
             function,
             terminal: false,

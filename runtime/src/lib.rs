@@ -131,4 +131,4 @@ pub(crate) use solution::Keep;
 pub use solution::{Output, Solution, Switch, SwitchKind};
 pub use solve::{Observer, integrate, solve, solve_with, solve_with_events};
 pub use stats::Stats;
-pub use system::{ForwardJacobian, Mechanism, ParameterError};
+pub use system::{ForwardJacobian, Mechanism, ParameterError, Parameters};

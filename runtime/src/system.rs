@@ -25,6 +25,21 @@ pub struct ForwardJacobian<const N: usize> {
     pub d_dv: SMatrix<f64, N, N>,
 }
 
+/// A scene's parameters by name: the struct's fields, in declaration order (every field
+/// of a derived scene is an `f64` parameter). The derive implements it for every scene;
+/// the Python module builds scenes from keyword arguments with it, and an ensemble
+/// varies a scene's parameters by name.
+pub trait Parameters: Sized {
+    /// The fields' names, in declaration order.
+    const NAMES: &'static [&'static str];
+    /// The fields' values, in the order of [`NAMES`](Self::NAMES).
+    fn values(&self) -> Vec<f64>;
+    /// The scene with these values, in the order of [`NAMES`](Self::NAMES); `None` when
+    /// there are not exactly as many values as names. The values are not checked here:
+    /// [`Mechanism::validate`] says which make no physical sense.
+    fn from_values(values: &[f64]) -> Option<Self>;
+}
+
 /// Parameters that make a scene physically meaningless (a non-positive mass, an
 /// inertia that no body has, a negative critical force, …), each naming the parameter.
 #[derive(Clone, Debug, PartialEq)]

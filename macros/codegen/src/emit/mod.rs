@@ -521,8 +521,10 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
     } else {
         quote!()
     };
+    let parameters = parameters_impl(model);
     let code = quote! {
         #head
+        #parameters
         #optional
         #nonsmooth
         #loop_constraints
@@ -536,6 +538,28 @@ pub fn mechanism_impl(model: &Model, k: &Kernels) -> (TokenStream, Vec<FnStats>)
         }
     };
     (code, stats)
+}
+
+/// `Parameters`: the fields by name, and the scene from their values.
+fn parameters_impl(model: &Model) -> TokenStream {
+    let ident = &model.ident;
+    let params = &model.params;
+    let names: Vec<String> = params.iter().map(|p| p.to_string()).collect();
+    let np = params.len();
+    let index = 0..np;
+    // Braces build unit structs too (`Arm {}`).
+    let build = quote!(#ident { #(#params: values[#index]),* });
+    quote! {
+        impl ::filippov::runtime::system::Parameters for #ident {
+            const NAMES: &'static [&'static str] = &[#(#names),*];
+            fn values(&self) -> ::std::vec::Vec<f64> {
+                ::std::vec![#(self.#params),*]
+            }
+            fn from_values(values: &[f64]) -> ::core::option::Option<Self> {
+                (values.len() == #np).then(|| #build)
+            }
+        }
+    }
 }
 
 /// The `Kinematics` kernel: one private method per frame for its pose and one for its

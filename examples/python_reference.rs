@@ -1,0 +1,214 @@
+//! The Rust side of the Python tests (python/tests): the same kernels, runs and
+//! controller loops as the Python module, on the same scenes, computed here with the
+//! Rust API, so that the tests can hold the module to them bit for bit.
+//!
+//! Reads requests from stdin, one per line, and answers each on stdout (every number
+//! in Rust's shortest round-trip form, which Python's `float` reads exactly):
+//!
+//! * `kernel SCENE KERNEL p… ; x…` → one line of numbers. KERNEL is `mass_matrix`
+//!   (x = q; M row by row), `forward_dynamics` (x = q v τ), `jacobian` (x = q v τ;
+//!   v̇, then ∂v̇/∂q and ∂v̇/∂v row by row), `inverse_dynamics` (x = q v a) or
+//!   `frame_pose` (x = frame-index q; the 4 × 4 pose row by row);
+//! * `run SCENE p… ; t_end q0… v0…` → the default event-driven run: `rows R`, R lines
+//!   `t y…`, `switches K`, K lines `t kind element from to jump`;
+//! * `control SCENE p… ; t_end dt kp kd target… q0… v0…` → a PD loop at period `dt` on
+//!   the step-level integrator (`u = kp (target − q) − kd v`, held over each period),
+//!   answered as `run` (an error as `error MESSAGE`, then the run up to it).
+//!
+//! Run: `cargo run --features urdf --example python_reference < requests`.
+
+use std::io::{BufRead, Write};
+
+use filippov::prelude::*;
+use filippov::runtime::nonsmooth::{Integrator, NonSmooth};
+use filippov::runtime::system::Parameters;
+use filippov::runtime::{NonSmoothMethod, NonSmoothProblem, Solution, solve_nonsmooth};
+use filippov::scenes::{
+    BinghamOscillator, CoulombOscillator, CubicBingham, DoublePendulum, NonMonotoneMaxDissipation,
+    NonMonotoneNoJumps, Panda, PandaS9, SupportedStop, ThreeLinkArm, Ur5,
+};
+
+fn numbers(xs: impl IntoIterator<Item = f64>) -> String {
+    xs.into_iter()
+        .map(|x| format!("{x:?}"))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+fn rows_major<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> Vec<f64> {
+    m.transpose().iter().copied().collect()
+}
+
+fn v<const N: usize>(x: &[f64]) -> SVector<f64, N> {
+    SVector::from_column_slice(x)
+}
+
+fn kernel<S, const N: usize>(kernel: &str, p: &[f64], x: &[f64]) -> String
+where
+    S: Mechanism<N> + Parameters + InverseDynamics<N>,
+{
+    let s = S::from_values(p).expect("parameters");
+    match kernel {
+        "mass_matrix" => numbers(rows_major(&s.mass_matrix(&v(&x[..N])))),
+        "forward_dynamics" => numbers(
+            s.forward_dynamics(&v(&x[..N]), &v(&x[N..2 * N]), &v(&x[2 * N..]))
+                .iter()
+                .copied(),
+        ),
+        "jacobian" => {
+            let j = s.forward_dynamics_jacobian(&v(&x[..N]), &v(&x[N..2 * N]), &v(&x[2 * N..]));
+            let mut out: Vec<f64> = j.acceleration.iter().copied().collect();
+            out.extend(rows_major(&j.d_dq));
+            out.extend(rows_major(&j.d_dv));
+            numbers(out)
+        }
+        "inverse_dynamics" => numbers(
+            s.inverse_dynamics(&v(&x[..N]), &v(&x[N..2 * N]), &v(&x[2 * N..]))
+                .iter()
+                .copied(),
+        ),
+        other => panic!("no kernel {other} here"),
+    }
+}
+
+fn pose<S, const N: usize>(p: &[f64], x: &[f64]) -> String
+where
+    S: Mechanism<N> + Parameters + Kinematics<N>,
+{
+    let s = S::from_values(p).expect("parameters");
+    let frame = S::frame_at(x[0] as usize).expect("frame");
+    numbers(rows_major(
+        &s.frame_pose(frame, &v(&x[1..])).to_homogeneous(),
+    ))
+}
+
+fn answer(sol: &Solution) -> String {
+    let mut out = format!("rows {}\n", sol.len());
+    for (t, y) in sol.rows() {
+        out += &format!("{}\n", numbers(std::iter::once(t).chain(y.iter().copied())));
+    }
+    out += &format!("switches {}\n", sol.switches.len());
+    for s in &sol.switches {
+        let mode =
+            |m: Option<filippov::runtime::Mode>| m.map_or("None".into(), |m| format!("{m:?}"));
+        out += &format!(
+            "{:?} {:?} {} {} {} {:?}\n",
+            s.t,
+            s.kind,
+            s.element.clone().unwrap_or_else(|| "None".into()),
+            mode(s.from),
+            mode(s.to),
+            s.jump
+        );
+    }
+    out
+}
+
+fn run<S, const N: usize>(p: &[f64], x: &[f64]) -> String
+where
+    S: NonSmooth<N> + Parameters,
+{
+    let s = S::from_values(p).expect("parameters");
+    let problem = NonSmoothProblem::new(0.0, x[0], v(&x[1..1 + N]), v(&x[1 + N..]));
+    let zero = |_t: f64, _q: &SVector<f64, N>, _v: &SVector<f64, N>| SVector::zeros();
+    match solve_nonsmooth(&s, &zero, &problem, &NonSmoothMethod::default()) {
+        Ok(sol) => answer(&sol),
+        Err(e) => format!("error {:?}\n{}", e.to_string(), answer(&e.solution)),
+    }
+}
+
+fn control<S, const N: usize>(p: &[f64], x: &[f64]) -> String
+where
+    S: NonSmooth<N> + Parameters,
+{
+    let s = S::from_values(p).expect("parameters");
+    let (t_end, dt, kp, kd) = (x[0], x[1], x[2], x[3]);
+    let target: SVector<f64, N> = v(&x[4..4 + N]);
+    let problem = NonSmoothProblem::new(0.0, t_end, v(&x[4 + N..4 + 2 * N]), v(&x[4 + 2 * N..]));
+    let mut run = match Integrator::held(&s, &problem, &NonSmoothMethod::default()) {
+        Ok(run) => run,
+        Err(e) => return format!("error {:?}\n{}", e.to_string(), answer(&e.solution)),
+    };
+    let mut k = 0;
+    while run.t() < t_end {
+        let u = (target - run.q()) * kp - run.v() * kd;
+        let step = run.set_input(u).and_then(|()| {
+            k += 1;
+            run.advance_to((k as f64 * dt).min(t_end))
+        });
+        if let Err(e) = step {
+            return format!("error {:?}\n{}", e.to_string(), answer(run.solution()));
+        }
+    }
+    answer(run.solution())
+}
+
+/// Calls `$f::<S, N>(args)` for the scene `S` called `$name`: any scene, or (`@nonsmooth`)
+/// one with non-smooth elements.
+macro_rules! with_scene {
+    ($name:expr, $f:ident, $($arg:expr),*) => {
+        match $name {
+            "Panda" => $f::<Panda, 7>($($arg),*),
+            "Ur5" => $f::<Ur5, 6>($($arg),*),
+            "DoublePendulum" => $f::<DoublePendulum, 2>($($arg),*),
+            other => with_scene!(@nonsmooth other, $f, $($arg),*),
+        }
+    };
+    (@nonsmooth $name:expr, $f:ident, $($arg:expr),*) => {
+        match $name {
+            "PandaS9" => $f::<PandaS9, 7>($($arg),*),
+            "ThreeLinkArm" => $f::<ThreeLinkArm, 3>($($arg),*),
+            "BinghamOscillator" => $f::<BinghamOscillator, 1>($($arg),*),
+            "CubicBingham" => $f::<CubicBingham, 1>($($arg),*),
+            "NonMonotoneNoJumps" => $f::<NonMonotoneNoJumps, 1>($($arg),*),
+            "NonMonotoneMaxDissipation" => $f::<NonMonotoneMaxDissipation, 1>($($arg),*),
+            "CoulombOscillator" => $f::<CoulombOscillator, 1>($($arg),*),
+            "SupportedStop" => $f::<SupportedStop, 1>($($arg),*),
+            other => panic!("no scene {other} here"),
+        }
+    };
+}
+
+/// `frame_pose` for the scenes with frames.
+fn frame_pose(name: &str, p: &[f64], x: &[f64]) -> String {
+    match name {
+        "Panda" => pose::<Panda, 7>(p, x),
+        "PandaS9" => pose::<PandaS9, 7>(p, x),
+        "Ur5" => pose::<Ur5, 6>(p, x),
+        "ThreeLinkArm" => pose::<ThreeLinkArm, 3>(p, x),
+        "DoublePendulum" => pose::<DoublePendulum, 2>(p, x),
+        other => panic!("no frames for {other} here"),
+    }
+}
+
+fn main() {
+    let stdin = std::io::stdin();
+    let mut out = std::io::stdout().lock();
+    for line in stdin.lock().lines() {
+        let line = line.expect("a line");
+        let (head, x) = line
+            .split_once(';')
+            .expect("`;` between parameters and inputs");
+        let mut words = head.split_whitespace();
+        let what = words.next().expect("request");
+        let scene = words.next().expect("scene");
+        let kernel_name = if what == "kernel" {
+            words.next().expect("kernel")
+        } else {
+            ""
+        };
+        let p: Vec<f64> = words.map(|w| w.parse().expect("number")).collect();
+        let x: Vec<f64> = x
+            .split_whitespace()
+            .map(|w| w.parse().expect("number"))
+            .collect();
+        let reply = match (what, kernel_name) {
+            ("kernel", "frame_pose") => frame_pose(scene, &p, &x),
+            ("kernel", k) => with_scene!(scene, kernel, k, &p, &x),
+            ("run", _) => with_scene!(@nonsmooth scene, run, &p, &x),
+            ("control", _) => with_scene!(@nonsmooth scene, control, &p, &x),
+            (other, _) => panic!("no request {other}"),
+        };
+        writeln!(out, "{}", reply.trim_end()).expect("stdout");
+    }
+}

@@ -1,0 +1,60 @@
+//! The `filippov` Python wheel: the robots and scenes the project ships, as Python
+//! classes, for people who do not write Rust (docs/python.md). A scene of one's own is
+//! a crate of the same shape: its scenes and one `module!` line.
+
+use filippov::scenes::{
+    BinghamOscillator, CoulombOscillator, CubicBingham, DoublePendulum, NonMonotoneMaxDissipation,
+    NonMonotoneNoJumps, Panda, PandaS9, SupportedStop, ThreeLinkArm, Ur5,
+};
+
+filippov::python::module!(
+    _filippov,
+    [
+        Panda {
+            kinematics,
+            inverse_dynamics
+        },
+        PandaS9 {
+            nonsmooth,
+            kinematics,
+            inverse_dynamics
+        },
+        Ur5 {
+            kinematics,
+            inverse_dynamics
+        },
+        ThreeLinkArm {
+            nonsmooth,
+            kinematics,
+            inverse_dynamics
+        },
+        DoublePendulum {
+            kinematics,
+            inverse_dynamics
+        },
+        BinghamOscillator {
+            nonsmooth,
+            inverse_dynamics
+        },
+        CubicBingham {
+            nonsmooth,
+            inverse_dynamics
+        },
+        NonMonotoneNoJumps {
+            nonsmooth,
+            inverse_dynamics
+        },
+        NonMonotoneMaxDissipation {
+            nonsmooth,
+            inverse_dynamics
+        },
+        CoulombOscillator {
+            nonsmooth,
+            inverse_dynamics
+        },
+        SupportedStop {
+            nonsmooth,
+            inverse_dynamics
+        },
+    ]
+);

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# The tests, on a fresh machine with a Rust toolchain and Python 3: cargo's tests, then
+# the Python module's. It makes its own virtual environment (target/python/venv),
+# installs maturin, NumPy, pandas and pytest into it from PyPI, builds the `filippov`
+# module into it with maturin, builds the Rust side the Python tests compare against
+# (examples/python_reference.rs), and runs pytest on python/tests.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+
+cargo test --workspace
+
+venv=$root/target/python/venv
+if [ ! -x "$venv/bin/python" ]; then
+    python3 -m venv "$venv"
+fi
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
+(cd python/wheel && VIRTUAL_ENV=$venv PATH="$venv/bin:$PATH" maturin develop --quiet)
+cargo build --quiet --features urdf --example python_reference
+"$venv/bin/python" -m pytest python/tests -q

@@ -1,102 +1,85 @@
 //! An ensemble: a two-link arm under gravity dropped onto its shoulder limit, swept over
-//! the limit's restitution and the elbow's friction (a 24 × 8 grid), one integration per
-//! task on every core (`std::thread::scope`; scenes, problems and solutions are
-//! `Send + Sync`), with a progress bar. For each run: the time the arm settles on its
-//! limit (the switch log's `Settled` entry) and the elbow angle it comes to rest at.
+//! the elbow's friction and the limit's restitution (an 8 × 24 grid), on every core
+//! with a progress bar (`runtime::ensemble`, feature `parallel`). For each run: the time
+//! the arm settles on its limit (the switch log's `Settled` entry) and the elbow angle it
+//! comes to rest at. Failed runs stay in the table with their error.
 //!
-//! Run: `cargo run --release --example ensemble` (plots in `target/plots/`).
+//! Run: `cargo run --release --features parallel --example ensemble` (plots in
+//! `target/plots/`).
 
-#[path = "support/resting_arm.rs"]
-mod resting_arm;
 #[path = "support/mod.rs"]
 mod support;
 
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-use filippov::runtime::{NonSmoothMethod, NonSmoothProblem, SwitchKind, solve_nonsmooth};
-use indicatif::{ProgressBar, ProgressStyle};
-use resting_arm::{RestingArm, V2, zero};
+use filippov::runtime::SwitchKind;
+use filippov::runtime::ensemble::{Draw, Ensemble};
+use filippov::scenes::RestingArm;
 use support::{Scale, Series, line_plot, plot_path};
-
-/// What one run came to: settle time and final elbow angle, or the error.
-type Outcome = Result<(f64, f64), String>;
-
-fn run(e: f64, fc: f64) -> Outcome {
-    let arm = RestingArm {
-        m1: 1.0,
-        l1: 1.0,
-        m2: 0.5,
-        l2: 0.7,
-        fc,
-        lim: -1.0,
-        e,
-    };
-    let p = NonSmoothProblem::new(0.0, 5.0, V2::new(0.2, -0.5), V2::zeros());
-    let sol = solve_nonsmooth(&arm, &zero, &p, &NonSmoothMethod::default())
-        .map_err(|err| err.to_string())?;
-    let settled = sol
-        .switches
-        .iter()
-        .rev()
-        .find(|s| s.kind == SwitchKind::Settled || (s.kind == SwitchKind::Impact && e == 0.0))
-        .map_or(f64::NAN, |s| s.t);
-    Ok((settled, sol.last().expect("rows").1[1]))
-}
 
 fn main() {
     let restitutions: Vec<f64> = (0..24).map(|i| 0.04 * i as f64).collect();
-    let frictions = [0.5, 1.0, 2.0, 4.0, 8.0, 12.0, 16.0, 20.0];
-    let tasks: Vec<(f64, f64)> = frictions
-        .iter()
-        .flat_map(|&fc| restitutions.iter().map(move |&e| (e, fc)))
-        .collect();
-    let bar = ProgressBar::new(tasks.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} runs, {elapsed}").expect("template"),
-    );
-    let results: Mutex<Vec<(f64, f64, Outcome)>> = Mutex::new(Vec::new());
-    let next = AtomicUsize::new(0);
-    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let frictions = vec![0.5, 1.0, 2.0, 4.0, 8.0, 12.0, 16.0, 20.0];
+    let fixed = Draw::Fixed;
+    // m1, l1, m2, l2, fc, lim, e: the grids' product, friction varying slowest.
+    let parameters = vec![
+        fixed(1.0),
+        fixed(1.0),
+        fixed(0.5),
+        fixed(0.7),
+        Draw::Grid(frictions.clone()),
+        fixed(-1.0),
+        Draw::Grid(restitutions.clone()),
+    ];
+    let ens = Ensemble::<RestingArm, 2>::new(
+        parameters,
+        vec![fixed(0.2), fixed(-0.5)],
+        vec![fixed(0.0), fixed(0.0)],
+        1,
+        0,
+        5.0,
+    )
+    .expect("a valid ensemble");
+    // Per run: when the arm settled (NaN if it did not; with e = 0 the impact itself),
+    // and the elbow angle at the end.
+    let names = vec!["settled".to_string(), "elbow".to_string()];
+    let reduce = |sol: &filippov::runtime::Solution| {
+        let settled = sol
+            .switches
+            .iter()
+            .rev()
+            .find(|s| s.kind == SwitchKind::Settled)
+            .map_or(f64::NAN, |s| s.t);
+        vec![settled, sol.last().expect("rows").1[1]]
+    };
     let start = std::time::Instant::now();
-    std::thread::scope(|scope| {
-        for _ in 0..workers {
-            scope.spawn(|| {
-                while let Some(&(e, fc)) = tasks.get(next.fetch_add(1, Ordering::Relaxed)) {
-                    let outcome = run(e, fc);
-                    results
-                        .lock()
-                        .expect("no poisoned lock")
-                        .push((e, fc, outcome));
-                    bar.inc(1);
-                }
-            });
-        }
-    });
-    bar.finish();
-    let mut results = results.into_inner().expect("no poisoned lock");
-    results.sort_by(|a, b| (a.1, a.0).partial_cmp(&(b.1, b.0)).expect("finite"));
-    let failed: Vec<_> = results.iter().filter(|r| r.2.is_err()).collect();
+    let table = ens.table_with(0..ens.len(), names, &reduce, None, true);
+    let failed: Vec<usize> = (0..table.runs.len())
+        .filter(|&k| table.errors[k].is_some())
+        .collect();
     println!(
-        "{} runs on {workers} threads in {:.2} s; {} ended with a typed error",
-        results.len(),
+        "{} runs in {:.2} s; {} ended with a typed error",
+        table.runs.len(),
         start.elapsed().as_secs_f64(),
         failed.len()
     );
-    for (e, fc, err) in &failed {
-        println!("  e = {e:.2}, f_crit = {fc}: {}", err.as_ref().unwrap_err());
+    let (fc_col, e_col) = (4, 6);
+    for &k in &failed {
+        let x = table.input_row(k);
+        let err = table.errors[k].as_ref().expect("failed");
+        println!(
+            "  e = {:.2}, f_crit = {}: {} ({})",
+            x[e_col], x[fc_col], err.message, err.kind
+        );
     }
     let mut settle = Vec::new();
     let mut angle = Vec::new();
     for &fc in &frictions {
-        let pts = |pick: fn(&(f64, f64)) -> f64| -> Vec<(f64, f64)> {
-            results
-                .iter()
-                .filter(|r| r.1 == fc)
-                .filter_map(|r| r.2.as_ref().ok().map(|o| (r.0, pick(o))))
+        let pts = |j: usize| -> Vec<(f64, f64)> {
+            (0..table.runs.len())
+                .filter(|&k| table.input_row(k)[fc_col] == fc && table.errors[k].is_none())
+                .map(|k| (table.input_row(k)[e_col], table.output_row(k)[j]))
                 .collect()
         };
-        let times = pts(|o| o.0);
+        let times = pts(0);
         let finite: Vec<f64> = times
             .iter()
             .map(|p| p.1)
@@ -110,7 +93,7 @@ fn main() {
             times.len()
         );
         settle.push(Series::new(format!("elbow f_crit = {fc}"), times));
-        angle.push(Series::new(format!("elbow f_crit = {fc}"), pts(|o| o.1)));
+        angle.push(Series::new(format!("elbow f_crit = {fc}"), pts(1)));
     }
     let (a, b) = (
         plot_path("ensemble_settle_time"),

@@ -41,48 +41,35 @@ pub fn parameter_error(py: Python<'_>, scene: &str, e: &filippov_runtime::Parame
 /// `SolveError` for `kind`, with the run up to it.
 pub fn solve_error(py: Python<'_>, kind: &ErrorKind, message: String, solution: Solution) -> PyErr {
     let detail = PyDict::new(py);
-    let (name, t): (&str, Option<f64>) = match kind {
-        ErrorKind::StepSizeUnderflow { t, h } => {
+    match kind {
+        ErrorKind::StepSizeUnderflow { h, .. } => {
             let _ = detail.set_item("h", *h);
-            ("StepSizeUnderflow", Some(*t))
         }
-        ErrorKind::NewtonDivergence { t } => ("NewtonDivergence", Some(*t)),
-        ErrorKind::NonFinite { t, component } => {
+        ErrorKind::NonFinite { component, .. } => {
             let _ = detail.set_item("component", *component);
             if let Some(name) = solution.names().get(*component) {
                 let _ = detail.set_item("column", name);
             }
-            ("NonFinite", Some(*t))
         }
-        ErrorKind::MaxSteps { t } => ("MaxSteps", Some(*t)),
-        ErrorKind::InvalidInput(msg) => {
+        ErrorKind::InvalidInput(msg) | ErrorKind::InconsistentInitialData(msg) => {
             let _ = detail.set_item("message", msg);
-            ("InvalidInput", None)
         }
-        ErrorKind::InconsistentInitialData(msg) => {
-            let _ = detail.set_item("message", msg);
-            ("InconsistentInitialData", None)
-        }
-        ErrorKind::IllPosedMode { t, detail: d } => {
+        ErrorKind::IllPosedMode { detail: d, .. } => {
             let _ = detail.set_item("candidates", d);
-            ("IllPosedMode", Some(*t))
         }
-        ErrorKind::Cancelled { t } => ("Cancelled", Some(*t)),
-        ErrorKind::StepNotSolved { t, detail: d } => {
+        ErrorKind::StepNotSolved { detail: d, .. } => {
             let _ = detail.set_item("message", d);
-            ("StepNotSolved", Some(*t))
         }
-        ErrorKind::KeepsSwitching { t, element, cycle } => {
+        ErrorKind::KeepsSwitching { element, cycle, .. } => {
             let _ = detail.set_item("element", element);
             let _ = detail.set_item("cycle", cycle);
-            ("KeepsSwitching", Some(*t))
         }
-        ErrorKind::Loops { t, error } => {
+        ErrorKind::Loops { error, .. } => {
             let _ = detail.set_item("message", error.to_string());
-            ("Loops", Some(*t))
         }
-        _ => ("Other", None),
-    };
+        _ => {}
+    }
+    let (name, t) = (kind.name(), kind.t());
     let err = SolveError::new_err(message);
     let value = err.value(py);
     let _ = value.setattr("kind", name);

@@ -19,6 +19,7 @@
 //! * `solution`, `integrator`, `errors`: the classes the module adds.
 
 pub mod arrays;
+pub mod ensemble;
 pub mod errors;
 pub mod integrator;
 pub mod options;
@@ -36,10 +37,12 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add_class::<solution::PySolution>()?;
     m.add_class::<integrator::PyIntegrator>()?;
+    m.add_class::<ensemble::PyEnsemble>()?;
+    m.add_function(pyo3::wrap_pyfunction!(ensemble::_rebuild_ensemble, m)?)?;
     m.add("FilippovError", py.get_type::<errors::FilippovError>())?;
     m.add("SolveError", py.get_type::<errors::SolveError>())?;
     m.add("ParameterError", py.get_type::<errors::ParameterError>())?;
-    for name in ["Solution", "Integrator"] {
+    for name in ["Solution", "Integrator", "Ensemble"] {
         adopt(m, name)?;
     }
     Ok(())
@@ -129,6 +132,30 @@ macro_rules! __scene_methods {
                 options: ::core::option::Option<&$crate::pyo3::Bound<'_, $crate::pyo3::types::PyDict>>,
             ) -> $crate::pyo3::PyResult<$crate::solution::PySolution> {
                 $crate::scene::solve_nonsmooth(py, stringify!($name), &self.0, t_end, q0, v0, options)
+            }
+
+            /// Runs of this scene drawn reproducibly: `parameters` maps parameter names to
+            /// draws over the scene's own values (a number, `("uniform", low, high)`, or
+            /// a list of grid values), `q0` and `v0` give a draw per coordinate (zero by
+            /// default); `samples` random draws at each point of the grids' product,
+            /// from `seed`; `solve_nonsmooth`'s method and tolerances as options.
+            #[pyo3(signature = (t_end, parameters=None, q0=None, v0=None, samples=1, seed=0, **options))]
+            fn ensemble(
+                slf: &$crate::pyo3::Bound<'_, Self>,
+                t_end: f64,
+                parameters: ::core::option::Option<&$crate::pyo3::Bound<'_, $crate::pyo3::types::PyDict>>,
+                q0: ::core::option::Option<&$crate::pyo3::Bound<'_, $crate::pyo3::PyAny>>,
+                v0: ::core::option::Option<&$crate::pyo3::Bound<'_, $crate::pyo3::PyAny>>,
+                samples: usize,
+                seed: u64,
+                options: ::core::option::Option<&$crate::pyo3::Bound<'_, $crate::pyo3::types::PyDict>>,
+            ) -> $crate::pyo3::PyResult<$crate::ensemble::PyEnsemble> {
+                $crate::ensemble::new(
+                    stringify!($name),
+                    &slf.get().0,
+                    slf.as_any(),
+                    t_end, parameters, q0, v0, samples, seed, options,
+                )
             }
 
             /// A non-smooth run driven step by step (`set_input`, `advance_to`, `step`),

@@ -48,6 +48,42 @@ pub enum ErrorKind {
     },
 }
 
+impl ErrorKind {
+    /// The variant's name (`"MaxSteps"`, `"NonFinite"`, …): what an ensemble's table and
+    /// the Python exceptions record as the error's kind.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ErrorKind::StepSizeUnderflow { .. } => "StepSizeUnderflow",
+            ErrorKind::NewtonDivergence { .. } => "NewtonDivergence",
+            ErrorKind::NonFinite { .. } => "NonFinite",
+            ErrorKind::MaxSteps { .. } => "MaxSteps",
+            ErrorKind::InvalidInput(_) => "InvalidInput",
+            ErrorKind::InconsistentInitialData(_) => "InconsistentInitialData",
+            ErrorKind::IllPosedMode { .. } => "IllPosedMode",
+            ErrorKind::Cancelled { .. } => "Cancelled",
+            ErrorKind::StepNotSolved { .. } => "StepNotSolved",
+            ErrorKind::KeepsSwitching { .. } => "KeepsSwitching",
+            ErrorKind::Loops { .. } => "Loops",
+        }
+    }
+
+    /// The time the error happened at, for the kinds that have one.
+    pub fn t(&self) -> Option<f64> {
+        match self {
+            ErrorKind::StepSizeUnderflow { t, .. }
+            | ErrorKind::NewtonDivergence { t }
+            | ErrorKind::NonFinite { t, .. }
+            | ErrorKind::MaxSteps { t }
+            | ErrorKind::IllPosedMode { t, .. }
+            | ErrorKind::Cancelled { t }
+            | ErrorKind::StepNotSolved { t, .. }
+            | ErrorKind::KeepsSwitching { t, .. }
+            | ErrorKind::Loops { t, .. } => Some(*t),
+            ErrorKind::InvalidInput(_) | ErrorKind::InconsistentInitialData(_) => None,
+        }
+    }
+}
+
 impl fmt::Display for ErrorKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

@@ -17,7 +17,8 @@
 //!     time-stepping, [`nonsmooth`]; its step-level form
 //!     [`nonsmooth::Integrator`], which a controller drives with `set_input` and
 //!     `advance_to`), the Lie-group methods' own `solve` ([`liegroup`]), ensembles
-//!     of runs in SIMD lanes ([`lockstep`]); user
+//!     of runs in SIMD lanes ([`lockstep`]), ensembles of runs on every core, drawn
+//!     reproducibly and gathered into a table ([`ensemble`]); user
 //!     [`Event`]s, located the same way by every driver ([`events`]);
 //!   - methods ([`method`]): [`Rk4`], [`Dopri5`], [`Sdirk4`], [`Bdf`], each a
 //!     configuration that makes a [`Stepper`] — the step-level trait every driver runs
@@ -85,6 +86,7 @@ pub mod compact;
 mod conservative;
 pub mod contacts;
 mod element;
+pub mod ensemble;
 mod error;
 pub mod events;
 pub mod geometry;

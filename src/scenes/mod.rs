@@ -19,6 +19,7 @@ mod loops;
 mod lumped;
 mod panda;
 pub mod references;
+mod resting_arm;
 #[cfg(feature = "urdf")]
 mod robots;
 mod s9;
@@ -36,6 +37,7 @@ pub use lumped::{
     NonMonotoneNoJumps, SupportedStop,
 };
 pub use panda::Panda;
+pub use resting_arm::RestingArm;
 #[cfg(feature = "urdf")]
 pub use robots::{ThreeLinkArm, Ur5};
 pub use s9::PandaS9;

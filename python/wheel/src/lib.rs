@@ -4,7 +4,7 @@
 
 use filippov::scenes::{
     BinghamOscillator, CoulombOscillator, CubicBingham, DoublePendulum, NonMonotoneMaxDissipation,
-    NonMonotoneNoJumps, Panda, PandaS9, SupportedStop, ThreeLinkArm, Ur5,
+    NonMonotoneNoJumps, Panda, PandaS9, RestingArm, SupportedStop, ThreeLinkArm, Ur5,
 };
 
 filippov::python::module!(
@@ -32,6 +32,7 @@ filippov::python::module!(
             kinematics,
             inverse_dynamics
         },
+        RestingArm { nonsmooth },
         BinghamOscillator {
             nonsmooth,
             inverse_dynamics

@@ -8,6 +8,7 @@ the same shape with one line of Rust (docs/python.md).
 
 from ._filippov import *  # noqa: F401,F403
 from ._filippov import (  # noqa: F401
+    Ensemble,
     FilippovError,
     Integrator,
     ParameterError,
@@ -27,3 +28,5 @@ CANONICAL = {
     "S8": "DoublePendulum",
     "S9": "PandaS9",
 }
+
+from . import ensembles  # noqa: E402,F401

@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # The tests, on a fresh machine with a Rust toolchain and Python 3: cargo's tests, then
 # the Python module's. It makes its own virtual environment (target/python/venv),
-# installs maturin, NumPy, pandas and pytest into it from PyPI, builds the `filippov`
-# module into it with maturin, builds the Rust side the Python tests compare against
-# (examples/python_reference.rs), and runs pytest on python/tests.
+# installs python/requirements-test.txt into it from PyPI (maturin, NumPy, pandas,
+# matplotlib, Dask, pytest), builds the `filippov` module into it with maturin (release:
+# the ensembles' tests run ten thousand runs three ways), builds the Rust side the
+# Python tests compare against (examples/python_reference.rs), and runs pytest on
+# python/tests (which starts its own two-worker Dask cluster).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -15,6 +17,6 @@ if [ ! -x "$venv/bin/python" ]; then
     python3 -m venv "$venv"
 fi
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
-(cd python/wheel && VIRTUAL_ENV=$venv PATH="$venv/bin:$PATH" maturin develop --quiet)
+(cd python/wheel && VIRTUAL_ENV=$venv PATH="$venv/bin:$PATH" maturin develop --quiet --release)
 cargo build --quiet --features urdf --example python_reference
 "$venv/bin/python" -m pytest python/tests -q

@@ -24,16 +24,9 @@ fn arm(fc: Draw, e: Draw, samples: usize, seed: u64) -> Ensemble<RestingArm, 2> 
     .expect("a valid ensemble")
 }
 
-fn bits(t: &Table) -> (Vec<u64>, Vec<u64>) {
-    (
-        t.inputs.iter().map(|x| x.to_bits()).collect(),
-        t.outputs.iter().map(|x| x.to_bits()).collect(),
-    )
-}
-
-#[test]
-fn every_way_of_running_gives_one_table() {
-    let ens = arm(
+/// Friction and restitution drawn uniformly, 120 runs.
+fn random_arm(seed: u64) -> Ensemble<RestingArm, 2> {
+    arm(
         Draw::Uniform {
             low: 0.5,
             high: 20.0,
@@ -43,8 +36,20 @@ fn every_way_of_running_gives_one_table() {
             high: 0.9,
         },
         120,
-        11,
-    );
+        seed,
+    )
+}
+
+fn bits(t: &Table) -> (Vec<u64>, Vec<u64>) {
+    (
+        t.inputs.iter().map(|x| x.to_bits()).collect(),
+        t.outputs.iter().map(|x| x.to_bits()).collect(),
+    )
+}
+
+#[test]
+fn every_way_of_running_gives_one_table() {
+    let ens = random_arm(11);
     let all = ens.table(0..ens.len(), None, false);
     let one = ens.table(0..ens.len(), Some(1), false);
     assert_eq!(bits(&all), bits(&one));
@@ -64,31 +69,9 @@ fn every_way_of_running_gives_one_table() {
     assert!(fc.iter().all(|x| (0.5..20.0).contains(x)));
     assert!(fc.windows(2).any(|w| w[0] != w[1]));
     // Another seed draws otherwise; the same seed again the same.
-    let again = arm(
-        Draw::Uniform {
-            low: 0.5,
-            high: 20.0,
-        },
-        Draw::Uniform {
-            low: 0.0,
-            high: 0.9,
-        },
-        120,
-        11,
-    );
+    let again = random_arm(11);
     assert_eq!(again.inputs(57), ens.inputs(57));
-    let other = arm(
-        Draw::Uniform {
-            low: 0.5,
-            high: 20.0,
-        },
-        Draw::Uniform {
-            low: 0.0,
-            high: 0.9,
-        },
-        120,
-        12,
-    );
+    let other = random_arm(12);
     assert_ne!(other.inputs(57), ens.inputs(57));
     // Physics: no run passes the rigid stop at −1.
     for k in 0..all.runs.len() {

@@ -10,13 +10,14 @@
 //! Each scene becomes a Python class of the same name, constructed from its parameters
 //! as keyword arguments (`Arm(fc=20.0)`), with its kernels on NumPy arrays (one state of
 //! shape `(n,)` or a batch of shape `(batch, n)`), `solve`, `solve_nonsmooth` and
-//! `integrator`. The module also holds [`Solution`](solution::PySolution),
-//! [`Integrator`](integrator::PyIntegrator) and the exceptions ([`errors`]).
+//! `integrator` and `ensemble`. The module also holds
+//! [`Solution`](solution::PySolution), [`Integrator`](integrator::PyIntegrator),
+//! [`Ensemble`](ensemble::PyEnsemble) and the exceptions ([`errors`]).
 //!
 //! * `arrays`: NumPy in and out, shapes checked against the scene's coordinates.
 //! * `options`: a run's options by name.
 //! * `scene`: what every scene class does, generic over the scene.
-//! * `solution`, `integrator`, `errors`: the classes the module adds.
+//! * `solution`, `integrator`, `ensemble`, `errors`: the classes the module adds.
 
 pub mod arrays;
 pub mod ensemble;

@@ -239,6 +239,27 @@ fn frame_id<S: Kinematics<N>, const N: usize>(
     })
 }
 
+/// `kernel(frame, q)` of each state, each result `shape` long, shaped like `q`.
+fn per_frame<'py, S, const N: usize>(
+    py: Python<'py>,
+    name: &str,
+    frame: &str,
+    q: &Bound<'py, PyAny>,
+    shape: &[usize],
+    kernel: impl Fn(filippov_runtime::kernels::FrameId<S>, &SVector<f64, N>) -> Vec<f64>,
+) -> PyResult<Bound<'py, PyAny>>
+where
+    S: Mechanism<N> + Kinematics<N>,
+{
+    let id = frame_id::<S, N>(name, frame)?;
+    let q = read::<S, N>(name, &[("q", q)])?.remove(0);
+    let mut out = Vec::with_capacity(q.count() * shape.iter().product::<usize>());
+    for i in 0..q.count() {
+        out.extend(kernel(id.clone(), &vec(q.row(i, N))));
+    }
+    shaped(py, out, q.batch, shape)
+}
+
 /// The world pose of `frame` as a 4 × 4 homogeneous matrix (`(batch, 4, 4)` batched).
 pub fn frame_pose<'py, S, const N: usize>(
     py: Python<'py>,
@@ -250,16 +271,10 @@ pub fn frame_pose<'py, S, const N: usize>(
 where
     S: Mechanism<N> + Kinematics<N>,
 {
-    let id = frame_id::<S, N>(name, frame)?;
-    let q = read::<S, N>(name, &[("q", q)])?.remove(0);
-    let mut out = Vec::with_capacity(q.count() * 16);
-    for i in 0..q.count() {
-        let h = scene
-            .frame_pose(id.clone(), &vec(q.row(i, N)))
-            .to_homogeneous();
-        out.extend(h.transpose().iter().copied());
-    }
-    shaped(py, out, q.batch, &[4, 4])
+    per_frame(py, name, frame, q, &[4, 4], |id, q| {
+        let h = scene.frame_pose(id, q).to_homogeneous();
+        h.transpose().iter().copied().collect()
+    })
 }
 
 /// The frame's Jacobian, rows `(ṗ, ω)` in world axes: `(6, n)` (`(batch, 6, n)`).
@@ -273,14 +288,14 @@ pub fn frame_jacobian<'py, S, const N: usize>(
 where
     S: Mechanism<N> + Kinematics<N>,
 {
-    let id = frame_id::<S, N>(name, frame)?;
-    let q = read::<S, N>(name, &[("q", q)])?.remove(0);
-    let mut out = Vec::with_capacity(q.count() * 6 * N);
-    for i in 0..q.count() {
-        let j = scene.frame_jacobian(id.clone(), &vec(q.row(i, N)));
-        out.extend(j.transpose().iter().copied());
-    }
-    shaped(py, out, q.batch, &[6, N])
+    per_frame(py, name, frame, q, &[6, N], |id, q| {
+        scene
+            .frame_jacobian(id, q)
+            .transpose()
+            .iter()
+            .copied()
+            .collect()
+    })
 }
 
 /// One initial state `(q0, v0)`, `v0` zero when not given.

@@ -45,6 +45,17 @@ def test_ten_thousand_runs_same_table_on_rayon_loop_and_dask(cluster, tmp_path):
     assert ensembles.Table.load(tmp_path / "arm.npz").equals(on_cores)
 
 
+def test_ray_gives_the_same_table():
+    """Ray is optional (the test script does not install it): run where it is."""
+    ray = pytest.importorskip("ray")
+    ens = arm_ensemble(2_000)
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    try:
+        assert ensembles.run(ens, "ray", chunk=250).equals(ensembles.run(ens))
+    finally:
+        ray.shutdown()
+
+
 def test_any_range_is_the_tables_slice_and_seeds_reproduce():
     ens = arm_ensemble(300)
     whole = ensembles.Table(ens.run())

@@ -8,7 +8,8 @@ here only decide where the ranges run:
 * ``"loop"``: one run at a time in a Python loop (the reference the others must equal);
 * ``"dask"``: chunks of runs as tasks on a Dask cluster (``dask.distributed``), each
   task a range integrated on one worker thread; the chunks' tables come back and are
-  joined in run order.
+  joined in run order;
+* ``"ray"``: the same chunks as Ray tasks (after ``ray.init(...)``).
 
 Every backend returns a :class:`Table`. Failed runs stay in it, with NaN outputs and
 their error's kind and message.
@@ -87,8 +88,9 @@ def run(ensemble, backend="rayon", *, client=None, chunk=None, threads=None, pro
     """Runs every run of ``ensemble`` on ``backend`` and returns the :class:`Table`.
 
     ``threads`` (rayon): None for every core. ``client`` (dask): a
-    ``dask.distributed.Client`` (the current one by default); ``chunk``: runs per task
-    (by default about four tasks per worker thread, at least 100 runs each)."""
+    ``dask.distributed.Client`` (the current one by default); ``chunk`` (dask, ray):
+    runs per task (by default about four tasks per worker thread, at least 100 runs
+    each)."""
     n = len(ensemble)
     if backend == "rayon":
         return Table(ensemble.run(0, n, threads=threads, progress=progress))
@@ -107,4 +109,19 @@ def run(ensemble, backend="rayon", *, client=None, chunk=None, threads=None, pro
         [remote] = client.scatter([ensemble], broadcast=True)
         futures = client.map(_range, [remote] * len(starts), starts, stops, pure=False)
         return Table.concat(Table(part) for part in client.gather(futures))
-    raise ValueError(f"no backend {backend!r}; the backends are rayon, loop and dask")
+    if backend == "ray":
+        import ray
+
+        if not ray.is_initialized():
+            raise RuntimeError(
+                "the ray backend needs a running Ray: call ray.init() first "
+                "(ray.init(num_cpus=2) starts a local one, ray.init(address=...) joins a cluster)"
+            )
+        if chunk is None:
+            workers = int(ray.cluster_resources().get("CPU", 1)) or 1
+            chunk = max(100, -(-n // (4 * workers)))
+        task = ray.remote(num_cpus=1)(_range)
+        remote = ray.put(ensemble)
+        refs = [task.remote(remote, s, min(s + chunk, n)) for s in range(0, n, chunk)]
+        return Table.concat(Table(part) for part in ray.get(refs))
+    raise ValueError(f"no backend {backend!r}; the backends are rayon, loop, dask and ray")

@@ -1,6 +1,7 @@
 """Throughput of the ensemble backends, side by side in one run: runs per second (and
-per core) for rayon on one thread and on every core, the plain Python loop, and Dask on
-a local cluster of two worker processes; and Dask's cost per task.
+per core) for rayon on one thread and on every core, the plain Python loop, Dask on a
+local cluster of two worker processes and, where it is installed, Ray with two CPUs;
+and each cluster's cost per task.
 
 Run (after ``maturin develop --release`` in python/wheel, with dask[distributed]):
 
@@ -61,15 +62,35 @@ def main():
         print("|---|---|---|---|")
         for name, used, med, lo, hi in rows:
             print(f"| {name} | {med:.3f} ({lo:.3f}–{hi:.3f}) | {runs / med:,.0f} | {runs / med / used:,.0f} |")
-        # The cost of a task: tasks of one near-empty run (t_end = 1 µs).
         tiny = arm_ensemble(400, t_end=1e-6)
         alone, _, _, _ = timed(lambda: ensembles.run(tiny, threads=1), repeats)
-        med, lo, hi, _ = timed(lambda: ensembles.run(tiny, "dask", client=client, chunk=1), repeats)
-        per_task = (med - alone) / 400 * 2
-        print(
-            f"Dask: 400 tasks of one 1-µs run took {med:.3f} s ({lo:.3f}–{hi:.3f}) on 2 workers "
-            f"against {alone:.4f} s in one loop: {per_task * 1e3:.2f} ms per task per worker."
+        overhead(
+            "Dask", alone, timed(lambda: ensembles.run(tiny, "dask", client=client, chunk=1), repeats)
         )
+    try:
+        import ray
+    except ImportError:
+        print("Ray is not installed: no Ray rows.")
+        return
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    try:
+        ensembles.run(tiny, "ray", chunk=1)  # workers started before timing
+        med, lo, hi, table = timed(lambda: ensembles.run(ens, "ray", chunk=runs // 8), repeats)
+        assert table.equals(reference), "ray"
+        print(f"| Ray, 2 CPUs | {med:.3f} ({lo:.3f}–{hi:.3f}) | {runs / med:,.0f} | {runs / med / 2:,.0f} |")
+        overhead("Ray", alone, timed(lambda: ensembles.run(tiny, "ray", chunk=1), repeats))
+    finally:
+        ray.shutdown()
+
+
+def overhead(name, alone, result):
+    """The cost of a task: tasks of one near-empty run (t_end = 1 µs), 400 of them."""
+    med, lo, hi, _ = result
+    per_task = (med - alone) / 400 * 2
+    print(
+        f"{name}: 400 tasks of one 1-µs run took {med:.3f} s ({lo:.3f}–{hi:.3f}) on 2 workers "
+        f"against {alone:.4f} s in one loop: {per_task * 1e3:.2f} ms per task per worker."
+    )
 
 
 if __name__ == "__main__":

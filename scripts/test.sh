@@ -2,10 +2,10 @@
 # The tests, on a fresh machine with a Rust toolchain and Python 3: cargo's tests, then
 # the Python module's. It makes its own virtual environment (target/python/venv),
 # installs python/requirements-test.txt into it from PyPI (maturin, NumPy, pandas,
-# matplotlib, Dask, pytest), builds the `filippov` module into it with maturin (release:
+# matplotlib, Dask, Ray, pytest), builds the `filippov` module into it with maturin (release:
 # the ensembles' tests run ten thousand runs three ways), builds the Rust side the
 # Python tests compare against (examples/python_reference.rs), and runs pytest on
-# python/tests (which starts its own two-worker Dask cluster).
+# python/tests (which starts its own two-worker Dask cluster and a local Ray).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD

@@ -34,6 +34,8 @@ def test_ten_thousand_runs_same_table_on_rayon_loop_and_dask(cluster, tmp_path):
     looped = ensembles.run(ens, "loop")
     on_dask = ensembles.run(ens, "dask", client=cluster, chunk=500)
     assert on_cores.equals(looped) and on_cores.equals(on_dask)
+    # Again, at once: the same ensemble scattered anew while the first copy is released.
+    assert ensembles.run(ens, "dask", client=cluster, chunk=2_500).equals(on_cores)
     assert list(on_cores["run"]) == list(range(10_000))
     # The draws cover their ranges, and no run passed the rigid stop.
     assert 0.5 <= on_cores["fc"].min() < 0.6 and 19.9 < on_cores["fc"].max() < 20.0
@@ -46,7 +48,7 @@ def test_ten_thousand_runs_same_table_on_rayon_loop_and_dask(cluster, tmp_path):
 
 
 def test_ray_gives_the_same_table():
-    """Ray is optional (the test script does not install it): run where it is."""
+    """On a local Ray instance of two CPUs (its own processes)."""
     ray = pytest.importorskip("ray")
     ens = arm_ensemble(2_000)
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)

@@ -105,8 +105,11 @@ def run(ensemble, backend="rayon", *, client=None, chunk=None, threads=None, pro
             chunk = max(100, -(-n // (4 * workers)))
         starts = list(range(0, n, chunk))
         stops = [min(s + chunk, n) for s in starts]
-        # The ensemble travels once to the cluster, not once per task.
-        [remote] = client.scatter([ensemble], broadcast=True)
+        # The ensemble travels once to the cluster, not once per task. A fresh key each
+        # call (hash=False): a hashed key is the same for the same ensemble, and a second
+        # call could scatter it while the first call's copy is being released, which
+        # Dask reports as lost dependencies.
+        [remote] = client.scatter([ensemble], broadcast=True, hash=False)
         futures = client.map(_range, [remote] * len(starts), starts, stops, pure=False)
         return Table.concat(Table(part) for part in client.gather(futures))
     if backend == "ray":

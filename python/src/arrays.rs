@@ -14,7 +14,7 @@ pub fn as_f64<'py>(x: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, f6
     }
     let np = x.py().import("numpy")?;
     let a = np.call_method1("ascontiguousarray", (x, "float64"))?;
-    Ok(a.extract::<PyReadonlyArrayDyn<'py, f64>>()?)
+    a.extract::<PyReadonlyArrayDyn<'py, f64>>()
 }
 
 /// States of `n` coordinates: one (shape `(n,)`) or a batch (shape `(b, n)`).

@@ -156,6 +156,9 @@ where
     })
 }
 
+/// What pickle gets: the function that rebuilds, and its arguments (scene, spec).
+type Reduced<'py> = (Bound<'py, PyAny>, (Py<PyAny>, Py<PyDict>));
+
 /// Runs of one scene drawn reproducibly (`scene.ensemble(t_end, parameters={…}, q0=[…],
 /// v0=[…], samples=…, seed=…, **options)`): `len(ensemble)` runs, `run(start, stop)`
 /// integrates a range of them. Pickles by its scene and arguments.
@@ -214,10 +217,7 @@ impl PyEnsemble {
         columns(py, &table)
     }
 
-    fn __reduce__<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Bound<'py, PyAny>, (Py<PyAny>, Py<PyDict>))> {
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Reduced<'py>> {
         let module = self.scene.bind(py).get_type().getattr("__module__")?;
         let rebuild = py
             .import(module.extract::<String>()?.as_str())?

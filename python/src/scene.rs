@@ -255,7 +255,7 @@ where
     let q = read::<S, N>(name, &[("q", q)])?.remove(0);
     let mut out = Vec::with_capacity(q.count() * shape.iter().product::<usize>());
     for i in 0..q.count() {
-        out.extend(kernel(id.clone(), &vec(q.row(i, N))));
+        out.extend(kernel(id, &vec(q.row(i, N))));
     }
     shaped(py, out, q.batch, shape)
 }

@@ -24,7 +24,7 @@
 //! # }
 //! ```
 //!
-//! Runs go through [`solve_nonsmooth`](crate::solve_nonsmooth) with the ensemble's
+//! Runs go through [`solve_nonsmooth`] with the ensemble's
 //! [`NonSmoothMethod`]; the default reduction is the final state `[q; v]`, the number of
 //! switch-log entries and of steps ([`final_state`]); [`Ensemble::table_with`] takes any.
 

@@ -61,14 +61,17 @@ def test_nonsmooth_run_and_switch_log_equal_rust(name, rust):
         assert sol.names[2 * scene.dof :] == [f"f_{e}" for e in scene.elements]
 
 
-@pytest.mark.parametrize("name", ["ThreeLinkArm", "PandaS9", "CoulombOscillator"])
-def test_controller_loop_equals_rust(name, rust):
-    """A PD loop at 100 Hz on the step-level integrator, in Python and in Rust."""
+@pytest.mark.parametrize(
+    "name, dt", [("ThreeLinkArm", 0.01), ("PandaS9", 1e-3), ("CoulombOscillator", 0.01)]
+)
+def test_controller_loop_equals_rust(name, dt, rust):
+    """A PD loop on the step-level integrator, in Python and in Rust. The Panda's loop
+    runs at 1 kHz: held over 10 ms, kd = 4 on its light wrist is an unstable loop."""
     rng = np.random.default_rng(zlib.crc32(("control" + name).encode()))
     scene, params = random_scene(name, rng)
     q0, v0 = initial_state(name, scene, rng)
     target = q0 + rng.uniform(-0.3, 0.3, scene.dof)
-    t_end, dt, kp, kd = 0.5, 0.01, 40.0, 4.0
+    t_end, kp, kd = 0.5, 40.0, 4.0
     request = (
         f"control {name} {fmt(list(params.values()))} ; "
         f"{t_end!r} {dt!r} {kp!r} {kd!r} {fmt(target)} {fmt(q0)} {fmt(v0)}"
@@ -84,10 +87,7 @@ def test_controller_loop_equals_rust(name, rust):
             k += 1
             run.advance_to(min(k * dt, t_end))
     except filippov.SolveError as e:
-        # The Rust loop failed the same way, at the same point.
-        assert answer[0].startswith("error") and str(e).split(": ", 1)[1] in answer[0]
-        compare(run.solution(), answer[1:])
-        return
+        pytest.fail(f"a stable loop failed: {e}; the Rust loop said {answer[0]!r}")
     assert not answer[0].startswith("error"), answer[0]
     assert run.t == t_end and run.done and run.ended is None
     compare(run.solution(), answer)

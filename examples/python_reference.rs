@@ -5,12 +5,15 @@
 //! Reads requests from stdin, one per line, and answers each on stdout (every number
 //! in Rust's shortest round-trip form, which Python's `float` reads exactly):
 //!
-//! * `kernel SCENE KERNEL p… ; x…` → one line of numbers. KERNEL is `mass_matrix`
+//! * `kernel SCENE KERNEL p… ; x…` → one line of numbers (q has the scene's
+//!   configuration slots, quaternions included). KERNEL is `mass_matrix`
 //!   (x = q; M row by row), `forward_dynamics` (x = q v τ), `jacobian` (x = q v τ;
 //!   v̇, then ∂v̇/∂q and ∂v̇/∂v row by row), `inverse_dynamics` (x = q v a) or
 //!   `frame_pose` (x = frame-index q; the 4 × 4 pose row by row);
 //! * `run SCENE p… ; t_end q0… v0…` → the default event-driven run: `rows R`, R lines
-//!   `t y…`, `switches K`, K lines `t kind element from to jump`;
+//!   `t y…`, `switches K`, K lines `t kind element from to jump`; for a scene with
+//!   spherical or free joints (q0 with its quaternions), the default Lie-group run
+//!   (RKMK5), its rows in the mechanism's layout;
 //! * `control SCENE p… ; t_end dt kp kd target… q0… v0…` → a PD loop at period `dt` on
 //!   the step-level integrator (`u = kp (target − q) − kd v`, held over each period),
 //!   answered as `run` (an error as `error MESSAGE`, then the run up to it).
@@ -20,12 +23,16 @@
 use std::io::{BufRead, Write};
 
 use filippov::prelude::*;
+use filippov::runtime::liegroup::{LieMechanical, LieMechanism, mechanism_rows};
 use filippov::runtime::nonsmooth::{Integrator, NonSmooth};
 use filippov::runtime::system::Parameters;
-use filippov::runtime::{NonSmoothMethod, NonSmoothProblem, Solution, solve_nonsmooth};
+use filippov::runtime::{
+    LieProblem, NonSmoothMethod, NonSmoothProblem, Options, Rkmk5, Solution, solve_nonsmooth,
+};
 use filippov::scenes::{
-    BinghamOscillator, CoulombOscillator, CubicBingham, DoublePendulum, NonMonotoneMaxDissipation,
-    NonMonotoneNoJumps, Panda, PandaS9, SupportedStop, ThreeLinkArm, Ur5,
+    BinghamOscillator, CoulombOscillator, CubicBingham, DoublePendulum, FreeBody, Humanoid,
+    NonMonotoneMaxDissipation, NonMonotoneNoJumps, Panda, PandaS9, Solo12, SupportedStop,
+    ThreeLinkArm, Ur5,
 };
 
 fn numbers(xs: impl IntoIterator<Item = f64>) -> String {
@@ -69,6 +76,56 @@ where
         ),
         other => panic!("no kernel {other} here"),
     }
+}
+
+/// `kernel`, `frame_pose` and `run` for a scene with spherical or free joints: `q` of
+/// `NQ` slots; the run is the default Lie-group one (RKMK5 at rtol 1e-6, atol 1e-9).
+fn lie<S, const N: usize, const NQ: usize>(what: &str, p: &[f64], x: &[f64]) -> String
+where
+    S: LieMechanism<N, NQ> + Parameters + InverseDynamics<N, NQ> + Kinematics<N, NQ>,
+{
+    let s = S::from_values(p).expect("parameters");
+    let q = || v::<NQ>(&x[..NQ]);
+    let (v1, v2) = (|| v::<N>(&x[NQ..NQ + N]), || v::<N>(&x[NQ + N..]));
+    match what {
+        "mass_matrix" => numbers(rows_major(&s.mass_matrix(&q()))),
+        "forward_dynamics" => numbers(s.forward_dynamics(&q(), &v1(), &v2()).iter().copied()),
+        "jacobian" => {
+            let j = s.forward_dynamics_jacobian(&q(), &v1(), &v2());
+            let mut out: Vec<f64> = j.acceleration.iter().copied().collect();
+            out.extend(rows_major(&j.d_dq));
+            out.extend(rows_major(&j.d_dv));
+            numbers(out)
+        }
+        "inverse_dynamics" => numbers(s.inverse_dynamics(&q(), &v1(), &v2()).iter().copied()),
+        "frame_pose" => {
+            let frame = S::frame_at(x[0] as usize).expect("frame");
+            numbers(rows_major(
+                &s.frame_pose(frame, &v(&x[1..])).to_homogeneous(),
+            ))
+        }
+        "run" => {
+            let (q0, v0) = (v::<NQ>(&x[1..1 + NQ]), v::<N>(&x[1 + NQ..]));
+            let problem = LieProblem::new(0.0, x[0], S::qv_to_state(&q0, &v0));
+            let rows = |flat: &Solution| mechanism_rows::<S, N, NQ>(flat).expect("columns");
+            match Rkmk5::new(Options::default()).solve(&LieMechanical::free(&s), &problem) {
+                Ok(traj) => answer(&rows(traj.flat())),
+                Err(e) => format!("error {:?}\n{}", e.to_string(), answer(&rows(&e.solution))),
+            }
+        }
+        other => panic!("no kernel {other} here"),
+    }
+}
+
+/// Calls `lie::<S, N, NQ>(what, p, x)` for the scene with spherical or free joints
+/// called `name`, or gives `None`.
+fn with_lie_scene(name: &str, what: &str, p: &[f64], x: &[f64]) -> Option<String> {
+    Some(match name {
+        "FreeBody" => lie::<FreeBody, 6, 7>(what, p, x),
+        "Solo12" => lie::<Solo12, 18, 19>(what, p, x),
+        "Humanoid" => lie::<Humanoid, 35, 36>(what, p, x),
+        _ => return None,
+    })
 }
 
 fn pose<S, const N: usize>(p: &[f64], x: &[f64]) -> String
@@ -202,6 +259,11 @@ fn main() {
             .split_whitespace()
             .map(|w| w.parse().expect("number"))
             .collect();
+        let lie_request = if what == "kernel" { kernel_name } else { what };
+        if let Some(reply) = with_lie_scene(scene, lie_request, &p, &x) {
+            writeln!(out, "{}", reply.trim_end()).expect("stdout");
+            continue;
+        }
         let reply = match (what, kernel_name) {
             ("kernel", "frame_pose") => frame_pose(scene, &p, &x),
             ("kernel", k) => with_scene!(scene, kernel, k, &p, &x),

@@ -339,3 +339,64 @@ fn lie_runs_keep_the_rows_output_asks_for() {
         assert_eq!(every.stats, steps.stats, "{name}: the same run");
     }
 }
+
+/// `mechanism_rows`: a run's rows in the mechanism's layout are `state_to_qv` of its
+/// states, the columns named after the configuration and the coordinates, and each row's
+/// velocity derivative the forward dynamics there. On a free base with an arm and on a
+/// ball joint between hinges (rotations and Euclidean slots interleaved).
+#[test]
+fn lie_rows_in_the_mechanism_layout() {
+    fn check<S, const N: usize, const NQ: usize>(scene: &S, seed: u64)
+    where
+        S: LieMechanism<N, NQ>,
+    {
+        let mut rng = Rng::new(seed);
+        let q = random_config::<S, N, NQ>(&mut rng);
+        let v: SVector<f64, N> = rng.vector(1.0);
+        let traj = Rkmk5::new(Options::tolerances(1e-8, 1e-10))
+            .solve(
+                &LieMechanical::free(scene),
+                &LieProblem::new(0.0, 0.5, S::qv_to_state(&q, &v)),
+            )
+            .unwrap();
+        let rows = filippov::runtime::liegroup::mechanism_rows::<S, N, NQ>(traj.flat()).unwrap();
+        let names = S::configuration_names();
+        assert_eq!(rows.names()[..NQ].len(), NQ);
+        for (j, c) in names.iter().enumerate() {
+            assert_eq!(rows.names()[j], format!("q_{c}"));
+        }
+        for (j, c) in S::COORDINATES.iter().enumerate() {
+            assert_eq!(rows.names()[NQ + j], format!("v_{c}"));
+        }
+        for &(s, _) in S::ROTATIONS {
+            assert!(names[s].ends_with(".qw") && names[s + 3].ends_with(".qz"));
+        }
+        assert_eq!(rows.len(), traj.len());
+        assert_eq!(rows.stats, traj.stats);
+        for i in 0..traj.len() {
+            let (qi, vi) = S::state_to_qv(&traj.state(i));
+            let expected: Vec<f64> = qi.iter().chain(vi.iter()).copied().collect();
+            assert_eq!(rows.state(i), &expected[..], "row {i}");
+            let a = scene.forward_dynamics(&qi, &vi, &SVector::zeros());
+            assert_close(&rows.derivative(i)[NQ..], a.as_slice(), 1e-12, 1.0, "v̇");
+        }
+    }
+    check(&Satellite::default(), 11);
+    check(&BallChain::default(), 12);
+    // A run of another mechanism (other columns): no rows.
+    let body = SphericalBody::default();
+    let traj = Rkmk5::new(Options::default())
+        .solve(
+            &LieMechanical::free(&body),
+            &LieProblem::new(
+                0.0,
+                0.1,
+                SphericalBody::qv_to_state(
+                    &SphericalBody::identity_configuration(),
+                    &SVector::from([0.1, 1.0, 0.0]),
+                ),
+            ),
+        )
+        .unwrap();
+    assert!(filippov::runtime::liegroup::mechanism_rows::<Satellite, 8, 9>(traj.flat()).is_none());
+}

@@ -42,6 +42,18 @@ pub fn states(
     x: &Bound<'_, PyAny>,
     coordinates: &[&str],
 ) -> PyResult<States> {
+    states_of(scene, what, x, coordinates, "coordinates")
+}
+
+/// [`states`] of the entries `names`, which an error calls `noun` ("coordinates",
+/// "configuration slots").
+pub fn states_of(
+    scene: &str,
+    what: &str,
+    x: &Bound<'_, PyAny>,
+    coordinates: &[&str],
+    noun: &str,
+) -> PyResult<States> {
     let a = as_f64(x)?;
     let n = coordinates.len();
     let shape = a.shape().to_vec();
@@ -50,7 +62,7 @@ pub fn states(
         [b, m] if *m == n => Some(*b),
         _ => {
             return Err(PyValueError::new_err(format!(
-                "{what} has shape {shape:?}; {scene} has {n} coordinates ({}), so give an \
+                "{what} has shape {shape:?}; {scene} has {n} {noun} ({}), so give an \
                  array of shape ({n},) for one state or (batch, {n}) for a batch",
                 coordinates.join(", ")
             )));

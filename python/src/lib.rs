@@ -16,19 +16,23 @@
 //!
 //! * `arrays`: NumPy in and out, shapes checked against the scene's coordinates.
 //! * `options`: a run's options by name.
-//! * `scene`: what every scene class does, generic over the scene.
+//! * `scene`: what every scene class does, generic over the scene and its kind (`Flat`:
+//!   revolute and prismatic joints; `lie`: spherical or free joints).
 //! * `solution`, `integrator`, `ensemble`, `errors`: the classes the module adds.
 
 pub mod arrays;
 pub mod ensemble;
 pub mod errors;
 pub mod integrator;
+pub mod lie;
 pub mod options;
 pub mod scene;
 pub mod solution;
 
+pub use lie::Lie;
 pub use numpy;
 pub use pyo3;
+pub use scene::Flat;
 
 use pyo3::prelude::*;
 
@@ -71,13 +75,13 @@ macro_rules! __scene_type {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __scene_methods {
-    ($name:ident, $ty:ty, [kinematics $(, $rest:ident)*], [$($acc:tt)*]) => {
-        $crate::__scene_methods!($name, $ty, [$($rest),*], [$($acc)*
+    ($name:ident, $ty:ty, $kind:ident, [kinematics $(, $rest:ident)*], [$($acc:tt)*]) => {
+        $crate::__scene_methods!($name, $ty, $kind, [$($rest),*], [$($acc)*
             /// The frames `frame_pose` and `frame_jacobian` take: the bodies, then the
             /// declared frames.
             #[classattr]
             fn frames() -> ::std::vec::Vec<&'static str> {
-                $crate::scene::frames::<$ty, _>()
+                $crate::scene::frames::<$ty, _, _>()
             }
 
             /// The world pose of `frame` at `q` as a 4 × 4 homogeneous matrix
@@ -88,7 +92,7 @@ macro_rules! __scene_methods {
                 frame: &str,
                 q: &$crate::pyo3::Bound<'py, $crate::pyo3::PyAny>,
             ) -> $crate::pyo3::PyResult<$crate::pyo3::Bound<'py, $crate::pyo3::PyAny>> {
-                $crate::scene::frame_pose(py, stringify!($name), &self.0, frame, q)
+                $crate::scene::frame_pose::<$crate::$kind<$ty>, _, _>(py, stringify!($name), &self.0, frame, q)
             }
 
             /// The Jacobian of `frame` at `q`, rows `(ṗ, ω)` in world axes: `(6, n)`
@@ -99,12 +103,12 @@ macro_rules! __scene_methods {
                 frame: &str,
                 q: &$crate::pyo3::Bound<'py, $crate::pyo3::PyAny>,
             ) -> $crate::pyo3::PyResult<$crate::pyo3::Bound<'py, $crate::pyo3::PyAny>> {
-                $crate::scene::frame_jacobian(py, stringify!($name), &self.0, frame, q)
+                $crate::scene::frame_jacobian::<$crate::$kind<$ty>, _, _>(py, stringify!($name), &self.0, frame, q)
             }
         ]);
     };
-    ($name:ident, $ty:ty, [inverse_dynamics $(, $rest:ident)*], [$($acc:tt)*]) => {
-        $crate::__scene_methods!($name, $ty, [$($rest),*], [$($acc)*
+    ($name:ident, $ty:ty, $kind:ident, [inverse_dynamics $(, $rest:ident)*], [$($acc:tt)*]) => {
+        $crate::__scene_methods!($name, $ty, $kind, [$($rest),*], [$($acc)*
             /// `τ = M(q) a + C(q, v) v + g(q) − τ_p`: the forces that give acceleration `a`.
             fn inverse_dynamics<'py>(
                 &self,
@@ -113,12 +117,12 @@ macro_rules! __scene_methods {
                 v: &$crate::pyo3::Bound<'py, $crate::pyo3::PyAny>,
                 a: &$crate::pyo3::Bound<'py, $crate::pyo3::PyAny>,
             ) -> $crate::pyo3::PyResult<$crate::pyo3::Bound<'py, $crate::pyo3::PyAny>> {
-                $crate::scene::inverse_dynamics(py, stringify!($name), &self.0, q, v, a)
+                $crate::scene::inverse_dynamics::<$crate::$kind<$ty>, _, _>(py, stringify!($name), &self.0, q, v, a)
             }
         ]);
     };
-    ($name:ident, $ty:ty, [nonsmooth $(, $rest:ident)*], [$($acc:tt)*]) => {
-        $crate::__scene_methods!($name, $ty, [$($rest),*], [$($acc)*
+    ($name:ident, $ty:ty, Flat, [nonsmooth $(, $rest:ident)*], [$($acc:tt)*]) => {
+        $crate::__scene_methods!($name, $ty, Flat, [$($rest),*], [$($acc)*
             /// A non-smooth run: `method="event_driven"` (default; `smooth=` the method
             /// between events, DOPRI5 at rtol 1e-8, atol 1e-10) or `"time_stepping"`
             /// (`h`, `theta` = 1); other options as `solve`'s. The solution has the
@@ -174,15 +178,25 @@ macro_rules! __scene_methods {
             }
         ]);
     };
-    ($name:ident, $ty:ty, [$other:ident $(, $rest:ident)*], [$($acc:tt)*]) => {
+    ($name:ident, $ty:ty, Flat, [lie $(, $rest:ident)*], [$($acc:tt)*]) => {
+        $crate::__scene_methods!($name, $ty, Lie, [$($rest),*], [$($acc)*]);
+    };
+    ($name:ident, $ty:ty, Lie, [nonsmooth $(, $rest:ident)*], [$($acc:tt)*]) => {
+        ::core::compile_error!(concat!(
+            stringify!($name), ": `nonsmooth` is for scenes on revolute and prismatic joints; \
+             a scene with spherical or free joints (`lie`) has the smooth `solve` on its Lie group"
+        ));
+    };
+    ($name:ident, $ty:ty, $kind:ident, [$other:ident $(, $rest:ident)*], [$($acc:tt)*]) => {
         ::core::compile_error!(concat!(
             "unknown capability `", stringify!($other), "` for ", stringify!($name),
             "; the capabilities are nonsmooth (a scene with friction, dash-pots, stops or \
-             contacts), kinematics and inverse_dynamics (each of these two needs the scene \
-             to emit that kernel: `#[mechanism(emit = [kinematics, inverse_dynamics])]`)"
+             contacts), lie (first, for a scene with spherical or free joints), kinematics \
+             and inverse_dynamics (each of these two needs the scene to emit that kernel: \
+             `#[mechanism(emit = [kinematics, inverse_dynamics])]`)"
         ));
     };
-    ($name:ident, $ty:ty, [], [$($acc:tt)*]) => {
+    ($name:ident, $ty:ty, $kind:ident, [], [$($acc:tt)*]) => {
         #[$crate::pyo3::pymethods]
         #[pyo3(crate = "::filippov::python::pyo3")]
         impl $name {
@@ -192,19 +206,29 @@ macro_rules! __scene_methods {
             fn __new__(
                 parameters: ::core::option::Option<&$crate::pyo3::Bound<'_, $crate::pyo3::types::PyDict>>,
             ) -> $crate::pyo3::PyResult<Self> {
-                $crate::scene::new(stringify!($name), parameters).map($name)
+                $crate::scene::new::<$crate::$kind<$ty>, _, _>(stringify!($name), parameters).map($name)
             }
 
-            /// The coordinates' names (the joints, in the scene's order).
+            /// The velocity coordinates' names (the joints, in the scene's order; a
+            /// spherical joint's `joint.wx`, `.wy`, `.wz`, a free joint's `joint.x`, `.y`,
+            /// `.z` then its angular velocity).
             #[classattr]
             fn joints() -> ::std::vec::Vec<&'static str> {
-                $crate::scene::joints::<$ty, _>()
+                $crate::scene::joints::<$crate::$kind<$ty>, _, _>()
             }
 
-            /// The number of coordinates.
+            /// The configuration's slots, the order of `q`: the joints, except that a
+            /// spherical or free joint has a unit quaternion `joint.qw` … `joint.qz` (after
+            /// a free joint's position `joint.x`, `joint.y`, `joint.z`).
+            #[classattr]
+            fn configuration() -> ::std::vec::Vec<::std::string::String> {
+                $crate::scene::configuration::<$crate::$kind<$ty>, _, _>()
+            }
+
+            /// The number of coordinates (of `v`, `τ`, `v̇`).
             #[classattr]
             fn dof() -> usize {
-                $crate::scene::joints::<$ty, _>().len()
+                $crate::scene::joints::<$crate::$kind<$ty>, _, _>().len()
             }
 
             /// The parameters' names, in declaration order.
@@ -216,7 +240,7 @@ macro_rules! __scene_methods {
             /// The non-smooth elements (friction, dash-pots, stops, contacts) by name.
             #[classattr]
             fn elements() -> ::std::vec::Vec<&'static str> {
-                $crate::scene::elements::<$ty, _>()
+                $crate::scene::elements::<$crate::$kind<$ty>, _, _>()
             }
 
             /// `{parameter: value}`.
@@ -249,7 +273,7 @@ macro_rules! __scene_methods {
                 py: $crate::pyo3::Python<'py>,
                 q: &$crate::pyo3::Bound<'py, $crate::pyo3::PyAny>,
             ) -> $crate::pyo3::PyResult<$crate::pyo3::Bound<'py, $crate::pyo3::PyAny>> {
-                $crate::scene::mass_matrix(py, stringify!($name), &self.0, q)
+                $crate::scene::mass_matrix::<$crate::$kind<$ty>, _, _>(py, stringify!($name), &self.0, q)
             }
 
             /// `v̇ = FD(q, v, τ)` (`τ` zero by default): `(n,)`, or `(batch, n)`.
@@ -261,7 +285,7 @@ macro_rules! __scene_methods {
                 v: &$crate::pyo3::Bound<'py, $crate::pyo3::PyAny>,
                 tau: ::core::option::Option<&$crate::pyo3::Bound<'py, $crate::pyo3::PyAny>>,
             ) -> $crate::pyo3::PyResult<$crate::pyo3::Bound<'py, $crate::pyo3::PyAny>> {
-                $crate::scene::forward_dynamics(py, stringify!($name), &self.0, q, v, tau)
+                $crate::scene::forward_dynamics::<$crate::$kind<$ty>, _, _>(py, stringify!($name), &self.0, q, v, tau)
             }
 
             /// `(v̇, ∂v̇/∂q, ∂v̇/∂v)` at `(q, v, τ)`, exact (generated code).
@@ -273,13 +297,15 @@ macro_rules! __scene_methods {
                 v: &$crate::pyo3::Bound<'py, $crate::pyo3::PyAny>,
                 tau: ::core::option::Option<&$crate::pyo3::Bound<'py, $crate::pyo3::PyAny>>,
             ) -> $crate::pyo3::PyResult<$crate::pyo3::Bound<'py, $crate::pyo3::types::PyTuple>> {
-                $crate::scene::forward_dynamics_jacobian(py, stringify!($name), &self.0, q, v, tau)
+                $crate::scene::forward_dynamics_jacobian::<$crate::$kind<$ty>, _, _>(py, stringify!($name), &self.0, q, v, tau)
             }
 
             /// A smooth run from `(q0, v0)` (`v0` zero by default) to `t_end`. Options:
-            /// `method` (`"dopri5"` default, `"sdirk4"`, `"bdf"`, `"rk4"` with `h`),
-            /// `rtol`, `atol`, `h0`, `h_max`, `max_steps`, `t0`, `times` (rows at these
-            /// times only), `every` (every k-th step), `tau` (constant applied forces).
+            /// `method` (`"dopri5"` default, `"sdirk4"`, `"bdf"`, `"rk4"` with `h`; for a
+            /// scene with spherical or free joints `"rkmk5"` default or `"lie_sdirk"`,
+            /// adaptive or with a fixed step `h`), `rtol`, `atol`, `h0`, `h_max`,
+            /// `max_steps`, `t0`, `times` (rows at these times only), `every` (every k-th
+            /// step), `tau` (constant applied forces).
             #[pyo3(signature = (t_end, q0, v0=None, **options))]
             fn solve(
                 &self,
@@ -289,7 +315,7 @@ macro_rules! __scene_methods {
                 v0: ::core::option::Option<&$crate::pyo3::Bound<'_, $crate::pyo3::PyAny>>,
                 options: ::core::option::Option<&$crate::pyo3::Bound<'_, $crate::pyo3::types::PyDict>>,
             ) -> $crate::pyo3::PyResult<$crate::solution::PySolution> {
-                $crate::scene::solve(py, stringify!($name), &self.0, t_end, q0, v0, options)
+                $crate::scene::solve::<$crate::$kind<$ty>, _, _>(py, stringify!($name), &self.0, t_end, q0, v0, options)
             }
 
             $($acc)*
@@ -310,6 +336,9 @@ macro_rules! __scene_methods {
 /// (`Panda = filippov::scenes::Panda`), optionally followed by what the scene has beyond
 /// the kernels and the smooth `solve` every scene has:
 ///
+/// * `lie` (first): a scene with spherical or free joints, whose configuration `q` holds
+///   unit quaternions; its `solve` integrates on the Lie group (`method="rkmk5"` or
+///   `"lie_sdirk"`);
 /// * `nonsmooth`: `solve_nonsmooth` and `integrator` (the step-level run a controller
 ///   drives), for a scene with friction, dash-pots, stops or contacts;
 /// * `kinematics`: frame poses and Jacobians (the scene emits `kinematics`);
@@ -329,6 +358,7 @@ macro_rules! module {
                 $crate::__scene_methods!(
                     $name,
                     $crate::__scene_type!($name $(, $path)?),
+                    Flat,
                     [$($($cap),*)?],
                     []
                 );

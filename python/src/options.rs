@@ -1,7 +1,7 @@
 //! A run's options by name, as Python passes them (`method="bdf", rtol=1e-8`): each
 //! checked against the options that run takes, the defaults those of the Rust API.
 
-use filippov_runtime::{Method, NonSmoothMethod, Options, Output};
+use filippov_runtime::{LieSdirk, Method, NonSmoothMethod, Options, Output, Rkmk5};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -40,6 +40,20 @@ const NONSMOOTH: &[&str] = &[
     "h0",
     "h_max",
     "theta",
+    "max_steps",
+    "t0",
+    "times",
+    "every",
+    "tau",
+];
+
+const LIE: &[&str] = &[
+    "method",
+    "rtol",
+    "atol",
+    "h",
+    "h0",
+    "h_max",
     "max_steps",
     "t0",
     "times",
@@ -221,6 +235,47 @@ pub fn nonsmooth(
             return Err(PyValueError::new_err(format!(
                 "{call}(): no method `{other}`; the non-smooth methods are event_driven \
                  (smooth=dopri5, sdirk4, bdf or rk4 between events) and time_stepping"
+            )));
+        }
+    };
+    Ok((method, common(call, n, &e)?))
+}
+
+/// A Lie-group method (scenes with spherical or free joints).
+pub enum LieMethod {
+    Rkmk5(Rkmk5),
+    Sdirk(LieSdirk),
+}
+
+/// `solve`'s options for a scene with spherical or free joints: `method="rkmk5"`
+/// (default: explicit Munthe-Kaas Dormand–Prince) or `"lie_sdirk"` (stiff), adaptive at
+/// the Rust defaults (rtol 1e-6, atol 1e-9), or fixed steps with `h=…`; and the common
+/// ones.
+pub fn lie(n: usize, opts: Option<&Bound<'_, PyDict>>) -> PyResult<(LieMethod, Common)> {
+    let call = "solve";
+    let e = entries(call, LIE, opts)?;
+    let name = get::<String>(call, &e, "method")?.unwrap_or_else(|| "rkmk5".into());
+    let h = get::<f64>(call, &e, "h")?;
+    let method = match name.to_ascii_lowercase().as_str() {
+        "rkmk5" => {
+            let base = h.map_or_else(|| Rkmk5::new(Options::default()), Rkmk5::fixed);
+            LieMethod::Rkmk5(Rkmk5 {
+                options: adaptive(call, &e, base.options)?,
+                fixed_step: h,
+            })
+        }
+        "lie_sdirk" => {
+            let base = h.map_or_else(|| LieSdirk::new(Options::default()), LieSdirk::fixed);
+            LieMethod::Sdirk(LieSdirk {
+                options: adaptive(call, &e, base.options)?,
+                fixed_step: h,
+            })
+        }
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "{call}(): no method `{other}`; a scene with spherical or free joints is \
+                 integrated on its Lie group by rkmk5 (explicit, the default) or lie_sdirk \
+                 (stiff), adaptive, or with fixed steps given as h=…"
             )));
         }
     };

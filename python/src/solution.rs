@@ -1,7 +1,7 @@
 //! A run's result in Python: the rows as NumPy arrays with named columns, dense output
 //! at any time, the switch log and the user events as records, the statistics.
 
-use filippov_runtime::{Mode, Solution, SwitchKind};
+use filippov_runtime::{LieState, LieTrajectory, Mode, Solution, SwitchKind};
 use pyo3::exceptions::{PyKeyError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -15,14 +15,27 @@ use crate::arrays::{as_f64, shaped, vector};
 /// `solution["q_elbow"]` one column. `at(t)` evaluates the method's dense output
 /// anywhere in the run. `switches` is the log of every switch as records (a list of
 /// dicts, `pandas.DataFrame(solution.switches)` makes a table of it).
+///
+/// A run of a scene with spherical or free joints has the columns `q_<slot>` (a
+/// quaternion as `q_<joint>.qw` … `q_<joint>.qz`) and `v_<coordinate>`, and `at(t)`
+/// reads the integrator's dense output on the group (unit quaternions).
 #[pyclass(name = "Solution", module = "filippov", frozen)]
 pub struct PySolution {
     pub inner: Solution,
+    /// For a run on a Lie group: its trajectory, whose dense output `at` reads.
+    pub group: Option<OnGroup>,
+}
+
+/// The dense output of a run on a Lie group: the trajectory, and how one of its states
+/// is written as a row of the solution.
+pub struct OnGroup {
+    pub trajectory: LieTrajectory,
+    pub row: fn(&LieState, &mut [f64]),
 }
 
 impl From<Solution> for PySolution {
     fn from(inner: Solution) -> Self {
-        PySolution { inner }
+        PySolution { inner, group: None }
     }
 }
 
@@ -94,7 +107,12 @@ impl PySolution {
             return Err(PyValueError::new_err("the solution has no rows"));
         };
         for (k, &tk) in times.iter().enumerate() {
-            if !s.at_into(tk, &mut out[k * s.dim()..(k + 1) * s.dim()]) {
+            let row = &mut out[k * s.dim()..(k + 1) * s.dim()];
+            let inside = match &self.group {
+                Some(g) => g.trajectory.at(tk).map(|y| (g.row)(&y, row)).is_some(),
+                None => s.at_into(tk, row),
+            };
+            if !inside {
                 return Err(PyValueError::new_err(format!(
                     "t = {tk} is outside the run [{first}, {last}]"
                 )));

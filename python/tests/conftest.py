@@ -12,7 +12,7 @@ import filippov
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
-#: Every bundled scene and whether it has non-smooth elements (frames: `KINEMATICS`).
+#: The bundled scenes on revolute and prismatic joints (frames: `KINEMATICS`).
 SCENES = [
     "Panda",
     "PandaS9",
@@ -27,6 +27,8 @@ SCENES = [
     "SupportedStop",
 ]
 KINEMATICS = ["Panda", "PandaS9", "Ur5", "ThreeLinkArm", "DoublePendulum"]
+#: The scenes with spherical or free joints (quaternions in `q`; tests/test_lie.py).
+LIE = ["FreeBody", "Solo12", "Humanoid"]
 NONSMOOTH = [s for s in SCENES if filippov.__dict__[s].elements]
 
 
@@ -108,3 +110,21 @@ def same_bits(a, b):
     a = np.ascontiguousarray(a, dtype=np.float64)
     b = np.ascontiguousarray(b, dtype=np.float64)
     return a.shape == b.shape and a.view(np.uint64).tolist() == b.view(np.uint64).tolist()
+
+
+def compare(sol, answer):
+    """`sol` against the Rust program's answer to `run` or `control`."""
+    lines = iter(answer)
+    head = next(lines)
+    rows = int(head.split()[1])
+    assert len(sol) == rows
+    expected = np.array([numbers(next(lines)) for _ in range(rows)])
+    assert same_bits(sol.t, expected[:, 0])
+    assert same_bits(sol.y, expected[:, 1:])
+    switches = int(next(lines).split()[1])
+    assert len(sol.switches) == switches
+    for s in sol.switches:
+        t, kind, element, before, after, jump = next(lines).split()
+        assert same_bits([s["t"], s["jump"]], [float(t), float(jump)])
+        assert (s["kind"], str(s["element"])) == (kind, element)
+        assert (str(s["from"]), str(s["to"])) == (before, after)

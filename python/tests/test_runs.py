@@ -8,25 +8,7 @@ import numpy as np
 import pytest
 
 import filippov
-from conftest import NONSMOOTH, fmt, numbers, random_scene, same_bits
-
-
-def compare(sol, answer):
-    """`sol` against the Rust program's answer to `run` or `control`."""
-    lines = iter(answer)
-    head = next(lines)
-    rows = int(head.split()[1])
-    assert len(sol) == rows
-    expected = np.array([numbers(next(lines)) for _ in range(rows)])
-    assert same_bits(sol.t, expected[:, 0])
-    assert same_bits(sol.y, expected[:, 1:])
-    switches = int(next(lines).split()[1])
-    assert len(sol.switches) == switches
-    for s in sol.switches:
-        t, kind, element, before, after, jump = next(lines).split()
-        assert same_bits([s["t"], s["jump"]], [float(t), float(jump)])
-        assert (s["kind"], str(s["element"])) == (kind, element)
-        assert (str(s["from"]), str(s["to"])) == (before, after)
+from conftest import NONSMOOTH, compare, fmt, random_scene, same_bits
 
 
 def initial_state(name, scene, rng):

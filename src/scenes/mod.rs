@@ -5,8 +5,8 @@
 //! and free joints, closed linkages (a four-bar and a slider-crank, §7), and bodies touching the ground
 //! through contacts (§8), and joints whose friction carries their load (bearings, §8). The
 //! examples run on them; `references` holds the closed forms and reference solutions
-//! the tests and the report compare against. With the `urdf` feature too: the UR5 and
-//! a three-link arm read from `robots/`. A program of its own enables them with
+//! the tests and the report compare against. With the `urdf` feature too: the UR5,
+//! a three-link arm, Solo12 and a humanoid, read from `robots/`. A program of its own enables them with
 //! `filippov = { version = "0.1", features = ["scenes"] }`; without the feature none of
 //! them is compiled.
 
@@ -39,6 +39,6 @@ pub use lumped::{
 pub use panda::Panda;
 pub use resting_arm::RestingArm;
 #[cfg(feature = "urdf")]
-pub use robots::{ThreeLinkArm, Ur5};
+pub use robots::{Humanoid, Solo12, ThreeLinkArm, Ur5};
 pub use s9::PandaS9;
 pub use tree::BranchedTree;

@@ -3,8 +3,9 @@
 //! a crate of the same shape: its scenes and one `module!` line.
 
 use filippov::scenes::{
-    BinghamOscillator, CoulombOscillator, CubicBingham, DoublePendulum, NonMonotoneMaxDissipation,
-    NonMonotoneNoJumps, Panda, PandaS9, RestingArm, SupportedStop, ThreeLinkArm, Ur5,
+    BinghamOscillator, CoulombOscillator, CubicBingham, DoublePendulum, FreeBody, Humanoid,
+    NonMonotoneMaxDissipation, NonMonotoneNoJumps, Panda, PandaS9, RestingArm, Solo12,
+    SupportedStop, ThreeLinkArm, Ur5,
 };
 
 filippov::python::module!(
@@ -55,6 +56,21 @@ filippov::python::module!(
         },
         SupportedStop {
             nonsmooth,
+            inverse_dynamics
+        },
+        FreeBody {
+            lie,
+            kinematics,
+            inverse_dynamics
+        },
+        Solo12 {
+            lie,
+            kinematics,
+            inverse_dynamics
+        },
+        Humanoid {
+            lie,
+            kinematics,
             inverse_dynamics
         },
     ]

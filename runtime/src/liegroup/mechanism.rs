@@ -28,6 +28,7 @@ use nalgebra::{SMatrix, SVector, Vector3};
 use super::{LieState, LieSystem, UnitQuat};
 use crate::model::Model;
 use crate::system::{ForwardJacobian, ParameterError};
+use crate::{Keep, Output, Solution};
 
 /// A rigid multibody tree with Lie-group joints: `N` velocity coordinates and `NQ`
 /// configuration slots (see the [module documentation](self) for the layout).
@@ -110,6 +111,24 @@ pub trait LieMechanism<const N: usize, const NQ: usize> {
         out
     }
 
+    /// A name for every configuration slot: a revolute or prismatic joint's name, a free
+    /// joint's translation as its coordinates' names (`joint.x`, `joint.y`, `joint.z`),
+    /// and a quaternion as `joint.qw`, `joint.qx`, `joint.qy`, `joint.qz`.
+    fn configuration_names() -> [String; NQ] {
+        let mut names: [String; NQ] = std::array::from_fn(|_| String::new());
+        for &(s, k) in Self::EUCLID {
+            names[s] = Self::COORDINATES[k].to_string();
+        }
+        for &(s, k) in Self::ROTATIONS {
+            let c = Self::COORDINATES[k];
+            let joint = c.strip_suffix(".wx").unwrap_or(c);
+            for (i, part) in ["qw", "qx", "qy", "qz"].iter().enumerate() {
+                names[s + i] = format!("{joint}.{part}");
+            }
+        }
+        names
+    }
+
     /// The configuration and velocity of a [`LieState`] of [`LieMechanical`]: rotation
     /// `r` of the state goes to the slots `ROTATIONS[r].0 ..+4` of `q` (as `(w, x, y, z)`)
     /// and its `ω_r = velocity[3r..3r + 3]` to `v[ROTATIONS[r].1 ..+3]`; Euclidean
@@ -176,6 +195,58 @@ pub trait LieMechanism<const N: usize, const NQ: usize> {
             out[3 * m + e] = v[k];
         }
     }
+}
+
+/// A run's rows in the mechanism's layout: `flat` is a [`LieMechanical`] run of `S` as
+/// the integrators store it ([`LieTrajectory::flat`](super::LieTrajectory::flat), or the
+/// [`SolveError`](crate::SolveError)'s solution of a failed run: every rotation, the
+/// Euclidean coordinates, then the velocities in state order), and the result has the
+/// columns `q_<slot>` (the [configuration's names](LieMechanism::configuration_names), in
+/// the order of `q`) then `v_<coordinate>` (the order of `v`), each row's derivative
+/// reordered alike, and the run's statistics. `None` when `flat` has not the columns of
+/// such a run (`NQ + N`).
+///
+/// Between the rows, read the trajectory's own dense output
+/// ([`LieTrajectory::at`](super::LieTrajectory::at), on the group) rather than this
+/// solution's, which interpolates the quaternions' slots one by one.
+pub fn mechanism_rows<S, const N: usize, const NQ: usize>(flat: &Solution) -> Option<Solution>
+where
+    S: LieMechanism<N, NQ>,
+{
+    if flat.dim() != NQ + N {
+        return None;
+    }
+    // `to[j]`: the column of flat column `j`.
+    let (m, e) = (S::ROTATIONS.len(), S::EUCLID.len());
+    let mut to = vec![0usize; NQ + N];
+    for (r, &(s, k)) in S::ROTATIONS.iter().enumerate() {
+        for c in 0..4 {
+            to[4 * r + c] = s + c;
+        }
+        for c in 0..3 {
+            to[4 * m + e + 3 * r + c] = NQ + k + c;
+        }
+    }
+    for (i, &(s, k)) in S::EUCLID.iter().enumerate() {
+        to[4 * m + i] = s;
+        to[4 * m + e + 3 * m + i] = NQ + k;
+    }
+    let mut names: Vec<String> = S::configuration_names()
+        .iter()
+        .map(|c| format!("q_{c}"))
+        .collect();
+    names.extend(S::COORDINATES.iter().map(|c| format!("v_{c}")));
+    let mut out = Solution::new(names, 0, Output::Steps);
+    let (mut y, mut dy) = (vec![0.0; NQ + N], vec![0.0; NQ + N]);
+    for i in 0..flat.len() {
+        for (j, &k) in to.iter().enumerate() {
+            y[k] = flat.state(i)[j];
+            dy[k] = flat.derivative(i)[j];
+        }
+        out.push_step(flat.times()[i], &y, &dy, None, Keep::AsAsked);
+    }
+    out.stats = flat.stats;
+    Some(out)
 }
 
 /// The normalised quaternion in slots `s..s + 4` of `q`.

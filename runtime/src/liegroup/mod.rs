@@ -43,7 +43,7 @@ pub use crate::geometry::so3;
 pub use crate::geometry::so3::UnitQuat;
 pub use events::{EventDirection, LieEvent, LieEventHit};
 pub use implicit::LieSdirk;
-pub use mechanism::{LieInputFn, LieMechanical, LieMechanism};
+pub use mechanism::{LieInputFn, LieMechanical, LieMechanism, mechanism_rows};
 pub use rkmk::Rkmk5;
 pub use trajectory::{LieProblem, LieTrajectory};
 

@@ -2,8 +2,9 @@
 friction, dash-pots, stops and contacts.
 
 The classes here are the robots and scenes the project ships (Panda, UR5, the
-three-link arm, the canonical scenes S1–S9); a scene of your own becomes a module of
-the same shape with one line of Rust (docs/python.md).
+three-link arm, Solo12 and a humanoid on free bases, the canonical scenes S1–S10); a
+scene of your own becomes a module of the same shape with one line of Rust
+(docs/python.md).
 """
 
 from ._filippov import *  # noqa: F401,F403
@@ -27,6 +28,7 @@ CANONICAL = {
     "S7": "SupportedStop",
     "S8": "DoublePendulum",
     "S9": "PandaS9",
+    "S10": "FreeBody",
 }
 
 from . import ensembles  # noqa: E402,F401

@@ -10,7 +10,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 
-cargo test --workspace
+# The Python glue and the wheel are built (optimised) by maturin below; built here too
+# they would only compile PyO3 twice.
+cargo test --workspace --exclude filippov-python --exclude filippov-wheel
 
 venv=$root/target/python/venv
 if [ ! -x "$venv/bin/python" ]; then
@@ -18,5 +20,6 @@ if [ ! -x "$venv/bin/python" ]; then
 fi
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
 (cd python/wheel && VIRTUAL_ENV=$venv PATH="$venv/bin:$PATH" maturin develop --quiet --release)
-cargo build --quiet --features urdf --example python_reference
+# Already built by `cargo test` (same profile and features); a no-op then.
+cargo build --quiet --profile test --features urdf --example python_reference
 "$venv/bin/python" -m pytest python/tests -q

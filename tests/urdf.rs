@@ -369,14 +369,14 @@ fn urdf_params_bind_struct_fields() {
 /// `arm-1` and `arm_1`): two joints and two links, each under its own identifier, the
 /// file's valid names kept as they are.
 #[derive(Mechanism)]
-#[mechanism(urdf = "tests/ui/urdf/dashed_names.urdf", gravity = [0.0, -9.81, 0.0], emit = all)]
+#[mechanism(urdf = "macros/tests/ui/urdf/dashed_names.urdf", gravity = [0.0, -9.81, 0.0], emit = all)]
 struct DashedNames;
 
 #[test]
 fn urdf_names_stay_distinct() {
     assert_eq!(DashedNames::DOF, 2);
     assert_eq!(DashedNames::JOINTS, ["j_1_2", "j_1"]);
-    let text = include_str!("ui/urdf/dashed_names.urdf");
+    let text = include_str!("../macros/tests/ui/urdf/dashed_names.urdf");
     let model = Model::from_urdf(text, Vector3::new(0.0, -9.81, 0.0), false, &[]).expect("reads");
     against_numeric(&DashedNames, &model, 23);
 }

@@ -76,7 +76,7 @@ mod woodpecker;
 #[path = "workprecision.rs"]
 mod workprecision;
 
-pub use config::Config;
+pub use config::{Config, SECTIONS};
 
 /// Runs every section and writes the report; returns the path of the Markdown page.
 pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {

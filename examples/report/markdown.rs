@@ -97,7 +97,11 @@ pub struct Headline {
     pub basis: String,
 }
 
-static HEADLINES: std::sync::Mutex<Vec<Headline>> = std::sync::Mutex::new(Vec::new());
+thread_local! {
+    /// The headlines of the report this thread writes (a report runs on one thread; the
+    /// tests write two at once).
+    static HEADLINES: std::cell::RefCell<Vec<Headline>> = const { std::cell::RefCell::new(Vec::new()) };
+}
 
 /// Adds a row to the headline table (sections call this where they measure a claim).
 pub fn headline(
@@ -107,24 +111,22 @@ pub fn headline(
     ratio: impl Into<String>,
     basis: impl Into<String>,
 ) {
-    HEADLINES
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .push(Headline {
-            claim: claim.into(),
-            ours: ours.into(),
-            peer: peer.into(),
-            ratio: ratio.into(),
-            basis: basis.into(),
-        });
+    let row = Headline {
+        claim: claim.into(),
+        ours: ours.into(),
+        peer: peer.into(),
+        ratio: ratio.into(),
+        basis: basis.into(),
+    };
+    HEADLINES.with(|h| h.borrow_mut().push(row));
 }
 
 /// The headline rows recorded so far, in the order the sections ran.
 /// Forgets the headlines so far (a section run only for what it writes to disk).
 pub fn clear_headlines() {
-    HEADLINES.lock().unwrap_or_else(|e| e.into_inner()).clear();
+    HEADLINES.with(|h| h.borrow_mut().clear());
 }
 
 pub fn headlines() -> Vec<Headline> {
-    HEADLINES.lock().unwrap_or_else(|e| e.into_inner()).clone()
+    HEADLINES.with(|h| h.borrow().clone())
 }

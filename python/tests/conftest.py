@@ -42,7 +42,7 @@ def reference_binary():
     )
     if not path.exists():
         subprocess.run(
-            ["cargo", "build", "--features", "urdf", "--example", "python_reference"],
+            ["cargo", "build", "--profile", "test", "--features", "urdf", "--example", "python_reference"],
             cwd=ROOT,
             check=True,
         )

@@ -1,7 +1,7 @@
 //! Expressions of any size a user can write expand to code or to a spanned error saying
 //! the limit — never a stack overflow in the expander. Each expansion runs on a 4 MiB
 //! thread, half of what rustc gives a proc macro. (That rustc compiles what comes
-//! out of the deep cases is `tests/ui_pass/deep_expressions.rs`.)
+//! out of the deep cases is `macros/tests/ui_pass/deep_expressions.rs`.)
 
 fn scene(mass: &str) -> String {
     format!(
@@ -35,7 +35,7 @@ fn long_sums_and_deep_nesting_expand() {
     let nested_sqrt = "sqrt(".repeat(200) + "m" + &")".repeat(200);
     let parens = "(".repeat(250) + "m" + &")".repeat(250);
     let right_nested = (0..200).fold("m".to_string(), |acc, _| format!("(m + {acc})"));
-    // That rustc compiles the output is checked by `tests/ui_pass/deep_expressions.rs`.
+    // That rustc compiles the output is checked by `macros/tests/ui_pass/deep_expressions.rs`.
     for mass in [&sum, &nested_sqrt, &parens, &right_nested] {
         expand_small_stack(scene(mass)).unwrap_or_else(|e| panic!("{e}"));
     }

@@ -3,7 +3,7 @@
 //! over the whole interval (positions, velocities, modes), and passivity. A few dozen
 //! scenes here; the report runs a thousand and more.
 
-#[path = "../examples/support/agreement.rs"]
+#[path = "../../examples/support/agreement.rs"]
 mod agreement;
 
 use agreement::{Tally, Verdict};

@@ -3,7 +3,7 @@
 //! event-driven against time-stepping at three steps, passivity and no penetration; and
 //! the spatial suite (`spatial_agreement.rs`) by time-stepping alone.
 
-#[path = "../examples/support/contact_agreement.rs"]
+#[path = "../../examples/support/contact_agreement.rs"]
 mod contact_agreement;
 
 /// A scene's line's ending: its failure, if it had one.
@@ -39,7 +39,7 @@ fn random_contact_scenes_agree_and_stay_passive() {
     assert_none_failed(failed);
 }
 
-#[path = "../examples/support/spatial_agreement.rs"]
+#[path = "../../examples/support/spatial_agreement.rs"]
 mod spatial_agreement;
 
 /// Random spatial scenes (tables, pucks) by time-stepping on the friction cone: solved,

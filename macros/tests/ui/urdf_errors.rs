@@ -1,16 +1,16 @@
 use filippov::Mechanism;
 
 // Paths are relative to the crate's Cargo.toml; trybuild compiles this file in its own
-// crate under target/tests/trybuild/filippov, four levels below the repository.
+// crate under target/tests/trybuild/filippov-macros, four levels below the repository.
 
 // A <mimic> joint, named, with the way out.
 #[derive(Mechanism)]
-#[mechanism(urdf = "../../../../tests/ui/urdf/mimic.urdf")]
+#[mechanism(urdf = "../../../../macros/tests/ui/urdf/mimic.urdf")]
 struct Gripper;
 
 // Unknown `limits` and a `lock` naming no joint of the file.
 #[derive(Mechanism)]
-#[mechanism(urdf = "../../../../tests/ui/urdf/mimic.urdf", lock = [finger_right, thumb], limits = walls)]
+#[mechanism(urdf = "../../../../macros/tests/ui/urdf/mimic.urdf", lock = [finger_right, thumb], limits = walls)]
 struct Locked;
 
 // URDF options without a file, and a path that is not a string.
@@ -27,7 +27,7 @@ struct NotAString;
 // Bindings: an element the file does not have, a property that cannot be bound, a
 // limit bound without stops, a locked joint.
 #[derive(Mechanism)]
-#[mechanism(urdf = "../../../../tests/ui/urdf/mimic.urdf", lock = [finger_right])]
+#[mechanism(urdf = "../../../../macros/tests/ui/urdf/mimic.urdf", lock = [finger_right])]
 #[urdf_param(thumb.mass = m, left.colour = m, finger_left.upper = m, finger_right.damping = m)]
 struct Bound { m: f64 }
 
@@ -40,17 +40,17 @@ struct NotUrdf { m: f64 }
 
 // Inertial data no real body has: each error names the link.
 #[derive(Mechanism)]
-#[mechanism(urdf = "../../../../tests/ui/urdf/negative_mass.urdf")]
+#[mechanism(urdf = "../../../../macros/tests/ui/urdf/negative_mass.urdf")]
 struct NegativeMass;
 
 #[derive(Mechanism)]
-#[mechanism(urdf = "../../../../tests/ui/urdf/unphysical_inertia.urdf")]
+#[mechanism(urdf = "../../../../macros/tests/ui/urdf/unphysical_inertia.urdf")]
 struct UnphysicalInertia;
 
 // A movable joint whose axis has no direction: named as the file names it, with the
 // URDF to write, and nothing after it.
 #[derive(Mechanism)]
-#[mechanism(urdf = "../../../../tests/ui/urdf/zero_axis.urdf")]
+#[mechanism(urdf = "../../../../macros/tests/ui/urdf/zero_axis.urdf")]
 struct ZeroAxis;
 
 fn main() {}

@@ -14,6 +14,9 @@
 //!   `t y…`, `switches K`, K lines `t kind element from to jump`; for a scene with
 //!   spherical or free joints (q0 with its quaternions), the default Lie-group run
 //!   (RKMK5), its rows in the mechanism's layout;
+//! * `contact SCENE p… ; t_end h q0… v0…` → a run of a scene with contacts,
+//!   `contact_time_stepping` with step `h`, or for `h = 0` `contact_event_driven` with the
+//!   default event-driven method, answered as `run`;
 //! * `control SCENE p… ; t_end dt kp kd target… q0… v0…` → a PD loop at period `dt` on
 //!   the step-level integrator (`u = kp (target − q) − kd v`, held over each period),
 //!   answered as `run` (an error as `error MESSAGE`, then the run up to it).
@@ -23,16 +26,18 @@
 use std::io::{BufRead, Write};
 
 use filippov::prelude::*;
+use filippov::runtime::contacts::Contacts;
 use filippov::runtime::liegroup::{LieMechanical, LieMechanism, mechanism_rows};
 use filippov::runtime::nonsmooth::{Integrator, NonSmooth};
 use filippov::runtime::system::Parameters;
 use filippov::runtime::{
-    LieProblem, NonSmoothMethod, NonSmoothProblem, Options, Rkmk5, Solution, solve_nonsmooth,
+    LieProblem, NonSmoothMethod, NonSmoothProblem, Options, Rkmk5, Solution, contact_event_driven,
+    contact_time_stepping, solve_nonsmooth,
 };
 use filippov::scenes::{
     BinghamOscillator, CoulombOscillator, CubicBingham, DoublePendulum, FreeBody, Humanoid,
-    NonMonotoneMaxDissipation, NonMonotoneNoJumps, Panda, PandaS9, Solo12, SupportedStop,
-    ThreeLinkArm, Ur5,
+    NonMonotoneMaxDissipation, NonMonotoneNoJumps, Panda, PandaS9, SlidingBox, Solo12,
+    SupportedStop, Table, ThreeLinkArm, Ur5,
 };
 
 fn numbers(xs: impl IntoIterator<Item = f64>) -> String {
@@ -114,6 +119,29 @@ where
             }
         }
         other => panic!("no kernel {other} here"),
+    }
+}
+
+/// `contact`: a run of a scene with contacts (`h = 0`: event-driven).
+fn contact<S, const N: usize, const K: usize, const T: usize>(p: &[f64], x: &[f64]) -> String
+where
+    S: Mechanism<N> + Contacts<N, K, T> + Parameters,
+{
+    let s = S::from_values(p).expect("parameters");
+    let (t_end, h) = (x[0], x[1]);
+    let problem = NonSmoothProblem::new(0.0, t_end, v(&x[2..2 + N]), v(&x[2 + N..]));
+    let zero = |_t: f64, _q: &SVector<f64, N>, _v: &SVector<f64, N>| SVector::zeros();
+    let run = if h > 0.0 {
+        contact_time_stepping(&s, &zero, &problem, h)
+    } else {
+        match NonSmoothMethod::default() {
+            NonSmoothMethod::EventDriven(m) => contact_event_driven(&s, &zero, &problem, &m),
+            other => panic!("the default method is event-driven, not {other:?}"),
+        }
+    };
+    match run {
+        Ok(sol) => answer(&sol),
+        Err(e) => format!("error {:?}\n{}", e.to_string(), answer(&e.solution)),
     }
 }
 
@@ -269,6 +297,11 @@ fn main() {
             ("kernel", k) => with_scene!(scene, kernel, k, &p, &x),
             ("run", _) => with_scene!(@nonsmooth scene, run, &p, &x),
             ("control", _) => with_scene!(@nonsmooth scene, control, &p, &x),
+            ("contact", _) => match scene {
+                "SlidingBox" => contact::<SlidingBox, 3, _, _>(&p, &x),
+                "Table" => contact::<Table, 6, _, _>(&p, &x),
+                other => panic!("no scene with contacts {other} here"),
+            },
             (other, _) => panic!("no request {other}"),
         };
         writeln!(out, "{}", reply.trim_end()).expect("stdout");

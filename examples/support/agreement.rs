@@ -1,7 +1,7 @@
 //! The randomized agreement suite: random chains with random non-smooth elements,
 //! integrated event-driven and by time-stepping, each time-stepping run compared with
 //! event-driven over the whole interval, and event-driven checked for passivity. Shared
-//! by `tests/agreement.rs` (a few dozen scenes) and the report (a thousand and more).
+//! by `scenes/tests/agreement.rs` (a few dozen scenes) and the report (a thousand and more).
 //!
 //! A scene (from its seed): a planar or spatial chain of 1–7 revolute or prismatic
 //! joints (rod-like links, random masses and lengths), gravity or not, springs and
@@ -51,7 +51,7 @@
 //! asymptotic range and agrees; a disagreement in an observable still outside its
 //! asymptotic range at the finest step is *unresolved* (counted apart: time-stepping's
 //! limit is not known well enough to judge), one inside it a failure. A typed error of
-//! event-driven is counted apart with its message (and fails `tests/agreement.rs`);
+//! event-driven is counted apart with its message (and fails `scenes/tests/agreement.rs`);
 //! anything else that goes wrong is a failure.
 
 use filippov::nalgebra::{Matrix3, SVector, Vector3};

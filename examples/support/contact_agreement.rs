@@ -1,4 +1,4 @@
-//! Random planar contact scenes, shared by `tests/contact_agreement.rs` and the report:
+//! Random planar contact scenes, shared by `scenes/tests/contact_agreement.rs` and the report:
 //! boxes launched along level ground or inclines, balls dropped spinning, and rods
 //! tipping over or dropped on an end (sticking, slipping both ways, landing), each with
 //! random sizes, masses, friction and restitution, integrated event-driven and by

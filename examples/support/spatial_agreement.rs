@@ -1,5 +1,5 @@
 //! Random spatial contact scenes for time-stepping on the friction cone, shared by
-//! `tests/contact_agreement.rs` and the report (beside `contact_agreement.rs`, whose
+//! `scenes/tests/contact_agreement.rs` and the report (beside `contact_agreement.rs`, whose
 //! random draws it shares): three-legged tables on level ground or
 //! inclines, launched sliding and spinning or dropped tilted, and pucks thrown onto
 //! inclines, each with random sizes, masses, friction and restitution. The event-driven

@@ -18,9 +18,11 @@
 //! * `options`: a run's options by name.
 //! * `scene`: what every scene class does, generic over the scene and its kind (`Flat`:
 //!   revolute and prismatic joints; `lie`: spherical or free joints).
+//! * `contact`: runs of scenes with contacts.
 //! * `solution`, `integrator`, `ensemble`, `errors`: the classes the module adds.
 
 pub mod arrays;
+pub mod contact;
 pub mod ensemble;
 pub mod errors;
 pub mod integrator;
@@ -178,6 +180,32 @@ macro_rules! __scene_methods {
             }
         ]);
     };
+    ($name:ident, $ty:ty, Flat, [contacts $(, $rest:ident)*], [$($acc:tt)*]) => {
+        $crate::__scene_methods!($name, $ty, Flat, [$($rest),*], [$($acc)*
+            /// The contacts' names, as declared.
+            #[classattr]
+            fn contacts() -> ::std::vec::Vec<&'static str> {
+                $crate::contact::contacts::<$ty, _, _, _>()
+            }
+
+            /// A run with the contacts: `method="event_driven"` (default; contacts
+            /// alone, `smooth=` the method between events) or `"time_stepping"` (Moreau–Jean
+            /// with step `h`, beside joint friction and stops); other options as
+            /// `solve_nonsmooth`'s. The contact forces are columns: `λ_<contact>.n`, then
+            /// the tangential `λ_<contact>.<axis>`.
+            #[pyo3(signature = (t_end, q0, v0=None, **options))]
+            fn solve_contacts(
+                &self,
+                py: $crate::pyo3::Python<'_>,
+                t_end: f64,
+                q0: &$crate::pyo3::Bound<'_, $crate::pyo3::PyAny>,
+                v0: ::core::option::Option<&$crate::pyo3::Bound<'_, $crate::pyo3::PyAny>>,
+                options: ::core::option::Option<&$crate::pyo3::Bound<'_, $crate::pyo3::types::PyDict>>,
+            ) -> $crate::pyo3::PyResult<$crate::solution::PySolution> {
+                $crate::contact::solve_contacts::<$ty, _, _, _>(py, stringify!($name), &self.0, t_end, q0, v0, options)
+            }
+        ]);
+    };
     ($name:ident, $ty:ty, Flat, [lie $(, $rest:ident)*], [$($acc:tt)*]) => {
         $crate::__scene_methods!($name, $ty, Lie, [$($rest),*], [$($acc)*]);
     };
@@ -190,10 +218,10 @@ macro_rules! __scene_methods {
     ($name:ident, $ty:ty, $kind:ident, [$other:ident $(, $rest:ident)*], [$($acc:tt)*]) => {
         ::core::compile_error!(concat!(
             "unknown capability `", stringify!($other), "` for ", stringify!($name),
-            "; the capabilities are nonsmooth (a scene with friction, dash-pots, stops or \
-             contacts), lie (first, for a scene with spherical or free joints), kinematics \
-             and inverse_dynamics (each of these two needs the scene to emit that kernel: \
-             `#[mechanism(emit = [kinematics, inverse_dynamics])]`)"
+            "; the capabilities are nonsmooth (a scene with friction, dash-pots or stops), \
+             contacts (a scene with `#[contact]`s), lie (first, for a scene with spherical \
+             or free joints), kinematics and inverse_dynamics (each of these two needs the \
+             scene to emit that kernel: `#[mechanism(emit = [kinematics, inverse_dynamics])]`)"
         ));
     };
     ($name:ident, $ty:ty, $kind:ident, [], [$($acc:tt)*]) => {
@@ -340,7 +368,9 @@ macro_rules! __scene_methods {
 ///   unit quaternions; its `solve` integrates on the Lie group (`method="rkmk5"` or
 ///   `"lie_sdirk"`);
 /// * `nonsmooth`: `solve_nonsmooth` and `integrator` (the step-level run a controller
-///   drives), for a scene with friction, dash-pots, stops or contacts;
+///   drives), for a scene with friction, dash-pots or stops;
+/// * `contacts`: `solve_contacts` (the contact integrators), for a scene with
+///   `#[contact]`s;
 /// * `kinematics`: frame poses and Jacobians (the scene emits `kinematics`);
 /// * `inverse_dynamics`: `inverse_dynamics(q, v, a)` (the scene emits it).
 #[macro_export]

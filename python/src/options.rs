@@ -47,20 +47,6 @@ const NONSMOOTH: &[&str] = &[
     "tau",
 ];
 
-const LIE: &[&str] = &[
-    "method",
-    "rtol",
-    "atol",
-    "h",
-    "h0",
-    "h_max",
-    "max_steps",
-    "t0",
-    "times",
-    "every",
-    "tau",
-];
-
 /// The options as `(name, value)`, each a known one.
 fn entries<'py>(
     call: &str,
@@ -253,7 +239,8 @@ pub enum LieMethod {
 /// ones.
 pub fn lie(n: usize, opts: Option<&Bound<'_, PyDict>>) -> PyResult<(LieMethod, Common)> {
     let call = "solve";
-    let e = entries(call, LIE, opts)?;
+    // The same options as on a vector space; `h` makes either method's steps fixed.
+    let e = entries(call, SMOOTH, opts)?;
     let name = get::<String>(call, &e, "method")?.unwrap_or_else(|| "rkmk5".into());
     let h = get::<f64>(call, &e, "h")?;
     let method = match name.to_ascii_lowercase().as_str() {

@@ -499,7 +499,7 @@ pub fn solve<D: Scene<N, NQ>, const N: usize, const NQ: usize>(
 }
 
 /// The non-smooth problem and method from the Python arguments.
-fn nonsmooth_problem<S: Mechanism<N> + Parameters + Sync, const N: usize>(
+pub(crate) fn nonsmooth_problem<S: Mechanism<N> + Parameters + Sync, const N: usize>(
     call: &str,
     name: &str,
     t_end: f64,

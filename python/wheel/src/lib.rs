@@ -4,8 +4,8 @@
 
 use filippov::scenes::{
     BinghamOscillator, CoulombOscillator, CubicBingham, DoublePendulum, FreeBody, Humanoid,
-    NonMonotoneMaxDissipation, NonMonotoneNoJumps, Panda, PandaS9, RestingArm, Solo12,
-    SupportedStop, ThreeLinkArm, Ur5,
+    NonMonotoneMaxDissipation, NonMonotoneNoJumps, Panda, PandaS9, RestingArm, SlidingBox, Solo12,
+    SupportedStop, Table, ThreeLinkArm, Ur5,
 };
 
 filippov::python::module!(
@@ -58,6 +58,8 @@ filippov::python::module!(
             nonsmooth,
             inverse_dynamics
         },
+        SlidingBox { contacts },
+        Table { contacts },
         FreeBody {
             lie,
             kinematics,

@@ -2,7 +2,8 @@
 friction, dash-pots, stops and contacts.
 
 The classes here are the robots and scenes the project ships (Panda, UR5, the
-three-link arm, Solo12 and a humanoid on free bases, the canonical scenes S1–S10); a
+three-link arm, Solo12 and a humanoid on free bases, a box on a ramp and a
+three-legged table with contacts, the canonical scenes S1–S10); a
 scene of your own becomes a module of the same shape with one line of Rust
 (docs/python.md).
 """

@@ -49,10 +49,11 @@ where
     }
 
     fn check_configuration(q: &[f64]) -> Result<(), String> {
-        let names = S::configuration_names();
         for &(s, _) in S::ROTATIONS {
             let norm = q[s..s + 4].iter().map(|x| x * x).sum::<f64>().sqrt();
             if norm.is_nan() || (norm - 1.0).abs() > UNIT {
+                // The names only for the message: this runs for every state of a batch.
+                let names = S::configuration_names();
                 let joint = names[s].strip_suffix(".qw").unwrap_or(&names[s]);
                 return Err(format!(
                     "the quaternion of joint `{joint}` (slots {s}–{}, w x y z) has norm \

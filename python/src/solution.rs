@@ -106,10 +106,20 @@ impl PySolution {
         let (Some(&first), Some(&last)) = (s.times().first(), s.times().last()) else {
             return Err(PyValueError::new_err("the solution has no rows"));
         };
+        // A state on the group to read the trajectory into, one for all the times.
+        let mut on_group = self
+            .group
+            .as_ref()
+            .and_then(|g| Some((g, g.trajectory.last()?.1)));
         for (k, &tk) in times.iter().enumerate() {
             let row = &mut out[k * s.dim()..(k + 1) * s.dim()];
-            let inside = match &self.group {
-                Some(g) => g.trajectory.at(tk).map(|y| (g.row)(&y, row)).is_some(),
+            let inside = match &mut on_group {
+                Some((g, y)) => {
+                    g.trajectory.at_into(tk, y) && {
+                        (g.row)(y, row);
+                        true
+                    }
+                }
                 None => s.at_into(tk, row),
             };
             if !inside {

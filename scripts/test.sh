@@ -6,29 +6,59 @@
 # the ensembles' tests run ten thousand runs three ways), builds the Rust side the
 # Python tests compare against (examples/python_reference.rs), and runs pytest on
 # python/tests (which starts its own two-worker Dask cluster and a local Ray).
+#
+# Work that leaves a core idle overlaps other work: the virtual environment (mostly
+# downloads) is made while cargo builds the tests, and the module's release build
+# (target/release, its own build lock) runs while cargo runs them (many test binaries
+# end on one long test, one core busy). Each background job's output goes to a log
+# under target/python, printed if it fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 
-# The Python glue and the wheel are built (optimised) by maturin below; built here too
-# they would only compile PyO3 twice.
 # Each phase's time is printed at its end (the CI log keeps them).
 phase() { echo "scripts/test.sh: $1 in $((SECONDS - start)) s"; start=$SECONDS; }
+# `wait_for PID LOG WHAT`: the background job's status; its log on failure.
+wait_for() {
+    if ! wait "$1"; then
+        echo "scripts/test.sh: $3 failed:" >&2
+        cat "$2" >&2
+        exit 1
+    fi
+}
+# A failure leaves no build running behind it.
+trap 'kill $(jobs -p) 2>/dev/null || true' EXIT
 start=$SECONDS
-cargo test --workspace --exclude filippov-python --exclude filippov-wheel
-phase "cargo's tests built and run"
+logs=$root/target/python
+mkdir -p "$logs"
 
 venv=$root/target/python/venv
-if [ ! -x "$venv/bin/python" ]; then
-    python3 -m venv "$venv"
-fi
-"$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
-phase "the virtual environment made"
-(cd python/wheel && VIRTUAL_ENV=$venv PATH="$venv/bin:$PATH" maturin develop --quiet --release)
-phase "the module built (release)"
+(
+    if [ ! -x "$venv/bin/python" ]; then
+        python3 -m venv "$venv"
+    fi
+    "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
+        -r python/requirements-test.txt
+) > "$logs/venv.log" 2>&1 &
+venv_job=$!
+
+# The Python glue and the wheel are built (optimised) by maturin below; built here too
+# they would only compile PyO3 twice.
+cargo test --workspace --exclude filippov-python --exclude filippov-wheel --no-run
+phase "cargo's tests built"
 # In the test profile, so that everything but the facade (here with its URDF robots)
 # is cargo test's build.
 cargo build --quiet --profile test --features urdf --example python_reference
 phase "the Rust reference built"
+wait_for $venv_job "$logs/venv.log" "making the virtual environment"
+phase "the virtual environment waited for"
+
+(cd python/wheel && VIRTUAL_ENV=$venv PATH="$venv/bin:$PATH" maturin develop --quiet --release) \
+    > "$logs/module.log" 2>&1 &
+module_job=$!
+cargo test --workspace --exclude filippov-python --exclude filippov-wheel
+phase "cargo's tests run (the module building beside them)"
+wait_for $module_job "$logs/module.log" "building the module"
+phase "the module's build waited for"
 "$venv/bin/python" -m pytest python/tests -q
 phase "pytest run"

@@ -44,6 +44,7 @@ const SECOND: &[&str] = &[
     "scaling",
     "chains",
     "urdf",
+    "ops",
     "scalars",
     "flags",
 ];
@@ -62,6 +63,11 @@ fn report_runs_the_kernels_sections() {
     tiny(
         "report-tiny-kernels",
         SECOND,
-        &["## Kernels", "## Expansion", "## Release compile time"],
+        &[
+            "## Kernels",
+            "## Expansion",
+            "## Release compile time",
+            "## Operation counts per kernel",
+        ],
     );
 }

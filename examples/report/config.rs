@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// The sections' keys for `--only`, in the report's order.
-pub const SECTIONS: [&str; 16] = [
+pub const SECTIONS: [&str; 17] = [
     "smooth",
     "nonsmooth",
     "dense",
@@ -22,6 +22,7 @@ pub const SECTIONS: [&str; 16] = [
     "scaling",
     "chains",
     "urdf",
+    "ops",
     "scalars",
     "flags",
 ];

@@ -47,6 +47,8 @@ mod loops;
 mod markdown;
 #[path = "nonsmooth.rs"]
 mod nonsmooth;
+#[path = "ops.rs"]
+mod ops;
 #[path = "../support/panda_limits.rs"]
 mod panda_limits;
 #[path = "peers.rs"]
@@ -81,7 +83,7 @@ pub use config::{Config, SECTIONS};
 /// Runs every section and writes the report; returns the path of the Markdown page.
 pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     std::fs::create_dir_all(&config.out_dir)?;
-    let progress = config.progress(15);
+    let progress = config.progress(16);
     let load_before = timing::load();
     let started = std::time::Instant::now();
     let mut page = markdown::Page::new("filippov report");
@@ -208,6 +210,11 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
         chains::chains(config)
     );
     let u = section!("urdf", "robots from URDF", urdf::urdf(config));
+    let oc = section!(
+        "ops",
+        "operation counts per kernel, against a floor",
+        ops::ops(config)
+    );
     let sca = section!(
         "scalars",
         "kernels on every scalar and in SIMD batches, beside Pinocchio",
@@ -267,6 +274,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     summary.extend(sc.summary.iter().cloned());
     summary.extend(ch.summary.iter().cloned());
     summary.extend(u.summary.iter().cloned());
+    summary.extend(oc.summary.iter().cloned());
     summary.extend(sca.summary.iter().cloned());
     summary.extend(fl.summary.iter().cloned());
     summary.extend(p.summary.iter().cloned());
@@ -285,6 +293,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     page.append(sc.page);
     page.append(ch.page);
     page.append(u.page);
+    page.append(oc.page);
     page.append(sca.page);
     page.append(fl.page);
     page.append(p.page);

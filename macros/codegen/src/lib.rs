@@ -35,6 +35,11 @@ pub struct Expansion {
     pub graph_nodes: usize,
     /// Per generated method: operation counts and number of `let`s.
     pub functions: Vec<FnStats>,
+    /// The forward dynamics' operations per part (kinematics, mass matrix or
+    /// articulated inertias, bias forces, factorisation, solves), in the order the
+    /// kernel computes them; they sum to its count. Empty for compact and
+    /// loop-constrained forward dynamics.
+    pub forward_parts: Vec<(&'static str, sym::OpCount)>,
 }
 
 /// The derive: the expansion, or on a mistake its spanned errors with stand-in impls
@@ -62,6 +67,13 @@ pub fn expand_with_stats(input: TokenStream) -> Result<Expansion, syn::Error> {
     let model = model.expect("a model when there are no errors");
     let kernels = mech::Kernels::build(&model);
     let (mut tokens, functions) = emit::mechanism_impl(&model, &kernels);
+    let parts: Vec<&[sym::Id]> = kernels.forward_parts.iter().map(|(_, p)| &p[..]).collect();
+    let forward_parts = kernels
+        .forward_parts
+        .iter()
+        .map(|(name, _)| *name)
+        .zip(kernels.graph.count_parts(&kernels.forward, &parts))
+        .collect();
     if let Some(path) = model.urdf_file.as_ref().and_then(|p| p.to_str()) {
         // Cargo tracks files a crate includes: a changed URDF rebuilds the scene.
         tokens.extend(quote::quote! {
@@ -77,5 +89,6 @@ pub fn expand_with_stats(input: TokenStream) -> Result<Expansion, syn::Error> {
         dof: kernels.dof,
         graph_nodes: kernels.graph.len(),
         functions,
+        forward_parts,
     })
 }

@@ -258,3 +258,64 @@ fn auto_takes_the_algorithm_with_fewer_operations() {
         "ABA had fewer FD operations in {aba_won} of 10"
     );
 }
+
+/// The forward dynamics' parts (`Expansion::forward_parts`) account for every operation
+/// of the kernel exactly once: on random trees with random axes and offsets, by either
+/// algorithm, they sum to the kernel's count kind by kind, and kinematics holds one
+/// `sin_cos` per joint (every joint here is revolute, each with its own angle).
+#[test]
+fn forward_parts_sum_to_the_kernels_count() {
+    let mut seed = 0x9A27_5u64;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        seed
+    };
+    for case in 0..6 {
+        let n = 2 + (next() % 12) as usize;
+        let reach = 1 + (next() % 3) as usize;
+        let mut src = String::new();
+        for i in 0..n {
+            let parent = if i == 0 {
+                "world".to_string()
+            } else {
+                format!("b{}", i - 1 - (next() as usize % reach).min(i - 1))
+            };
+            let axis = ["x", "y", "z", "[0.6, 0.0, 0.8]"][(next() % 4) as usize];
+            let ox = (next() % 100) as f64 / 100.0;
+            src += &format!(
+                "#[body(b{i}: revolute({axis}), parent = {parent}, origin = [{ox}, 0.0, l], mass = m, com = [0.0, 0.05, l / 2.0], inertia = cuboid(m, 0.1, 0.2, l))]\n"
+            );
+        }
+        src += "struct Tree { m: f64, l: f64 }";
+        for (algorithm, first_parts) in [
+            ("crba", ["kinematics", "mass matrix (CRBA)"]),
+            ("aba", ["kinematics", "articulated inertias"]),
+        ] {
+            let full = format!(
+                "#[derive(Mechanism)]\n#[mechanism(gravity = [0.0, 0.0, -9.81], forward_dynamics = {algorithm})]\n{src}"
+            );
+            let e = filippov_codegen::expand_with_stats(full.parse().unwrap()).expect("expands");
+            let fd = e
+                .functions
+                .iter()
+                .find(|f| f.name == "forward_dynamics")
+                .expect("emitted")
+                .ops;
+            let names: Vec<&str> = e.forward_parts.iter().map(|(n, _)| *n).collect();
+            assert_eq!(names[..2], first_parts, "case {case}, {algorithm}");
+            let sum = e
+                .forward_parts
+                .iter()
+                .fold(OpCount::default(), |a, (_, c)| a + *c);
+            assert_eq!(
+                sum, fd,
+                "case {case}, {algorithm}: parts {:?}",
+                e.forward_parts
+            );
+            assert_eq!(e.forward_parts[0].1.trig, n, "case {case}, {algorithm}");
+            assert_eq!(sum.trig, n, "case {case}, {algorithm}");
+        }
+    }
+}

@@ -291,6 +291,18 @@ impl<'m> Articulated<'m> {
         Articulated { model, kin, joints }
     }
 
+    /// Every node of the factorisation: each joint's `U D⁻¹` and `D⁻¹`.
+    pub fn nodes(&self) -> Vec<Id> {
+        let mut out = Vec::new();
+        for j in self.joints.iter().flatten() {
+            for w in &j.w {
+                out.extend(w.n.iter().chain(&w.f));
+            }
+            out.extend(j.d_inv.iter().flatten());
+        }
+        out
+    }
+
     /// `M⁻¹ (b − bias(base))`: the accelerations under generalised forces `b` when the
     /// base accelerates with `base` (`(0, −γ)` puts gravity in; `None`: at rest) and
     /// every velocity is zero.

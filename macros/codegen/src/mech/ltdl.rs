@@ -42,6 +42,17 @@ pub fn factor(g: &mut Graph, m: &[Vec<Id>], parent: &[Option<usize>]) -> Ltdl {
 }
 
 impl Ltdl {
+    /// Every node of the factor: `L` (with `M`'s entries that the tree leaves as they
+    /// are) and `D⁻¹`.
+    pub fn nodes(&self) -> Vec<Id> {
+        self.l
+            .iter()
+            .flatten()
+            .chain(&self.d_inv)
+            .copied()
+            .collect()
+    }
+
     /// `M⁻¹ b`.
     pub fn solve(&self, g: &mut Graph, b: &[Id]) -> Vec<Id> {
         let n = b.len();

@@ -84,6 +84,11 @@ pub struct Kernels {
     /// ([`Algorithm::Compact`]): the table and the forces. `forward` and the Jacobian's
     /// nodes are then empty.
     pub compact: Option<CompactKernels>,
+    /// Where the forward dynamics' operations go: its parts in the order they are
+    /// computed, each the nodes it produces ([`Graph::count_parts`](crate::sym::Graph)
+    /// counts each part's share once, the earliest part first). Empty for compact and
+    /// loop-constrained forward dynamics.
+    pub forward_parts: Vec<(&'static str, Vec<Id>)>,
 }
 
 /// What the compact kernels read: the table of the tree and the generalised forces.
@@ -265,6 +270,42 @@ impl Kernels {
             });
             transpose_cols(&cols)
         });
+
+        let forward_parts = if loop_k.is_none() {
+            let kinematics: Vec<Id> = kin
+                .xform
+                .iter()
+                .flat_map(|x| {
+                    x.e.iter()
+                        .flatten()
+                        .chain(&x.r)
+                        .copied()
+                        .collect::<Vec<_>>()
+                })
+                .collect();
+            let factor = solver.factor_nodes(forward_algorithm);
+            match forward_algorithm {
+                Algorithm::Crba => vec![
+                    ("kinematics", kinematics),
+                    (
+                        "mass matrix (CRBA)",
+                        mass.iter().flatten().copied().collect(),
+                    ),
+                    ("bias forces (RNEA, gravity, springs)", rhs.clone()),
+                    ("factorisation (LᵀDL)", factor),
+                    ("solves", forward.clone()),
+                ],
+                Algorithm::Aba => vec![
+                    ("kinematics", kinematics),
+                    ("articulated inertias", factor),
+                    ("velocity terms (RNEA, springs)", rhs_aba.clone()),
+                    ("solves (two passes)", forward.clone()),
+                ],
+                _ => Vec::new(),
+            }
+        } else {
+            Vec::new()
+        };
 
         let compact = (forward_algorithm == Algorithm::Compact).then(|| {
             let tree = compact::tree(&mut g, model, &inertia);
@@ -528,6 +569,7 @@ impl Kernels {
             loops,
             contacts,
             compact,
+            forward_parts,
         }
     }
 }
@@ -575,6 +617,21 @@ impl<'m> Solver<'m> {
                 ltdl::factor(g, mass, &parents),
                 aba::Articulated::new(g, model, kin, inertia),
             ),
+        }
+    }
+
+    /// The nodes of `algorithm`'s factorisation: `L` and `D⁻¹` of `LᵀDL`, or the
+    /// articulated-body algorithm's `U D⁻¹` and `D⁻¹` (empty for any other algorithm).
+    fn factor_nodes(&self, algorithm: Algorithm) -> Vec<Id> {
+        let (l, a) = match self {
+            Solver::Crba(l) => (Some(l), None),
+            Solver::Aba(a) => (None, Some(a)),
+            Solver::Both(l, a) => (Some(l), Some(a)),
+        };
+        match algorithm {
+            Algorithm::Crba => l.map(ltdl::Ltdl::nodes).unwrap_or_default(),
+            Algorithm::Aba => a.map(aba::Articulated::nodes).unwrap_or_default(),
+            _ => Vec::new(),
         }
     }
 

@@ -41,6 +41,22 @@ impl std::ops::Add for OpCount {
     }
 }
 
+impl std::ops::Sub for OpCount {
+    type Output = OpCount;
+    /// Saturating: a part's count is what it adds to a larger set's.
+    fn sub(self, o: OpCount) -> OpCount {
+        OpCount {
+            add: self.add.saturating_sub(o.add),
+            mul: self.mul.saturating_sub(o.mul),
+            div: self.div.saturating_sub(o.div),
+            neg: self.neg.saturating_sub(o.neg),
+            trig: self.trig.saturating_sub(o.trig),
+            sqrt: self.sqrt.saturating_sub(o.sqrt),
+            other: self.other.saturating_sub(o.other),
+        }
+    }
+}
+
 impl std::fmt::Display for OpCount {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
@@ -75,7 +91,33 @@ impl Graph {
 
     /// Operation counts of the code that evaluates `roots`.
     pub fn count_ops(&self, roots: &[Id]) -> OpCount {
-        let seen = self.reachable(roots);
+        self.count_mask(&self.reachable(roots))
+    }
+
+    /// Where the operations of the code that evaluates `outputs` go: `parts` in the
+    /// order the code computes them, each given by the nodes it produces. A part's count
+    /// is what it adds to the parts before it, within what `outputs` need, so a
+    /// subexpression two parts share counts in the earlier one and the counts sum to
+    /// `count_ops(outputs)` when the last part's nodes include the outputs.
+    pub fn count_parts(&self, outputs: &[Id], parts: &[&[Id]]) -> Vec<OpCount> {
+        let needed = self.reachable(outputs);
+        let mut before = vec![false; self.len()];
+        let mut counts = Vec::with_capacity(parts.len());
+        let mut so_far = OpCount::default();
+        for part in parts {
+            let reach = self.reachable(part);
+            for (b, (r, n)) in before.iter_mut().zip(reach.iter().zip(&needed)) {
+                *b |= *r && *n;
+            }
+            let total = self.count_mask(&before);
+            counts.push(total - so_far);
+            so_far = total;
+        }
+        counts
+    }
+
+    /// Operation counts of the nodes set in `seen`.
+    fn count_mask(&self, seen: &[bool]) -> OpCount {
         let mut c = OpCount::default();
         let mut trig_args = std::collections::HashSet::new();
         // Negations whose only role is to turn an addition into a subtraction are free.

@@ -26,6 +26,9 @@ wait_for() {
         exit 1
     fi
 }
+# A fresh build gains nothing from incremental compilation's caches and pays for writing
+# them; a caller who wants them can set CARGO_INCREMENTAL=1.
+export CARGO_INCREMENTAL=${CARGO_INCREMENTAL:-0}
 # A failure leaves no build running behind it.
 trap 'kill $(jobs -p) 2>/dev/null || true' EXIT
 start=$SECONDS

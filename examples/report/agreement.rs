@@ -47,7 +47,7 @@ pub fn agreement(config: &Config) -> Section {
     ));
     page.para(
         "**Mutation check** (run once on 2026-11-26 at a14a4bb, by hand, not left in the code: each bug applied alone, then the 50-scene sample of \
-         `cargo test --release -p filippov-scenes --test agreement` and `cargo test --test laws --test nonsmooth --test s9`). \
+         `cargo test --release -p filippov-scenes --test agreement` and `cargo test --test nonsmooth_suite -- laws:: nonsmooth:: s9::`). \
          (1) A sign in a switching function — a stuck dash-pot's `f_crit − |f|` made `f_crit + |f|` in `mode::switching`: the sample has 14 failures of 50, \
          and 8 tests of `tests/nonsmooth.rs` fail. \
          (2) A fold location off by 1e-6 (relative, in `law::find_folds`): the sample passes — both integrators take the folds from there, so they agree with each other — \

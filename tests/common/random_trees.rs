@@ -1,6 +1,6 @@
 //! Writes `tests/random_trees.rs`: random valid trees (fixed seed) declared with the
 //! derive, each checked by `common::check`. Regenerate with
-//! `FILIPPOV_REGENERATE=1 cargo test --test random_trees`; a test fails when the file and
+//! `FILIPPOV_REGENERATE=1 cargo test --test dynamics_suite random_trees::`; a test fails when the file and
 //! this generator disagree.
 
 use super::Rng;
@@ -152,6 +152,6 @@ pub fn check_up_to_date() {
     let current = std::fs::read_to_string(&path).expect("read tests/random_trees.rs");
     assert!(
         strip(&current) == strip(&fresh),
-        "tests/random_trees.rs is out of date: run FILIPPOV_REGENERATE=1 cargo test --test random_trees, then cargo fmt"
+        "tests/random_trees.rs is out of date: run FILIPPOV_REGENERATE=1 cargo test --test dynamics_suite random_trees::, then cargo fmt"
     );
 }

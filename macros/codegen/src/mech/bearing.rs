@@ -7,7 +7,7 @@
 
 use super::kinematics::Kinematics;
 use super::rnea::rnea_forces;
-use super::spatial::{Inertia, cross, dot3, v3_const};
+use super::spatial::{cross, dot3, v3_const};
 use crate::model::{JointKind, Model};
 use crate::sym::{Graph, Id, Unary};
 
@@ -16,7 +16,6 @@ pub fn bearing_limits(
     g: &mut Graph,
     model: &Model,
     kin: &Kinematics,
-    inertia: &[Inertia],
     gravity: Option<[Id; 3]>,
     v: &[Id],
     a: &[Id],
@@ -24,7 +23,7 @@ pub fn bearing_limits(
     if model.elements.iter().all(|e| e.bearing.is_none()) {
         return Vec::new();
     }
-    let (_, force) = rnea_forces(g, model, kin, inertia, gravity, v, a);
+    let (_, force) = rnea_forces(g, model, kin, gravity, v, a);
     let mut out = Vec::new();
     for el in &model.elements {
         let Some(bearing) = &el.bearing else {

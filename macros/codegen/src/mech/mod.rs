@@ -168,7 +168,7 @@ impl Kernels {
         // RNEA without gravity plus gravity from composite first moments (see
         // [`gravity`] for why gravity is not a base acceleration here).
         let gravity = gravity::gravity_forces(&mut g, model, &kin, &composite, gravity_vec);
-        let coriolis_v = rnea::rnea(&mut g, model, &kin, &inertia, None, &v, &zeros);
+        let coriolis_v = rnea::rnea(&mut g, model, &kin, None, &v, &zeros);
         let bias: Vec<Id> = (0..n).map(|i| g.add(coriolis_v[i], gravity[i])).collect();
         let mut passive = passive_forces(&mut g, model, &q, &v);
         // Springs between two points: their forces −∂U/∂q.
@@ -179,7 +179,7 @@ impl Kernels {
                 *p = g.sub(*p, du);
             }
         }
-        let rnea_a = rnea::rnea(&mut g, model, &kin, &inertia, None, &v, &a);
+        let rnea_a = rnea::rnea(&mut g, model, &kin, None, &v, &a);
         let inverse: Vec<Id> = (0..n)
             .map(|i| {
                 let t = g.add(rnea_a[i], gravity[i]);
@@ -531,7 +531,7 @@ impl Kernels {
             }
         });
 
-        let bearings = bearing::bearing_limits(&mut g, model, &kin, &inertia, gravity_vec, &v, &a);
+        let bearings = bearing::bearing_limits(&mut g, model, &kin, gravity_vec, &v, &a);
 
         // Last, so that the other kernels' code reads the same with or without frames.
         let frames = if model.emit.kinematics {

@@ -192,7 +192,11 @@ fn expand(
 ) -> Result<filippov_codegen::Expansion, String> {
     let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(robot.file))
         .map_err(|e| e.to_string())?;
-    let mut rng = Rng(0x9E37_79B9_7F4A_7C15 ^ robot.name.len() as u64);
+    // Seeded by the robot's name (FNV-1a): the same ceiling in every run.
+    let seed = robot.name.bytes().fold(0xCBF2_9CE4_8422_2325u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01B3)
+    });
+    let mut rng = Rng(seed);
     let file = dir.join(format!(
         "{}_{}.urdf",
         robot.name,

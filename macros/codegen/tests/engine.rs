@@ -192,6 +192,26 @@ fn thirty_six_joint_tree_expands() {
     assert!(text.contains("_part0"), "large functions are split");
 }
 
+/// The attributes and struct of a random tree of `n` revolute joints drawn by `next`:
+/// each joint's parent at most `reach` bodies up (1 makes a chain, larger bushier
+/// trees), its axis along x, y, z or oblique, its origin offset at random.
+fn random_tree(next: &mut impl FnMut() -> u64, n: usize, reach: usize) -> String {
+    let mut src = String::new();
+    for i in 0..n {
+        let parent = if i == 0 {
+            "world".to_string()
+        } else {
+            format!("b{}", i - 1 - (next() as usize % reach).min(i - 1))
+        };
+        let axis = ["x", "y", "z", "[0.6, 0.0, 0.8]"][(next() % 4) as usize];
+        let ox = (next() % 100) as f64 / 100.0;
+        src += &format!(
+            "#[body(b{i}: revolute({axis}), parent = {parent}, origin = [{ox}, 0.0, l], mass = m, com = [0.0, 0.05, l / 2.0], inertia = cuboid(m, 0.1, 0.2, l))]\n"
+        );
+    }
+    src + "struct Tree { m: f64, l: f64 }"
+}
+
 /// `forward_dynamics = auto` emits, per kernel, what the smaller of `crba` and `aba`
 /// emits: on random trees of 3…24 joints (chains, bushy trees and everything between,
 /// random axes and offsets), its operation counts of forward dynamics and its Jacobian
@@ -209,22 +229,8 @@ fn auto_takes_the_algorithm_with_fewer_operations() {
     let mut aba_won = 0;
     for case in 0..10 {
         let n = 3 + (next() % 22) as usize;
-        // How far up a parent may be: 1 makes a chain, larger makes bushier trees.
         let reach = 1 + (next() % 4) as usize;
-        let mut src = String::new();
-        for i in 0..n {
-            let parent = if i == 0 {
-                "world".to_string()
-            } else {
-                format!("b{}", i - 1 - (next() as usize % reach).min(i - 1))
-            };
-            let axis = ["x", "y", "z", "[0.6, 0.0, 0.8]"][(next() % 4) as usize];
-            let ox = (next() % 100) as f64 / 100.0;
-            src += &format!(
-                "#[body(b{i}: revolute({axis}), parent = {parent}, origin = [{ox}, 0.0, l], mass = m, com = [0.0, 0.05, l / 2.0], inertia = cuboid(m, 0.1, 0.2, l))]\n"
-            );
-        }
-        src += "struct Tree { m: f64, l: f64 }";
+        let src = random_tree(&mut next, n, reach);
         let ops = |algorithm: &str| -> (usize, usize) {
             let full = format!(
                 "#[derive(Mechanism)]\n#[mechanism(gravity = [0.0, 0.0, -9.81], forward_dynamics = {algorithm})]\n{src}"
@@ -275,20 +281,7 @@ fn forward_parts_sum_to_the_kernels_count() {
     for case in 0..6 {
         let n = 2 + (next() % 12) as usize;
         let reach = 1 + (next() % 3) as usize;
-        let mut src = String::new();
-        for i in 0..n {
-            let parent = if i == 0 {
-                "world".to_string()
-            } else {
-                format!("b{}", i - 1 - (next() as usize % reach).min(i - 1))
-            };
-            let axis = ["x", "y", "z", "[0.6, 0.0, 0.8]"][(next() % 4) as usize];
-            let ox = (next() % 100) as f64 / 100.0;
-            src += &format!(
-                "#[body(b{i}: revolute({axis}), parent = {parent}, origin = [{ox}, 0.0, l], mass = m, com = [0.0, 0.05, l / 2.0], inertia = cuboid(m, 0.1, 0.2, l))]\n"
-            );
-        }
-        src += "struct Tree { m: f64, l: f64 }";
+        let src = random_tree(&mut next, n, reach);
         for (algorithm, first_parts) in [
             ("crba", ["kinematics", "mass matrix (CRBA)"]),
             ("aba", ["kinematics", "articulated inertias"]),

@@ -9,7 +9,7 @@
 //!   frame. This is the least the same algorithm needs on this robot's kinematics, once
 //!   exact zeros and ones fold: what is left above it is what the links' inertias cost.
 //!   (Folding the kinematics away too, all origins at zero, makes the Panda's joints
-//!   coaxial and its mass matrix constant: no floor for a real arm.);
+//!   coaxial and its mass matrix constant: no floor for a real arm.)
 //! - **the ceiling**: every origin, rotation and joint axis oblique, every centre of
 //!   mass off-axis, every inertia tensor full (small seeded off-diagonals): nothing
 //!   folds, the textbook algorithm's count on this tree.

@@ -34,7 +34,15 @@ fn the_two_halves_cover_every_section() {
     assert_eq!(all, sections);
 }
 
-const FIRST: &[&str] = &["smooth", "nonsmooth", "dense", "agreement", "s9", "lie"];
+const FIRST: &[&str] = &[
+    "smooth",
+    "nonsmooth",
+    "dense",
+    "agreement",
+    "s9",
+    "lie",
+    "ensembles",
+];
 const SECOND: &[&str] = &[
     "loops",
     "contacts",
@@ -51,7 +59,11 @@ const SECOND: &[&str] = &[
 
 #[test]
 fn report_runs_the_integrators_sections() {
-    let dir = tiny("report-tiny-runs", FIRST, &["## Work-precision"]);
+    let dir = tiny(
+        "report-tiny-runs",
+        FIRST,
+        &["## Work-precision", "## Ensembles in lockstep"],
+    );
     assert!(
         dir.join("wp_doublependulum.svg").exists(),
         "work-precision plot written"

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// The sections' keys for `--only`, in the report's order.
-pub const SECTIONS: [&str; 17] = [
+pub const SECTIONS: [&str; 18] = [
     "smooth",
     "nonsmooth",
     "dense",
@@ -24,6 +24,7 @@ pub const SECTIONS: [&str; 17] = [
     "urdf",
     "ops",
     "scalars",
+    "ensembles",
     "flags",
 ];
 

@@ -29,6 +29,8 @@ mod contact_closed_forms;
 mod contacts;
 #[path = "dense.rs"]
 mod dense;
+#[path = "ensembles.rs"]
+mod ensembles;
 #[path = "flags.rs"]
 mod flags;
 #[path = "../support/four_bar_orbit.rs"]
@@ -83,7 +85,7 @@ pub use config::{Config, SECTIONS};
 /// Runs every section and writes the report; returns the path of the Markdown page.
 pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     std::fs::create_dir_all(&config.out_dir)?;
-    let progress = config.progress(16);
+    let progress = config.progress(SECTIONS.len() as u64);
     let load_before = timing::load();
     let started = std::time::Instant::now();
     let mut page = markdown::Page::new("filippov report");
@@ -220,6 +222,11 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
         "kernels on every scalar and in SIMD batches, beside Pinocchio",
         scalars::scalars(config)
     );
+    let ens = section!(
+        "ensembles",
+        "ensembles in lockstep, smooth and non-smooth",
+        ensembles::ensembles(config)
+    );
     let fl = section!(
         "flags",
         "ours and the peers' compiled code, baseline and native CPU flags",
@@ -276,6 +283,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     summary.extend(u.summary.iter().cloned());
     summary.extend(oc.summary.iter().cloned());
     summary.extend(sca.summary.iter().cloned());
+    summary.extend(ens.summary.iter().cloned());
     summary.extend(fl.summary.iter().cloned());
     summary.extend(p.summary.iter().cloned());
     page.bullets(&summary);
@@ -295,6 +303,7 @@ pub fn run(config: &Config) -> std::io::Result<std::path::PathBuf> {
     page.append(u.page);
     page.append(oc.page);
     page.append(sca.page);
+    page.append(ens.page);
     page.append(fl.page);
     page.append(p.page);
     let path = config.out_dir.join("report.md");

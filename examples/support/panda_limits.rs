@@ -1,22 +1,23 @@
 //! The Panda from its URDF file (`robots/panda.urdf`) with every joint limit a rigid
 //! stop and Coulomb friction on every joint, fingers locked: the scene of the
-//! `panda_on_limits` example and of the report's extreme suite. With `emit =
-//! [kinematics]` it has the poses and Jacobians of its links and of the file's tool
-//! frame `panda_hand_tcp`.
+//! `panda_on_limits` example and of the report's extreme suite and ensembles. With
+//! `emit = [kinematics]` it has the poses and Jacobians of its links and of the file's
+//! tool frame `panda_hand_tcp`; with `generic`, its kernels on any scalar (the lanes of
+//! an ensemble).
 
 use filippov::Mechanism;
 use filippov::nalgebra::SVector;
 
 pub type V7 = SVector<f64, 7>;
 
-#[derive(Mechanism)]
+#[derive(Mechanism, Clone, Copy, Debug)]
 #[mechanism(
     urdf = "robots/panda.urdf",
     lock = [panda_finger_joint1, panda_finger_joint2],
     limits = stops(restitution = e),
     joint_friction = true,
     gravity = [0.0, 0.0, -9.81],
-    emit = [kinematics]
+    emit = [kinematics, generic]
 )]
 #[urdf_param(
     panda_joint1.friction = fc, panda_joint2.friction = fc, panda_joint3.friction = fc,

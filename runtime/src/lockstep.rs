@@ -8,6 +8,12 @@
 //! lane whose own step could be longer takes the shorter one, which costs steps but not
 //! accuracy. On `f64` (one lane) the same code is the plain scalar integrator, which is
 //! what the ensemble is measured against.
+//!
+//! Non-smooth scenes run in lockstep by time-stepping: [`time_stepping_lockstep`] (in
+//! [`crate::nonsmooth::lockstep`]), where the runs keep their own steps and element
+//! solves and share the kernels' arithmetic.
+
+pub use crate::nonsmooth::lockstep::{NonSmoothRun, time_stepping_lockstep};
 
 use crate::kernels::GenericDynamics;
 use crate::numerics::control::PiController;

@@ -38,6 +38,7 @@ pub use integrator::{Integrator, NoInput, Stepped};
 pub use problem::*;
 pub use solve::{solve_nonsmooth, solve_nonsmooth_with};
 pub mod law;
+pub mod lockstep;
 mod timestepping;
 
 pub use timestepping::time_stepping;

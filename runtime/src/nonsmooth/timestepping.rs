@@ -81,7 +81,7 @@ use crate::element::{self, ElementKind, NonSmooth, StopKind};
 use crate::events::{EventHit, Tracker, hermite_qv};
 use crate::input::Input;
 use crate::solve::{Observer, unobserved};
-use crate::{ErrorKind, Keep, Solution, SolveError, Switch, SwitchKind};
+use crate::{ErrorKind, ForwardJacobian, Keep, Solution, SolveError, Switch, SwitchKind};
 
 /// Gauss–Seidel sweeps allowed per step for coupled elements.
 pub const MAX_SWEEPS: usize = 10_000;
@@ -148,6 +148,25 @@ where
         }
     }
     Ok(run.traj)
+}
+
+/// Where a step evaluates the scene: the end of the step, its length, the prediction's
+/// configuration `q_θ = q_n + θ h v_n`, the velocity `v_n` and the input `τ` there.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct StepPoint<const N: usize> {
+    pub(crate) t_next: f64,
+    pub(crate) hn: f64,
+    pub(crate) q_theta: SVector<f64, N>,
+    pub(crate) v: SVector<f64, N>,
+    pub(crate) tau: SVector<f64, N>,
+}
+
+/// The kernels a step needs at its [`StepPoint`]: the forward dynamics with its Jacobian
+/// at `(q_θ, v_n, τ)`, and `M(q_θ)⁻¹`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct StepKernels<const N: usize> {
+    pub(crate) jacobian: ForwardJacobian<N>,
+    pub(crate) inverse_mass: SMatrix<f64, N, N>,
 }
 
 /// One time-stepping run in progress: the state after the last step, the elements'
@@ -307,7 +326,19 @@ impl<const N: usize> TimeSteps<'_, N> {
         S: NonSmooth<N>,
         I: Input<N> + ?Sized,
     {
-        let (h, theta, ne) = (self.h, self.theta, S::ELEMENTS);
+        let point = self.point(input, target);
+        let kernels = StepKernels {
+            jacobian: system.forward_dynamics_jacobian(&point.q_theta, &point.v, &point.tau),
+            inverse_mass: system.inverse_mass_matrix(&point.q_theta),
+        };
+        self.finish(system, &point, &kernels)
+    }
+
+    /// Where the next step towards `target` evaluates the scene's kernels (see
+    /// [`step`](Self::step), which is `point`, the kernels, then [`finish`](Self::finish);
+    /// an ensemble evaluates the kernels of several runs' points together).
+    pub(crate) fn point<I: Input<N> + ?Sized>(&self, input: &I, target: f64) -> StepPoint<N> {
+        let (h, theta) = (self.h, self.theta);
         let steps_to_target = (((target - self.anchor) / h) - 1e-9).ceil().max(0.0) as usize;
         let t_next = if self.taken + 1 >= steps_to_target {
             target
@@ -315,18 +346,43 @@ impl<const N: usize> TimeSteps<'_, N> {
             self.anchor + (self.taken + 1) as f64 * h
         };
         let (t, q, v) = (self.t, self.q, self.v);
+        let hn = t_next - t;
+        let q_theta = q + theta * hn * v;
+        let tau = input.forces((t + theta * hn).min(self.until), &q_theta, &v);
+        StepPoint {
+            t_next,
+            hn,
+            q_theta,
+            v,
+            tau,
+        }
+    }
+
+    /// The step from `point` given the kernels there.
+    pub(crate) fn finish<S: NonSmooth<N>>(
+        &mut self,
+        system: &S,
+        point: &StepPoint<N>,
+        kernels: &StepKernels<N>,
+    ) -> Result<(), ErrorKind> {
+        let (h, theta, ne) = (self.h, self.theta, S::ELEMENTS);
+        let StepPoint {
+            t_next,
+            hn,
+            q_theta,
+            tau,
+            ..
+        } = *point;
+        let (t, q, v) = (self.t, self.q, self.v);
         let (coord, theta_q) = (&self.coord, &self.theta_q);
         let (graphs, bearings) = (&mut self.graphs, &mut self.bearings);
         let f = &mut self.f;
         let traj = &mut self.traj;
-        let hn = t_next - t;
 
         // Smooth prediction at q_θ, linearly implicit: with A_q = ∂a/∂q, A_v = ∂a/∂v
         // (the generated Jacobian, τ held fixed) and G = (I − θh A_v − θh² A_q diag(θ_q))⁻¹,
         // Δv = G h a_free − h G M⁻¹ Σ f_e e_c.
-        let q_theta = q + theta * hn * v;
-        let tau = input.forces((t + theta * hn).min(self.until), &q_theta, &v);
-        let jac = system.forward_dynamics_jacobian(&q_theta, &v, &tau);
+        let jac = &kernels.jacobian;
         let a_free = jac.acceleration;
         traj.stats.rhs_evaluations += 1;
         traj.stats.jacobian_evaluations += 1;
@@ -362,7 +418,7 @@ impl<const N: usize> TimeSteps<'_, N> {
         let v_free = v + g * (hn * a_free);
 
         // Element forces: block Gauss–Seidel on the Delassus operator G M⁻¹.
-        let minv = g * system.inverse_mass_matrix(&q_theta);
+        let minv = g * kernels.inverse_mass;
         let w = DMatrix::from_fn(ne, ne, |a, b| minv[(coord[a], coord[b])]);
         if let Some(i) = w.iter().position(|x| !x.is_finite()) {
             return Err(ErrorKind::NonFinite {

@@ -1,0 +1,319 @@
+//! Ensembles in lockstep (`runtime::lockstep`): many runs of one scene integrated
+//! together in the lanes of `f64x4`, against the same driver one run at a time (`f64`)
+//! and against the library's own integrator per run, all in this run of the report,
+//! as runs per second on one core:
+//! - smooth: the Panda swinging freely from random states, DOPRI5 with the batch
+//!   stepping by its worst lane (`lockstep`); the library's `solve` per run beside it;
+//! - non-smooth: the Panda falling onto its joint limits (rigid stops, restitution
+//!   drawn per run) with Coulomb friction on every joint (drawn per run), by
+//!   time-stepping with each lane's run keeping its own steps and element solve
+//!   (`time_stepping_lockstep`); the library's `time_stepping` per run beside it.
+
+use std::time::Instant;
+
+use filippov::runtime::lockstep::{
+    Final, LockstepOptions, NonSmoothRun, Run, lockstep, time_stepping_lockstep,
+};
+use filippov::runtime::nonsmooth::time_stepping;
+use filippov::runtime::real::f64x4;
+use filippov::runtime::{
+    MechanicalSystem, Method, NonSmoothProblem, Options, Problem, Solution, SolveError, solve,
+};
+
+use super::agreement_support::Rng;
+use super::config::Config;
+use super::markdown::{Page, headline, sci};
+use super::panda_limits::{PandaOnLimits, V7, release_pose, zero};
+use super::timing::{Timing, in_rounds};
+use super::urdf::PandaUrdf;
+
+#[derive(Default)]
+pub struct Section {
+    pub page: Page,
+    pub summary: Vec<String>,
+}
+
+/// One ensemble's three ways: lanes, one run at a time, the library per run.
+struct Measured {
+    runs: usize,
+    /// Seconds per ensemble (median over rounds, fastest, slowest); `None` if a way failed.
+    times: [Option<Timing>; 3],
+    /// The largest difference between the lanes' end states and the library's, relative
+    /// to max(|x|, 1).
+    difference: f64,
+    /// What the runs did (steps per run, switches), for the table.
+    note: String,
+}
+
+/// Times each job once per round, in interleaved rounds (a job returning `None` failed).
+fn rounds(config: &Config, jobs: &mut [&mut dyn FnMut() -> bool]) -> [Option<Timing>; 3] {
+    let mut timed: Vec<Box<dyn FnMut() -> Option<Timing> + '_>> = jobs
+        .iter_mut()
+        .map(|job| {
+            Box::new(move || {
+                let start = Instant::now();
+                let ok = job();
+                let s = start.elapsed().as_secs_f64();
+                ok.then_some(Timing {
+                    median: s,
+                    min: s,
+                    max: s,
+                })
+            }) as Box<dyn FnMut() -> Option<Timing>>
+        })
+        .collect();
+    let mut refs: Vec<&mut dyn FnMut() -> Option<Timing>> = timed
+        .iter_mut()
+        .map(|b| b.as_mut() as &mut dyn FnMut() -> Option<Timing>)
+        .collect();
+    let out = in_rounds(config.repeats.max(1), &mut refs);
+    [out[0], out[1], out[2]]
+}
+
+fn largest_difference(a: impl Iterator<Item = f64>, b: impl Iterator<Item = f64>) -> f64 {
+    a.zip(b)
+        .map(|(x, y)| (x - y).abs() / y.abs().max(1.0))
+        .fold(0.0, f64::max)
+}
+
+/// The free Panda: random states, DOPRI5 at rtol 1e-8.
+fn smooth(config: &Config) -> Measured {
+    let count = if config.name == "tiny" { 5 } else { 200 };
+    let t_end = config.horizon;
+    let mut rng = Rng::new(41);
+    let runs: Vec<Run<7, 0>> = (0..count)
+        .map(|_| Run {
+            parameters: [],
+            q0: std::array::from_fn(|_| rng.uniform(-1.0, 1.0)),
+            v0: std::array::from_fn(|_| rng.uniform(-0.5, 0.5)),
+        })
+        .collect();
+    let options = LockstepOptions {
+        rtol: 1e-8,
+        atol: 1e-10,
+        ..LockstepOptions::default()
+    };
+    let method = Method::Dopri5(Options::tolerances(1e-8, 1e-10));
+    let (mut lanes, mut single): (Vec<Final<7>>, Vec<Final<7>>) = (Vec::new(), Vec::new());
+    let mut library: Vec<Vec<f64>> = Vec::new();
+    let times = rounds(
+        config,
+        &mut [
+            &mut || {
+                lanes =
+                    lockstep::<PandaUrdf, f64x4, 7, 0>(&runs, t_end, &options).unwrap_or_default();
+                lanes.len() == runs.len()
+            },
+            &mut || {
+                single =
+                    lockstep::<PandaUrdf, f64, 7, 0>(&runs, t_end, &options).unwrap_or_default();
+                single.len() == runs.len()
+            },
+            &mut || {
+                library = runs
+                    .iter()
+                    .filter_map(|r| {
+                        let y0: Vec<f64> = r.q0.iter().chain(&r.v0).copied().collect();
+                        let sol = solve(
+                            &MechanicalSystem::unforced(&PandaUrdf),
+                            &Problem::new(0.0, t_end, y0),
+                            &method,
+                        )
+                        .ok()?;
+                        sol.last().map(|(_, y)| y.to_vec())
+                    })
+                    .collect();
+                library.len() == runs.len()
+            },
+        ],
+    );
+    let ends = |f: &[Final<7>]| -> Vec<f64> {
+        f.iter()
+            .flat_map(|x| x.q.iter().chain(&x.v).copied())
+            .collect()
+    };
+    let lane_ends = ends(&lanes);
+    let difference =
+        largest_difference(lane_ends.iter().copied(), library.iter().flatten().copied());
+    let steps =
+        |f: &[Final<7>]| f.iter().map(|x| x.steps).sum::<usize>() as f64 / f.len().max(1) as f64;
+    Measured {
+        runs: count,
+        times,
+        difference,
+        note: format!(
+            "{:.0} steps per run in lanes (the batch's), {:.0} one at a time",
+            steps(&lanes),
+            steps(&single)
+        ),
+    }
+}
+
+/// The Panda on its limits with joint friction: random restitution, friction and
+/// states, time-stepping at h = 1e-3, θ = 1.
+fn nonsmooth(config: &Config) -> Measured {
+    let count = if config.name == "tiny" { 5 } else { 64 };
+    let tf = config.horizon;
+    let (h, theta) = (1e-3, 1.0);
+    let mut rng = Rng::new(42);
+    let runs: Vec<NonSmoothRun<PandaOnLimits, 7>> = (0..count)
+        .map(|_| {
+            let system = PandaOnLimits {
+                e: rng.uniform(0.0, 0.5),
+                fc: rng.uniform(0.1, 2.0),
+            };
+            let q0 = release_pose() + V7::from_fn(|_, _| rng.uniform(-0.25, 0.25));
+            let v0 = V7::from_fn(|_, _| rng.uniform(-0.5, 0.5));
+            NonSmoothRun {
+                system,
+                problem: NonSmoothProblem::new(0.0, tf, q0, v0),
+            }
+        })
+        .collect();
+    let all_ok =
+        |r: &[Result<Solution, SolveError>]| r.len() == count && r.iter().all(Result::is_ok);
+    let mut lanes = Vec::new();
+    let mut single = Vec::new();
+    let mut library = Vec::new();
+    let times = rounds(
+        config,
+        &mut [
+            &mut || {
+                lanes = time_stepping_lockstep::<_, f64x4, _, 7, 2>(&runs, &zero, h, theta);
+                all_ok(&lanes)
+            },
+            &mut || {
+                single = time_stepping_lockstep::<_, f64, _, 7, 2>(&runs, &zero, h, theta);
+                all_ok(&single)
+            },
+            &mut || {
+                library = runs
+                    .iter()
+                    .map(|r| time_stepping(&r.system, &zero, &r.problem, h, theta))
+                    .collect();
+                all_ok(&library)
+            },
+        ],
+    );
+    let last = |r: &[Result<Solution, SolveError>]| -> Vec<f64> {
+        r.iter()
+            .filter_map(|s| s.as_ref().ok()?.last().map(|(_, y)| y[..14].to_vec()))
+            .flatten()
+            .collect()
+    };
+    let difference = largest_difference(last(&lanes).into_iter(), last(&library).into_iter());
+    let switches = |r: &[Result<Solution, SolveError>]| -> usize {
+        r.iter()
+            .filter_map(|s| s.as_ref().ok())
+            .map(|s| s.switches.len())
+            .sum()
+    };
+    let (a, b) = (switches(&lanes), switches(&library));
+    Measured {
+        runs: count,
+        times,
+        difference,
+        note: format!(
+            "{} steps per run; {a} switches in lanes, {b} per run alone{}",
+            (tf / h).round(),
+            if a == b {
+                " (the same)"
+            } else {
+                " (they differ)"
+            }
+        ),
+    }
+}
+
+/// Runs per second from seconds per ensemble (the range from the slowest and fastest).
+fn per_second(runs: usize, t: &Timing) -> Timing {
+    let n = runs as f64;
+    Timing {
+        median: n / t.median,
+        min: n / t.max,
+        max: n / t.min,
+    }
+}
+
+pub fn ensembles(config: &Config) -> Section {
+    let mut page = Page::empty();
+    let mut summary = Vec::new();
+    let mut table = Vec::new();
+    let cases = [
+        (
+            "Panda, free swing (DOPRI5, rtol 1e-8)",
+            "solve",
+            smooth(config),
+        ),
+        (
+            "Panda on its limits with joint friction (time-stepping, h = 1e-3)",
+            "time_stepping",
+            nonsmooth(config),
+        ),
+    ];
+    for (name, library, m) in &cases {
+        let rate = |i: usize| m.times[i].map(|t| per_second(m.runs, &t));
+        let show = |t: Option<Timing>| t.map_or("**failed**".into(), |t| t.show(0));
+        let ratio = |a: Option<Timing>, b: Option<Timing>| match (a, b) {
+            // Times: the single runs' over the lanes' is the lanes' gain.
+            (Some(a), Some(b)) => b.ratio_to(&a, 2),
+            _ => "—".into(),
+        };
+        table.push(vec![
+            name.to_string(),
+            m.runs.to_string(),
+            show(rate(0)),
+            show(rate(1)),
+            format!("{} ({library})", show(rate(2))),
+            ratio(m.times[0], m.times[1]),
+            ratio(m.times[0], m.times[2]),
+            sci(m.difference),
+            m.note.clone(),
+        ]);
+        if let (Some(l), Some(s)) = (rate(0), rate(1)) {
+            summary.push(format!(
+                "Lockstep ensemble, {name}: {} runs/s per core in f64x4 lanes against {} one at a time ({}).",
+                l.show(0),
+                s.show(0),
+                ratio(m.times[0], m.times[1])
+            ));
+            headline(
+                format!("Ensemble in lockstep (f64x4 lanes), {name}: runs per second on one core"),
+                format!("{} runs/s", l.show(0)),
+                format!("{} runs/s one at a time", s.show(0)),
+                ratio(m.times[0], m.times[1]),
+                format!(
+                    "{} runs, {} interleaved rounds in this run, baseline x86-64 build; ratio: lanes' rate / one at a time",
+                    m.runs,
+                    config.repeats.max(1)
+                ),
+            );
+        }
+    }
+    page.h2("Ensembles in lockstep");
+    page.para(
+        "Many runs of one scene integrated together in the lanes of `f64x4` (four runs per call of the scene's \
+         generic kernels), against the same driver one run at a time on `f64` and the library's integrator per \
+         run, as runs per second on one core: median over interleaved rounds (min–max), each round one whole \
+         ensemble, baseline x86-64 build (SSE2: each `f64x4` is two 128-bit halves). Smooth: the batch steps by \
+         its worst lane's error (`lockstep`). Non-smooth: each lane's run keeps its own steps and element solve \
+         and a lane whose run ends takes the next (`time_stepping_lockstep`); the lanes share the forward \
+         dynamics with its Jacobian and the mass matrix. Difference: the largest difference between the end \
+         states in lanes and by the library per run, relative to max(|x|, 1).",
+    );
+    page.table(
+        &[
+            "ensemble",
+            "runs",
+            "lanes runs/s",
+            "one at a time runs/s",
+            "library per run runs/s",
+            "lanes / one at a time",
+            "lanes / library",
+            "difference",
+            "what the runs did",
+        ],
+        &table,
+    );
+    Section { page, summary }
+}

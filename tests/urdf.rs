@@ -192,6 +192,52 @@ fn urdf_arm_comes_to_rest_on_its_limit() {
     let (d3, d4) = (end(1e-3), end(1e-4));
     eprintln!("end-state distance to time-stepping: h = 1e-3 {d3:.2e}, 1e-4 {d4:.2e}");
     assert!(d4 < 2e-2 && d4 < 0.5 * d3, "{d3:e} → {d4:e}");
+    // Resting on the limit, the stop carries the shoulder's load and its friction none
+    // (the split the time-stepping solve settles on where a stop and a stuck friction
+    // hold one coordinate); the held forces are solved, not swept towards.
+    let ts = solve_nonsmooth(
+        &Arm,
+        &zero,
+        &p,
+        &NonSmoothMethod::TimeStepping {
+            h: 1e-3,
+            theta: 1.0,
+        },
+    )
+    .expect("time-stepping completes");
+    let names = ts.names().to_vec();
+    let column = |prefix: &str| {
+        let name = names
+            .iter()
+            .find(|n| n.starts_with(prefix) && n.contains("shoulder"))
+            .unwrap_or_else(|| panic!("a column {prefix}…shoulder… in {names:?}"));
+        ts.column(name).expect("the column")
+    };
+    let (friction, times) = (column("f_friction"), ts.times().to_vec());
+    let q = ts.column("q_shoulder").expect("q_shoulder");
+    let resting: Vec<usize> = (0..times.len()).filter(|&i| times[i] > 3.0).collect();
+    assert!(
+        resting.iter().all(|&i| q[i] == 0.6),
+        "on the limit after 3 s"
+    );
+    // The stops' columns: the shoulder's load is theirs (to rounding).
+    let stops: Vec<Vec<f64>> = (names.iter())
+        .filter(|n| n.starts_with("f_") && n.contains("shoulder") && !n.contains("friction"))
+        .map(|n| ts.column(n).expect("the column"))
+        .collect();
+    assert!(!stops.is_empty(), "the shoulder's stops in {names:?}");
+    for &i in &resting {
+        let load: f64 = stops.iter().map(|s| s[i].abs()).sum();
+        assert!(load > 0.1, "the stop carries the load at t = {}", times[i]);
+        assert!(
+            friction[i].abs() <= 1e-12 * load,
+            "the shoulder's friction carries nothing on its limit: {} against {load} at t = {}",
+            friction[i],
+            times[i]
+        );
+    }
+    let sweeps = ts.stats.newton_iterations as f64 / ts.stats.steps as f64;
+    assert!(sweeps < 4.0, "{sweeps:.1} sweeps per step");
 }
 
 #[derive(Mechanism)]

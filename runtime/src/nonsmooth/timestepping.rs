@@ -54,7 +54,16 @@
 //! until the force on no coordinate (the sum of its elements') changes by more than
 //! `1e-13 (|f| + f_scale)`, or the velocity it makes by more than `1e-13` of the terms
 //! its line is computed from; for monotone graphs and
-//! SPD `W` the sweeps converge. Not converging within [`MAX_SWEEPS`] sweeps is a typed
+//! SPD `W` the sweeps converge. Their convergence is linear and slow on a strongly
+//! coupled arm (tens of sweeps per step for a Panda held by friction), so once a sweep
+//! leaves every element on the part of its graph the sweep before left it on, the held
+//! elements' forces (stuck, on a plateau, a rigid stop in contact: their velocity is
+//! known) are solved for directly, the others' fixed — one small dense solve over the
+//! held coordinates — and the next sweep checks that every graph accepts them (a
+//! stuck friction pushed past its limit slips, and the sweeps go on). Where a stop in
+//! contact and a stuck dash-pot hold one coordinate, any split of its force makes the
+//! same motion; the solve gives it all to the stop, so a joint resting on its limit
+//! has its friction stuck at zero force. Not converging within [`MAX_SWEEPS`] sweeps is a typed
 //! error ([`ErrorKind::StepNotSolved`], naming the elements), never a silent answer.
 //!
 //! Passivity (theory.md §3): no step ends with more energy (kinetic, potential, stored in
@@ -430,6 +439,9 @@ impl<const N: usize> TimeSteps<'_, N> {
         let mut converged = ne == 0;
         let mut sweeps = 0;
         let mut load_change = 0.0;
+        // The parts the last sweep left the elements on, and the sweep of the last polish.
+        let mut parts_before = vec![Part::Open; ne];
+        let mut polished = 0;
         while !converged {
             if sweeps == MAX_SWEEPS && load_change > BEARING_TOL {
                 let loaded: Vec<&str> = (bearings.elements.iter())
@@ -547,6 +559,27 @@ impl<const N: usize> TimeSteps<'_, N> {
             let exact = ne == 1 && bearings.is_empty();
             converged = (exact || change <= SWEEP_TOL || change_v <= SWEEP_TOL_V)
                 && load_change <= BEARING_TOL;
+            // Once a sweep leaves every element on the part of its graph the sweep before
+            // left it on, the held elements' forces are one linear solve away: solved
+            // exactly (the others' held fixed), and the next sweep checks that each
+            // element's graph accepts them (or goes on from there).
+            if !converged && ne > 1 && bearings.is_empty() {
+                if parts_before == self.point_mode && sweeps >= polished + 2 {
+                    polished = sweeps;
+                    let held = &self.exact;
+                    polish(
+                        &minv,
+                        &v_free,
+                        coord,
+                        f,
+                        held,
+                        &self.point_mode,
+                        &self.point_v,
+                        hn,
+                    );
+                }
+                parts_before.clone_from(&self.point_mode);
+            }
         }
         traj.stats.newton_iterations += sweeps;
 
@@ -829,6 +862,68 @@ fn impulse<const N: usize>(coord: &[usize], f: &[f64], h: f64) -> SVector<f64, N
         impulse[c] += h * fe;
     }
     impulse
+}
+
+/// The held elements' forces (a stuck dash-pot, a rigid stop in contact, a plateau:
+/// `held[e]`, their velocity `target[e]`) solved exactly with every other force fixed:
+/// on each held coordinate, one holding element's force is changed
+/// so that the momentum balance gives the coordinate its held velocity,
+/// `h W_CC Δ = v_C − v_target` over those coordinates `C` (a few coordinates: a small
+/// dense solve). Gauss–Seidel converges to this linearly, one sweep per digit or so on a
+/// strongly coupled arm; the solve reaches it at once. Leaves the forces as they are
+/// where the system is singular (a closed mechanism at a dead centre).
+fn polish<const N: usize>(
+    minv: &SMatrix<f64, N, N>,
+    v_free: &SVector<f64, N>,
+    coord: &[usize],
+    f: &mut [f64],
+    held: &[bool],
+    parts: &[Part],
+    target: &[f64],
+    hn: f64,
+) {
+    // Each held coordinate's element whose force is solved for. Where several elements
+    // hold one coordinate, any split of its force makes the same motion; a stop in
+    // contact among them carries it all and the others none (a stuck dash-pot resting
+    // against a limit is then stuck at zero force, not at an arbitrary point of its
+    // range), and without a stop the sweeps settle the split.
+    let mut first = [usize::MAX; N];
+    let mut holders = [0usize; N];
+    let mut stop = [usize::MAX; N];
+    for (e, &c) in coord.iter().enumerate() {
+        if held[e] {
+            first[c] = e;
+            holders[c] += 1;
+            if parts[e] == Part::Contact {
+                stop[c] = e;
+            }
+        }
+    }
+    for c in 0..N {
+        if holders[c] > 1 && stop[c] != usize::MAX {
+            for (e, &ce) in coord.iter().enumerate() {
+                if ce == c && held[e] && e != stop[c] {
+                    f[e] = 0.0;
+                }
+            }
+            (first[c], holders[c]) = (stop[c], 1);
+        }
+    }
+    let cs: Vec<usize> = (0..N).filter(|&c| holders[c] == 1).collect();
+    if cs.is_empty() {
+        return;
+    }
+    let v_now = v_free - minv * impulse(coord, f, hn);
+    let k = cs.len();
+    let a = DMatrix::from_fn(k, k, |i, j| hn * minv[(cs[i], cs[j])]);
+    let r = nalgebra::DVector::from_fn(k, |i, _| v_now[cs[i]] - target[first[cs[i]]]);
+    if let Some(d) = a.lu().solve(&r)
+        && d.iter().all(|x| x.is_finite())
+    {
+        for (i, &c) in cs.iter().enumerate() {
+            f[first[c]] += d[i];
+        }
+    }
 }
 
 fn row<const N: usize>(q: &SVector<f64, N>, v: &SVector<f64, N>, f: &[f64]) -> Vec<f64> {

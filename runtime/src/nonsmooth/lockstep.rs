@@ -183,6 +183,7 @@ fn lane_kernels<S, L, const N: usize, const P: usize>(
 /// The inverse of a symmetric positive definite matrix by its `L D Lᵀ` factorisation, in
 /// every lane at once (no pivoting: a mass matrix needs none). A lane whose matrix is
 /// singular gets non-finite entries, which the step reports as non-finite.
+#[allow(clippy::needless_range_loop)] // the factorisation's indices are the algebra's
 fn spd_inverse<T: crate::Real, const N: usize>(m: &[[T; N]; N]) -> [[T; N]; N] {
     let zero = T::cst(0.0);
     let mut l = [[zero; N]; N];

@@ -872,6 +872,7 @@ fn impulse<const N: usize>(coord: &[usize], f: &[f64], h: f64) -> SVector<f64, N
 /// dense solve). Gauss–Seidel converges to this linearly, one sweep per digit or so on a
 /// strongly coupled arm; the solve reaches it at once. Leaves the forces as they are
 /// where the system is singular (a closed mechanism at a dead centre).
+#[allow(clippy::too_many_arguments)]
 fn polish<const N: usize>(
     minv: &SMatrix<f64, N, N>,
     v_free: &SVector<f64, N>,

@@ -37,7 +37,7 @@ pub struct Section {
 struct Measured {
     runs: usize,
     /// Seconds per ensemble (median over rounds, fastest, slowest); `None` if a way failed.
-    times: [Option<Timing>; 3],
+    times: Vec<Option<Timing>>,
     /// The largest difference between the lanes' end states and the library's, relative
     /// to max(|x|, 1).
     difference: f64,
@@ -45,29 +45,17 @@ struct Measured {
     note: String,
 }
 
-/// Times each job once per round, in interleaved rounds (a job returning `None` failed).
-fn rounds(config: &Config, jobs: &mut [&mut dyn FnMut() -> bool]) -> [Option<Timing>; 3] {
-    let mut timed: Vec<Box<dyn FnMut() -> Option<Timing> + '_>> = jobs
-        .iter_mut()
-        .map(|job| {
-            Box::new(move || {
-                let start = Instant::now();
-                let ok = job();
-                let s = start.elapsed().as_secs_f64();
-                ok.then_some(Timing {
-                    median: s,
-                    min: s,
-                    max: s,
-                })
-            }) as Box<dyn FnMut() -> Option<Timing>>
-        })
-        .collect();
-    let mut refs: Vec<&mut dyn FnMut() -> Option<Timing>> = timed
-        .iter_mut()
-        .map(|b| b.as_mut() as &mut dyn FnMut() -> Option<Timing>)
-        .collect();
-    let out = in_rounds(config.repeats.max(1), &mut refs);
-    [out[0], out[1], out[2]]
+/// One timing of `job` (its wall time as median, min and max), `None` if it failed;
+/// [`in_rounds`] interleaves the ways and combines their rounds.
+fn once(job: impl FnOnce() -> bool) -> Option<Timing> {
+    let start = Instant::now();
+    let ok = job();
+    let s = start.elapsed().as_secs_f64();
+    ok.then_some(Timing {
+        median: s,
+        min: s,
+        max: s,
+    })
 }
 
 fn largest_difference(a: impl Iterator<Item = f64>, b: impl Iterator<Item = f64>) -> f64 {
@@ -96,34 +84,40 @@ fn smooth(config: &Config) -> Measured {
     let method = Method::Dopri5(Options::tolerances(1e-8, 1e-10));
     let (mut lanes, mut single): (Vec<Final<7>>, Vec<Final<7>>) = (Vec::new(), Vec::new());
     let mut library: Vec<Vec<f64>> = Vec::new();
-    let times = rounds(
-        config,
+    let times = in_rounds(
+        config.repeats.max(1),
         &mut [
             &mut || {
-                lanes =
-                    lockstep::<PandaUrdf, f64x4, 7, 0>(&runs, t_end, &options).unwrap_or_default();
-                lanes.len() == runs.len()
+                once(|| {
+                    lanes = lockstep::<PandaUrdf, f64x4, 7, 0>(&runs, t_end, &options)
+                        .unwrap_or_default();
+                    lanes.len() == runs.len()
+                })
             },
             &mut || {
-                single =
-                    lockstep::<PandaUrdf, f64, 7, 0>(&runs, t_end, &options).unwrap_or_default();
-                single.len() == runs.len()
+                once(|| {
+                    single = lockstep::<PandaUrdf, f64, 7, 0>(&runs, t_end, &options)
+                        .unwrap_or_default();
+                    single.len() == runs.len()
+                })
             },
             &mut || {
-                library = runs
-                    .iter()
-                    .filter_map(|r| {
-                        let y0: Vec<f64> = r.q0.iter().chain(&r.v0).copied().collect();
-                        let sol = solve(
-                            &MechanicalSystem::unforced(&PandaUrdf),
-                            &Problem::new(0.0, t_end, y0),
-                            &method,
-                        )
-                        .ok()?;
-                        sol.last().map(|(_, y)| y.to_vec())
-                    })
-                    .collect();
-                library.len() == runs.len()
+                once(|| {
+                    library = runs
+                        .iter()
+                        .filter_map(|r| {
+                            let y0: Vec<f64> = r.q0.iter().chain(&r.v0).copied().collect();
+                            let sol = solve(
+                                &MechanicalSystem::unforced(&PandaUrdf),
+                                &Problem::new(0.0, t_end, y0),
+                                &method,
+                            )
+                            .ok()?;
+                            sol.last().map(|(_, y)| y.to_vec())
+                        })
+                        .collect();
+                    library.len() == runs.len()
+                })
             },
         ],
     );
@@ -175,23 +169,29 @@ fn nonsmooth(config: &Config) -> Measured {
     let mut lanes = Vec::new();
     let mut single = Vec::new();
     let mut library = Vec::new();
-    let times = rounds(
-        config,
+    let times = in_rounds(
+        config.repeats.max(1),
         &mut [
             &mut || {
-                lanes = time_stepping_lockstep::<_, f64x4, _, 7, 2>(&runs, &zero, h, theta);
-                all_ok(&lanes)
+                once(|| {
+                    lanes = time_stepping_lockstep::<_, f64x4, _, 7, 2>(&runs, &zero, h, theta);
+                    all_ok(&lanes)
+                })
             },
             &mut || {
-                single = time_stepping_lockstep::<_, f64, _, 7, 2>(&runs, &zero, h, theta);
-                all_ok(&single)
+                once(|| {
+                    single = time_stepping_lockstep::<_, f64, _, 7, 2>(&runs, &zero, h, theta);
+                    all_ok(&single)
+                })
             },
             &mut || {
-                library = runs
-                    .iter()
-                    .map(|r| time_stepping(&r.system, &zero, &r.problem, h, theta))
-                    .collect();
-                all_ok(&library)
+                once(|| {
+                    library = runs
+                        .iter()
+                        .map(|r| time_stepping(&r.system, &zero, &r.problem, h, theta))
+                        .collect();
+                    all_ok(&library)
+                })
             },
         ],
     );

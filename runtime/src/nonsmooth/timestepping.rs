@@ -566,13 +566,12 @@ impl<const N: usize> TimeSteps<'_, N> {
             if !converged && ne > 1 && bearings.is_empty() {
                 if parts_before == self.point_mode && sweeps >= polished + 2 {
                     polished = sweeps;
-                    let held = &self.exact;
                     polish(
                         &minv,
                         &v_free,
                         coord,
                         f,
-                        held,
+                        &self.exact,
                         &self.point_mode,
                         &self.point_v,
                         hn,
@@ -888,12 +887,12 @@ fn polish<const N: usize>(
     // contact among them carries it all and the others none (a stuck dash-pot resting
     // against a limit is then stuck at zero force, not at an arbitrary point of its
     // range), and without a stop the sweeps settle the split.
-    let mut first = [usize::MAX; N];
+    let mut solved = [usize::MAX; N];
     let mut holders = [0usize; N];
     let mut stop = [usize::MAX; N];
     for (e, &c) in coord.iter().enumerate() {
         if held[e] {
-            first[c] = e;
+            solved[c] = e;
             holders[c] += 1;
             if parts[e] == Part::Contact {
                 stop[c] = e;
@@ -907,7 +906,7 @@ fn polish<const N: usize>(
                     f[e] = 0.0;
                 }
             }
-            (first[c], holders[c]) = (stop[c], 1);
+            (solved[c], holders[c]) = (stop[c], 1);
         }
     }
     let cs: Vec<usize> = (0..N).filter(|&c| holders[c] == 1).collect();
@@ -917,12 +916,12 @@ fn polish<const N: usize>(
     let v_now = v_free - minv * impulse(coord, f, hn);
     let k = cs.len();
     let a = DMatrix::from_fn(k, k, |i, j| hn * minv[(cs[i], cs[j])]);
-    let r = nalgebra::DVector::from_fn(k, |i, _| v_now[cs[i]] - target[first[cs[i]]]);
+    let r = nalgebra::DVector::from_fn(k, |i, _| v_now[cs[i]] - target[solved[cs[i]]]);
     if let Some(d) = a.lu().solve(&r)
         && d.iter().all(|x| x.is_finite())
     {
         for (i, &c) in cs.iter().enumerate() {
-            f[first[c]] += d[i];
+            f[solved[c]] += d[i];
         }
     }
 }

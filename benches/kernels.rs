@@ -200,7 +200,7 @@ lie_benches!(ball_chain, BallChain, 5, 6);
 mod panda_scalars {
     use super::*;
     use filippov::runtime::Dual;
-    use filippov::runtime::real::{f32x8, f64x4};
+    use filippov::runtime::real::{f32x4, f32x8, f64x2, f64x4};
 
     fn arrays() -> ([f64; 7], [f64; 7], [f64; 7]) {
         let (q, v, tau) = state::<7>();
@@ -231,6 +231,22 @@ mod panda_scalars {
     fn f64x4_four_states(b: Bencher) {
         let (s, (q, v, tau)) = (Panda::default(), arrays());
         let f = |x: [f64; 7]| x.map(f64x4::splat);
+        let (q, v, tau) = (f(q), f(v), f(tau));
+        b.bench(|| s.forward_dynamics_as(black_box(&q), black_box(&v), black_box(&tau)));
+    }
+
+    #[divan::bench]
+    fn f64x2_two_states(b: Bencher) {
+        let (s, (q, v, tau)) = (Panda::default(), arrays());
+        let f = |x: [f64; 7]| x.map(f64x2::splat);
+        let (q, v, tau) = (f(q), f(v), f(tau));
+        b.bench(|| s.forward_dynamics_as(black_box(&q), black_box(&v), black_box(&tau)));
+    }
+
+    #[divan::bench]
+    fn f32x4_four_states(b: Bencher) {
+        let (s, (q, v, tau)) = (Panda::default(), arrays());
+        let f = |x: [f64; 7]| x.map(|x| f32x4::splat(x as f32));
         let (q, v, tau) = (f(q), f(v), f(tau));
         b.bench(|| s.forward_dynamics_as(black_box(&q), black_box(&v), black_box(&tau)));
     }

@@ -1,8 +1,10 @@
 //! An ensemble in lockstep: 1,000 runs of the Panda (from its URDF, every link mass
-//! drawn within ±10 %, random initial states) for one second, integrated four at a time
-//! in the lanes of `f64x4` (`runtime::lockstep`), beside the same integrator one run at a
-//! time on `f64` and beside the library's DOPRI5 (`solve`) — runs per second on one core,
-//! medians of five repetitions, and the largest difference between the end states.
+//! drawn within ±10 %, random initial states) for one second, integrated together in the
+//! lanes that fill one SIMD register of the build (`runtime::real::F64Lanes`: two runs per
+//! `f64x2` on the baseline x86-64 target, four per `f64x4` with AVX) by
+//! `runtime::lockstep`, beside the same integrator one run at a time on `f64` and beside
+//! the library's DOPRI5 (`solve`) — runs per second on one core, medians of five
+//! repetitions, and the largest difference between the end states.
 //!
 //! Run: `cargo run --release --example lockstep --features urdf`
 //! (`RUSTFLAGS="-C target-cpu=native"` to give the lanes AVX2).
@@ -12,7 +14,7 @@ use std::time::Instant;
 use filippov::prelude::*;
 use filippov::runtime::kernels::GenericDynamics;
 use filippov::runtime::lockstep::{Final, LockstepOptions, Run, lockstep};
-use filippov::runtime::real::f64x4;
+use filippov::runtime::real::{F64Lanes, Lanes};
 use filippov::runtime::{MechanicalSystem, Method, Options, Problem, solve};
 
 #[derive(Mechanism, Clone, Copy)]
@@ -92,7 +94,7 @@ fn main() {
             .collect()
     };
     let (lanes, a) = time(&mut || {
-        states(lockstep::<Panda, f64x4, 7, 7>(&runs, t_end, &options).expect("lanes"))
+        states(lockstep::<Panda, F64Lanes, 7, 7>(&runs, t_end, &options).expect("lanes"))
     });
     let (single, b) =
         time(&mut || states(lockstep::<Panda, f64, 7, 7>(&runs, t_end, &options).expect("single")));
@@ -135,7 +137,10 @@ fn main() {
         println!("{name:<42} {m:>8.0} runs/s  ({lo:.0}–{hi:.0})");
     };
     println!("1,000 Panda runs, 1 s each, rtol {rtol:e}, atol {atol:e}, one core:");
-    show("lockstep, four runs per f64x4 batch", lanes);
+    show(
+        &format!("lockstep, {} runs per batch", F64Lanes::LANES),
+        lanes,
+    );
     show("the same integrator, one run at a time", single);
     show("the library's DOPRI5 (solve), one run", library);
     println!(

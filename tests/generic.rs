@@ -303,61 +303,56 @@ fn batches_of_every_kernel_are_the_scalar_kernels_bit_for_bit() {
     }
 }
 
-/// Four states in the lanes of one `f64x4` call (eight in `f32x8`): each lane is the
-/// scalar kernel's result bit for bit.
+/// States in the lanes of one call, on every batch (`f64x2`, `f64x4`, `f32x4`,
+/// `f32x8`): each lane is the scalar kernel's result bit for bit (the `f64` kernel for
+/// `f64` lanes, the generic kernel on `f32` for `f32` lanes).
 #[test]
 fn simd_lanes_are_the_scalar_kernel_bit_for_bit() {
-    use filippov::runtime::real::{f32x8, f64x4};
+    use filippov::runtime::real::{Lanes, f32x4, f32x8, f64x2, f64x4, pack, unpack};
+    type State = ([f64; 7], [f64; 7], [f64; 7]);
+    /// The accelerations of the first `L::LANES` states, from one call.
+    fn lanes<L: Lanes>(panda: &Panda, states: &[State]) -> Vec<[f64; 7]> {
+        let take = |k: fn(&State) -> [f64; 7]| -> [L; 7] {
+            pack(&states[..L::LANES].iter().map(k).collect::<Vec<_>>())
+        };
+        let a = panda.forward_dynamics_as(&take(|s| s.0), &take(|s| s.1), &take(|s| s.2));
+        unpack(&a, L::LANES)
+    }
     let mut rng = Rng::new(23);
     let panda = Panda::default();
     for _ in 0..20 {
-        let states: [([f64; 7], [f64; 7], [f64; 7]); 8] = std::array::from_fn(|_| {
+        let states: [State; 8] = std::array::from_fn(|_| {
             (
                 array(&mut rng, 2.0),
                 array(&mut rng, 3.0),
                 array(&mut rng, 5.0),
             )
         });
-        let pack4 = |f: &dyn Fn(usize) -> [f64; 7]| -> [f64x4; 7] {
-            std::array::from_fn(|i| f64x4::new(std::array::from_fn(|l| f(l)[i])))
-        };
-        let a = panda.forward_dynamics_as(
-            &pack4(&|l| states[l].0),
-            &pack4(&|l| states[l].1),
-            &pack4(&|l| states[l].2),
-        );
-        for l in 0..4 {
-            let (q, v, tau) = states[l];
-            let scalar = panda.forward_dynamics(&q.into(), &v.into(), &tau.into());
-            for i in 0..7 {
-                assert_eq!(
-                    a[i].to_array()[l].to_bits(),
-                    scalar[i].to_bits(),
-                    "lane {l}"
-                );
-            }
-        }
-        let pack8 = |f: &dyn Fn(usize) -> [f64; 7]| -> [f32x8; 7] {
-            std::array::from_fn(|i| f32x8::new(std::array::from_fn(|l| f(l)[i] as f32)))
-        };
-        let a = panda.forward_dynamics_as(
-            &pack8(&|l| states[l].0),
-            &pack8(&|l| states[l].1),
-            &pack8(&|l| states[l].2),
-        );
-        for l in 0..8 {
-            let (q, v, tau) = states[l];
-            let scalar = panda.forward_dynamics_as::<f32>(
-                &q.map(|x| x as f32),
-                &v.map(|x| x as f32),
-                &tau.map(|x| x as f32),
-            );
-            for i in 0..7 {
-                assert_eq!(
-                    a[i].to_array()[l].to_bits(),
-                    scalar[i].to_bits(),
-                    "lane {l}"
-                );
+        let f64_kernel: Vec<[f64; 7]> = states
+            .iter()
+            .map(|(q, v, tau)| {
+                panda
+                    .forward_dynamics(&(*q).into(), &(*v).into(), &(*tau).into())
+                    .into()
+            })
+            .collect();
+        let f32_kernel: Vec<[f64; 7]> = states
+            .iter()
+            .map(|(q, v, tau)| {
+                let f = |x: &[f64; 7]| x.map(|x| x as f32);
+                panda
+                    .forward_dynamics_as::<f32>(&f(q), &f(v), &f(tau))
+                    .map(f64::from)
+            })
+            .collect();
+        for (name, batch, scalar) in [
+            ("f64x2", lanes::<f64x2>(&panda, &states), &f64_kernel),
+            ("f64x4", lanes::<f64x4>(&panda, &states), &f64_kernel),
+            ("f32x4", lanes::<f32x4>(&panda, &states), &f32_kernel),
+            ("f32x8", lanes::<f32x8>(&panda, &states), &f32_kernel),
+        ] {
+            for (l, a) in batch.iter().enumerate() {
+                assert_eq!(bits(a), bits(&scalar[l]), "{name}, lane {l}");
             }
         }
     }

@@ -1,5 +1,5 @@
 //! Ensembles in lockstep (`runtime::lockstep`): many runs of one scene integrated
-//! together in the lanes of `f64x4`, against the same driver one run at a time (`f64`)
+//! together in SIMD lanes (`f64x4` and `f64x2`), against the same driver one run at a time (`f64`)
 //! and against the library's own integrator per run, all in this run of the report,
 //! as runs per second on one core:
 //! - smooth: the Panda swinging freely from random states, DOPRI5 with the batch
@@ -15,7 +15,7 @@ use filippov::runtime::lockstep::{
     Final, LockstepOptions, NonSmoothRun, Run, lockstep, time_stepping_lockstep,
 };
 use filippov::runtime::nonsmooth::time_stepping;
-use filippov::runtime::real::f64x4;
+use filippov::runtime::real::{F64Lanes, Lanes, f64x2, f64x4};
 use filippov::runtime::{
     MechanicalSystem, Method, NonSmoothProblem, Options, Problem, Solution, SolveError, solve,
 };
@@ -33,13 +33,15 @@ pub struct Section {
     pub summary: Vec<String>,
 }
 
-/// One ensemble's three ways: lanes, one run at a time, the library per run.
+/// One ensemble's four ways: lanes of `f64x4` and of `f64x2`, one run at a time, the
+/// library per run.
 struct Measured {
     runs: usize,
-    /// Seconds per ensemble (median over rounds, fastest, slowest); `None` if a way failed.
+    /// Seconds per ensemble (median over rounds, fastest, slowest) of each way in that
+    /// order; `None` if a way failed.
     times: Vec<Option<Timing>>,
-    /// The largest difference between the lanes' end states and the library's, relative
-    /// to max(|x|, 1).
+    /// The largest difference between the end states in the build's register-width
+    /// lanes ([`F64Lanes`]) and the library's, relative to max(|x|, 1).
     difference: f64,
     /// What the runs did (steps per run, switches), for the table.
     note: String,
@@ -83,6 +85,7 @@ fn smooth(config: &Config) -> Measured {
     };
     let method = Method::Dopri5(Options::tolerances(1e-8, 1e-10));
     let (mut lanes, mut single): (Vec<Final<7>>, Vec<Final<7>>) = (Vec::new(), Vec::new());
+    let mut halves: Vec<Final<7>> = Vec::new();
     let mut library: Vec<Vec<f64>> = Vec::new();
     let times = in_rounds(
         config.repeats.max(1),
@@ -92,6 +95,13 @@ fn smooth(config: &Config) -> Measured {
                     lanes = lockstep::<PandaUrdf, f64x4, 7, 0>(&runs, t_end, &options)
                         .unwrap_or_default();
                     lanes.len() == runs.len()
+                })
+            },
+            &mut || {
+                once(|| {
+                    halves = lockstep::<PandaUrdf, f64x2, 7, 0>(&runs, t_end, &options)
+                        .unwrap_or_default();
+                    halves.len() == runs.len()
                 })
             },
             &mut || {
@@ -126,7 +136,12 @@ fn smooth(config: &Config) -> Measured {
             .flat_map(|x| x.q.iter().chain(&x.v).copied())
             .collect()
     };
-    let lane_ends = ends(&lanes);
+    let own = if F64Lanes::LANES == 2 {
+        &halves
+    } else {
+        &lanes
+    };
+    let lane_ends = ends(own);
     let difference =
         largest_difference(lane_ends.iter().copied(), library.iter().flatten().copied());
     let steps =
@@ -136,8 +151,9 @@ fn smooth(config: &Config) -> Measured {
         times,
         difference,
         note: format!(
-            "{:.0} steps per run in lanes (the batch's), {:.0} one at a time",
+            "{:.0} steps per run in f64x4 lanes (the batch's), {:.0} in f64x2, {:.0} one at a time",
             steps(&lanes),
+            steps(&halves),
             steps(&single)
         ),
     }
@@ -167,6 +183,7 @@ fn nonsmooth(config: &Config) -> Measured {
     let all_ok =
         |r: &[Result<Solution, SolveError>]| r.len() == count && r.iter().all(Result::is_ok);
     let mut lanes = Vec::new();
+    let mut halves = Vec::new();
     let mut single = Vec::new();
     let mut library = Vec::new();
     let times = in_rounds(
@@ -176,6 +193,12 @@ fn nonsmooth(config: &Config) -> Measured {
                 once(|| {
                     lanes = time_stepping_lockstep::<_, f64x4, _, 7, 2>(&runs, &zero, h, theta);
                     all_ok(&lanes)
+                })
+            },
+            &mut || {
+                once(|| {
+                    halves = time_stepping_lockstep::<_, f64x2, _, 7, 2>(&runs, &zero, h, theta);
+                    all_ok(&halves)
                 })
             },
             &mut || {
@@ -201,7 +224,12 @@ fn nonsmooth(config: &Config) -> Measured {
             .flatten()
             .collect()
     };
-    let difference = largest_difference(last(&lanes).into_iter(), last(&library).into_iter());
+    let own = if F64Lanes::LANES == 2 {
+        &halves
+    } else {
+        &lanes
+    };
+    let difference = largest_difference(last(own).into_iter(), last(&library).into_iter());
     // The switch logs: a mode decided at the rounding level (a friction sticking, a stop
     // closing, at a velocity that rounds to either side of zero) may switch a step
     // earlier or later when the kernels round differently, with no effect on the states.
@@ -216,7 +244,7 @@ fn nonsmooth(config: &Config) -> Measured {
             .collect()
     };
     let (mut total, mut same) = (0, 0);
-    for (a, b) in lanes.iter().zip(&library) {
+    for (a, b) in own.iter().zip(&library) {
         if let (Ok(a), Ok(b)) = (a, b) {
             total += b.switches.len();
             same += usize::from(log(a) == log(b));
@@ -263,6 +291,13 @@ pub fn ensembles(config: &Config) -> Section {
             nonsmooth(config),
         ),
     ];
+    // The build's register width (f64x2 on the baseline target, f64x4 with AVX): the
+    // headline's lanes.
+    let (own, width) = if F64Lanes::LANES == 2 {
+        (1, "f64x2")
+    } else {
+        (0, "f64x4")
+    };
     for (name, library, m) in &cases {
         let rate = |i: usize| m.times[i].map(|t| per_second(m.runs, &t));
         let show = |t: Option<Timing>| t.map_or("**failed**".into(), |t| t.show(0));
@@ -276,26 +311,33 @@ pub fn ensembles(config: &Config) -> Section {
             m.runs.to_string(),
             show(rate(0)),
             show(rate(1)),
-            format!("{} ({library})", show(rate(2))),
-            ratio(m.times[0], m.times[1]),
-            ratio(m.times[0], m.times[2]),
+            show(rate(2)),
+            format!("{} ({library})", show(rate(3))),
+            format!(
+                "{} / {}",
+                ratio(m.times[0], m.times[2]),
+                ratio(m.times[1], m.times[2])
+            ),
+            ratio(m.times[own], m.times[3]),
             sci(m.difference),
             m.note.clone(),
         ]);
-        if let (Some(l), Some(s)) = (rate(0), rate(1)) {
+        if let (Some(l), Some(s)) = (rate(own), rate(2)) {
             summary.push(format!(
-                "Lockstep ensemble, {name}: {} runs/s per core in f64x4 lanes against {} one at a time ({}).",
+                "Lockstep ensemble, {name}: {} runs/s per core in {width} lanes against {} one at a time ({}).",
                 l.show(0),
                 s.show(0),
-                ratio(m.times[0], m.times[1])
+                ratio(m.times[own], m.times[2])
             ));
             headline(
-                format!("Ensemble in lockstep (f64x4 lanes), {name}: runs per second on one core"),
+                format!(
+                    "Ensemble in lockstep ({width} lanes: the build's register width), {name}: runs per second on one core"
+                ),
                 format!("{} runs/s", l.show(0)),
                 format!("{} runs/s one at a time", s.show(0)),
-                ratio(m.times[0], m.times[1]),
+                ratio(m.times[own], m.times[2]),
                 format!(
-                    "{} runs, {} interleaved rounds in this run, baseline x86-64 build; ratio: lanes' rate / one at a time",
+                    "{} runs, {} interleaved rounds in this run, same build; ratio: lanes' rate / one at a time",
                     m.runs,
                     config.repeats.max(1)
                 ),
@@ -303,25 +345,27 @@ pub fn ensembles(config: &Config) -> Section {
         }
     }
     page.h2("Ensembles in lockstep");
-    page.para(
-        "Many runs of one scene integrated together in the lanes of `f64x4` (four runs per call of the scene's \
-         generic kernels), against the same driver one run at a time on `f64` and the library's integrator per \
-         run, as runs per second on one core: median over interleaved rounds (min–max), each round one whole \
-         ensemble, baseline x86-64 build (SSE2: each `f64x4` is two 128-bit halves). Smooth: the batch steps by \
-         its worst lane's error (`lockstep`). Non-smooth: each lane's run keeps its own steps and element solve \
-         and a lane whose run ends takes the next (`time_stepping_lockstep`); the lanes share the forward \
-         dynamics with its Jacobian and the mass matrix. Difference: the largest difference between the end \
-         states in lanes and by the library per run, relative to max(|x|, 1).",
-    );
+    page.para(&format!(
+        "Many runs of one scene integrated together in SIMD lanes (four runs per call of the scene's generic \
+         kernels in `f64x4`, two in `f64x2`), against the same driver one run at a time on `f64` and the \
+         library's integrator per run, as runs per second on one core: median over interleaved rounds \
+         (min–max), each round one whole ensemble. This build's register holds `{width}` \
+         (`runtime::real::F64Lanes`); wider lanes run each operation as two halves. Smooth: the batch steps \
+         by its worst lane's error (`lockstep`). Non-smooth: each lane's run keeps its own steps and element \
+         solve and a lane whose run ends takes the next (`time_stepping_lockstep`); the lanes share the \
+         forward dynamics with its Jacobian and the mass matrix. Difference: the largest difference between \
+         the end states in `{width}` lanes and by the library per run, relative to max(|x|, 1).",
+    ));
     page.table(
         &[
             "ensemble",
             "runs",
-            "lanes runs/s",
+            "f64x4 lanes runs/s",
+            "f64x2 lanes runs/s",
             "one at a time runs/s",
             "library per run runs/s",
-            "lanes / one at a time",
-            "lanes / library",
+            "lanes / one at a time (f64x4 / f64x2)",
+            &format!("{width} lanes / library"),
             "difference",
             "what the runs did",
         ],

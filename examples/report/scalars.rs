@@ -1,13 +1,14 @@
 //! The URDF robots' kernels on every scalar (`emit = [generic]`), beside Pinocchio's in
 //! C++ in the same run: forward dynamics and the mass matrix one state per call (`f64`)
-//! and in SIMD batches (four states per `f64x4` call, eight per `f32x8`), the `f32`
+//! and in SIMD batches (two or four states per `f64x2` or `f64x4` call, four or eight per
+//! `f32x4` or `f32x8`), the `f32`
 //! kernel's error against `f64`, and the dual numbers' derivatives against central
 //! differences and the complex step.
 
 use std::hint::black_box as bb;
 
 use filippov::prelude::*;
-use filippov::runtime::real::{Lanes, f32x8, f64x4, pack};
+use filippov::runtime::real::{F64Lanes, Lanes, f32x4, f32x8, f64x2, f64x4, pack};
 use filippov::runtime::{Dual, Real, UnitQuat};
 
 use super::agreement_support::Rng;
@@ -26,7 +27,7 @@ pub struct Section {
 }
 
 /// A headline's robot: Pinocchio's ABA, ours one state per call, ours per state in
-/// `f64x4`.
+/// [`F64Lanes`] (the build's register width).
 type Head<'a> = (&'a str, Timing, Timing, Timing);
 
 /// Interleaved rounds of our timings and Pinocchio's.
@@ -35,10 +36,11 @@ const ROUNDS: usize = 3;
 /// What one robot measured.
 struct Measured {
     dof: usize,
-    /// Forward dynamics: `f64` per call, `f64x4` and `f32x8` per state; Pinocchio's ABA.
-    fd: [Option<Timing>; 4],
-    /// Mass matrix: `f64` per call, `f64x4` per state; Pinocchio's CRBA.
-    m: [Option<Timing>; 3],
+    /// Forward dynamics: `f64` per call, `f64x2`, `f64x4`, `f32x4` and `f32x8` per
+    /// state; Pinocchio's ABA.
+    fd: [Option<Timing>; 6],
+    /// Mass matrix: `f64` per call, `f64x2` and `f64x4` per state; Pinocchio's CRBA.
+    m: [Option<Timing>; 4],
     /// The `f32` accelerations' largest difference from `f64` at the same (rounded)
     /// states, over the largest acceleration.
     f32_error: f64,
@@ -141,12 +143,21 @@ where
 {
     let mut rng = Rng::new(2032);
     let at = states::<N, NQ>(&mut rng, 8, rotations);
-    let q4: [f64x4; NQ] = pack(&at[..4].iter().map(|x| x.0).collect::<Vec<_>>());
-    let v4: [f64x4; N] = pack(&at[..4].iter().map(|x| x.1).collect::<Vec<_>>());
-    let t4: [f64x4; N] = pack(&at[..4].iter().map(|x| x.2).collect::<Vec<_>>());
-    let q8: [f32x8; NQ] = pack(&at.iter().map(|x| x.0).collect::<Vec<_>>());
-    let v8: [f32x8; N] = pack(&at.iter().map(|x| x.1).collect::<Vec<_>>());
-    let t8: [f32x8; N] = pack(&at.iter().map(|x| x.2).collect::<Vec<_>>());
+    // The first `L::LANES` states in the lanes of `L`.
+    fn batch<L: Lanes, const N: usize, const NQ: usize>(
+        at: &[([f64; NQ], [f64; N], [f64; N])],
+    ) -> ([L; NQ], [L; N], [L; N]) {
+        let at = &at[..L::LANES];
+        (
+            pack(&at.iter().map(|x| x.0).collect::<Vec<_>>()),
+            pack(&at.iter().map(|x| x.1).collect::<Vec<_>>()),
+            pack(&at.iter().map(|x| x.2).collect::<Vec<_>>()),
+        )
+    }
+    let (q2, v2, t2) = batch::<f64x2, N, NQ>(&at);
+    let (q4, v4, t4) = batch::<f64x4, N, NQ>(&at);
+    let (q4f, v4f, t4f) = batch::<f32x4, N, NQ>(&at);
+    let (q8, v8, t8) = batch::<f32x8, N, NQ>(&at);
     let (q, v, tau) = at[0];
     let (reps, calls) = (config.repeats, config.kernel_calls);
     let pin = pinocchio_aba(&config.out_dir, robot);
@@ -154,29 +165,40 @@ where
         pin.as_ref()
             .and_then(|(bin, model)| program_timing(bin, &[model.as_os_str(), alg.as_ref()], key))
     };
+    // Per state: a call's time over its lanes.
+    let per_state = |lanes: usize, t: Timing| Some(t.scaled(1.0 / lanes as f64));
     let t = in_rounds(
         ROUNDS,
         &mut [
             &mut || Some(ns_timed(reps, calls, || fd64(bb(&q), bb(&v), bb(&tau)))),
             &mut || {
-                Some(
-                    ns_timed(reps, calls, || {
-                        s.forward_dynamics_as(bb(&q4), bb(&v4), bb(&t4))
-                    })
-                    .scaled(0.25),
-                )
+                let t = ns_timed(reps, calls, || {
+                    s.forward_dynamics_as(bb(&q2), bb(&v2), bb(&t2))
+                });
+                per_state(2, t)
             },
             &mut || {
-                Some(
-                    ns_timed(reps, calls, || {
-                        s.forward_dynamics_as(bb(&q8), bb(&v8), bb(&t8))
-                    })
-                    .scaled(0.125),
-                )
+                let t = ns_timed(reps, calls, || {
+                    s.forward_dynamics_as(bb(&q4), bb(&v4), bb(&t4))
+                });
+                per_state(4, t)
+            },
+            &mut || {
+                let t = ns_timed(reps, calls, || {
+                    s.forward_dynamics_as(bb(&q4f), bb(&v4f), bb(&t4f))
+                });
+                per_state(4, t)
+            },
+            &mut || {
+                let t = ns_timed(reps, calls, || {
+                    s.forward_dynamics_as(bb(&q8), bb(&v8), bb(&t8))
+                });
+                per_state(8, t)
             },
             &mut || program("aba", "aba_ns"),
             &mut || Some(ns_timed(reps, calls, || m64(bb(&q)))),
-            &mut || Some(ns_timed(reps, calls, || s.mass_matrix_as(bb(&q4))).scaled(0.25)),
+            &mut || per_state(2, ns_timed(reps, calls, || s.mass_matrix_as(bb(&q2)))),
+            &mut || per_state(4, ns_timed(reps, calls, || s.mass_matrix_as(bb(&q4)))),
             &mut || program("crba", "crba_ns"),
         ],
     );
@@ -198,8 +220,8 @@ where
     let (against_differences, against_complex_step) = sensitivities(s, &mut rng, &at, &fd64);
     Measured {
         dof: N,
-        fd: [t[0], t[1], t[2], t[3]],
-        m: [t[4], t[5], t[6]],
+        fd: [t[0], t[1], t[2], t[3], t[4], t[5]],
+        m: [t[6], t[7], t[8], t[9]],
         f32_error,
         against_differences,
         against_complex_step,
@@ -264,6 +286,9 @@ pub fn scalars(config: &Config) -> Section {
             (Some(p), Some(o)) => p.ratio_to(o, 1),
             _ => "—".into(),
         };
+        // The build's register width: f64x2 on the baseline target, f64x4 with AVX.
+        let own = if F64Lanes::LANES == 2 { 1 } else { 2 };
+        let (aba, crba) = (&m.fd[5], &m.m[3]);
         table.push(vec![
             format!(
                 "{}{}",
@@ -275,15 +300,14 @@ pub fn scalars(config: &Config) -> Section {
             show(&m.fd[1]),
             show(&m.fd[2]),
             show(&m.fd[3]),
-            format!(
-                "{} / {}",
-                ratio(&m.fd[3], &m.fd[0]),
-                ratio(&m.fd[3], &m.fd[1])
-            ),
+            show(&m.fd[4]),
+            show(aba),
+            format!("{} / {}", ratio(aba, &m.fd[0]), ratio(aba, &m.fd[own])),
             show(&m.m[0]),
             show(&m.m[1]),
             show(&m.m[2]),
-            format!("{} / {}", ratio(&m.m[2], &m.m[0]), ratio(&m.m[2], &m.m[1])),
+            show(crba),
+            format!("{} / {}", ratio(crba, &m.m[0]), ratio(crba, &m.m[own])),
             sci(m.f32_error),
             format!(
                 "{} / {}",
@@ -292,65 +316,88 @@ pub fn scalars(config: &Config) -> Section {
             ),
         ]);
         summary.push(format!(
-            "`{}` kernels on other scalars: FD {} ns per state in f64x4 batches against {} ns one at a time; f32 within {} of f64; dual derivatives within {} of central differences and {} of the complex step{}",
+            "`{}` kernels on other scalars: FD {} ns per state in {} batches ({} in f64x4, {} in f32x4) against {} ns one at a time; f32 within {} of f64; dual derivatives within {} of central differences and {} of the complex step{}",
             robot.name,
-            show(&m.fd[1]),
+            show(&m.fd[own]),
+            lanes_name(),
+            show(&m.fd[2]),
+            show(&m.fd[3]),
             show(&m.fd[0]),
             sci(m.f32_error),
             sci(m.against_differences),
             sci(m.against_complex_step),
-            match (&m.fd[3], &m.fd[1]) {
-                (Some(p), Some(o)) => format!("; Pinocchio's ABA / our f64x4 per state {}", p.ratio_to(o, 1)),
+            match (aba, &m.fd[own]) {
+                (Some(p), Some(o)) => format!("; Pinocchio's ABA / our {} per state {}", lanes_name(), p.ratio_to(o, 1)),
                 _ => String::new(),
             }
         ));
-        if let (Some(p), Some(one), Some(four)) = (m.fd[3], m.fd[0], m.fd[1]) {
-            heads.push((robot.name, p, one, four));
+        if let (Some(p), Some(one), Some(batch)) = (*aba, m.fd[0], m.fd[own]) {
+            heads.push((robot.name, p, one, batch));
         }
     }
     if !heads.is_empty() {
         let list = |f: &dyn Fn(&Head) -> String| heads.iter().map(f).collect::<Vec<_>>().join("; ");
         super::markdown::headline(
-            "Forward dynamics per state in SIMD batches (f64x4, four states per call) against Pinocchio's ABA in C++",
+            &format!(
+                "Forward dynamics per state in SIMD batches ({}, {} states per call: the build's register width) against Pinocchio's ABA in C++",
+                lanes_name(),
+                F64Lanes::LANES
+            ),
             format!(
                 "{} ns per state",
                 list(&|h| format!("{} {}", h.0, h.3.show(0)))
             ),
             format!("{} ns", list(&|h| format!("{} {}", h.0, h.1.show(0)))),
             list(&|h| format!("{} {}", h.0, h.1.ratio_to(&h.3, 1))),
-            "ns per state, median of 3 interleaved rounds (min–max over their batches), both in this run, both built for the baseline x86-64 target (SSE2: each f64x4 is two 128-bit halves); ratio Pinocchio / ours",
+            "ns per state, median of 3 interleaved rounds (min–max over their batches), both in this run, both built for the same x86-64 target; ratio Pinocchio / ours",
         );
     }
     page.h2("Kernels on every scalar and in batches");
-    page.para(
+    page.para(&format!(
         "The URDF robots' kernels generic over their scalar (`emit = [generic]`): forward dynamics (FD) and the \
-         mass matrix (M) one `f64` state per call, and in SIMD batches of four states (`f64x4`) and eight \
-         (`f32x8`, FD), as ns per state; Pinocchio's C++ `aba` and `crba` on the model it built from the same \
-         file, timed beside ours in three interleaved rounds, with the ratios Pinocchio / ours (one state per call \
-         / f64x4 per state). All built for the baseline x86-64 target. f32: the largest difference of the `f32` \
+         mass matrix (M) one `f64` state per call, and in SIMD batches of two and four states (`f64x2`, \
+         `f64x4`) and, for FD, four and eight (`f32x4`, `f32x8`), as ns per state; Pinocchio's C++ `aba` and \
+         `crba` on the model it built from the same file, timed beside ours in three interleaved rounds, with \
+         the ratios Pinocchio / ours (one state per call / per state in `{}`, the lanes that fill one register \
+         of this build's target, `runtime::real::F64Lanes`). Lanes wider than the register (`f64x4` and \
+         `f32x8` without AVX) run each operation as two halves. f32: the largest difference of the `f32` \
          accelerations from `f64` at the same eight states (rounded to `f32` first), over the largest \
          acceleration. Sensitivities: the derivative of v̇ along a random direction of (q, v) by dual numbers \
          (`Dual<1>`), against central differences (step ε^⅓) and against the complex step (h = 1e-100), the \
          largest difference over the larger of the derivative's and the accelerations' largest entry, over eight \
          states.",
-    );
+        lanes_name()
+    ));
+    let ratio_head = |k: &str| format!("{k} / ours (f64 / {})", lanes_name());
     page.table(
         &[
             "robot",
             "dof",
             "FD f64 ns",
+            "FD f64x2 ns/state",
             "FD f64x4 ns/state",
+            "FD f32x4 ns/state",
             "FD f32x8 ns/state",
             "Pinocchio ABA ns",
-            "ABA / ours (f64 / f64x4)",
+            &ratio_head("ABA"),
             "M f64 ns",
+            "M f64x2 ns/state",
             "M f64x4 ns/state",
             "Pinocchio CRBA ns",
-            "CRBA / ours (f64 / f64x4)",
+            &ratio_head("CRBA"),
             "f32 error",
             "duals vs differences / complex step",
         ],
         &table,
     );
     Section { page, summary }
+}
+
+/// The name of [`F64Lanes`] in this build.
+fn lanes_name() -> &'static str {
+    if F64Lanes::LANES == 2 {
+        "f64x2"
+    } else {
+        "f64x4"
+    }
 }

@@ -15,9 +15,32 @@
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// Four `f64` lanes (AVX where the build targets it, two SSE2 halves otherwise) and
-/// eight `f32` lanes: one kernel call evaluates a batch of states laid out
+/// eight `f32` lanes, and their halves, two `f64` and four `f32` lanes (one SSE2
+/// register each): one kernel call evaluates a batch of states laid out
 /// structure-of-arrays, each coordinate a vector of lanes.
-pub use wide::{f32x8, f64x4};
+pub use wide::{f32x4, f32x8, f64x2, f64x4};
+
+/// The `f64` lanes that fill one SIMD register of the build's target: [`f64x4`] where the
+/// target has AVX (for example `RUSTFLAGS="-C target-cpu=native"` on an AVX2 machine;
+/// this build), [`f64x2`] otherwise (a default x86-64 build has SSE2's 128-bit
+/// registers). Lanes wider than the register split every operation into halves and take
+/// two registers per value: on the Panda's forward dynamics in a default build, two
+/// states per `f64x2` call cost less per state than four per `f64x4` call (the report's
+/// section on scalars times both).
+#[cfg(target_feature = "avx")]
+pub type F64Lanes = f64x4;
+/// The `f64` lanes that fill one SIMD register of the build's target: [`f64x4`] where the
+/// target has AVX, [`f64x2`] otherwise (this build).
+#[cfg(not(target_feature = "avx"))]
+pub type F64Lanes = f64x2;
+/// The `f32` lanes that fill one SIMD register of the build's target: [`f32x8`] with
+/// AVX (this build), [`f32x4`] otherwise (as [`F64Lanes`]).
+#[cfg(target_feature = "avx")]
+pub type F32Lanes = f32x8;
+/// The `f32` lanes that fill one SIMD register of the build's target: [`f32x8`] with
+/// AVX, [`f32x4`] otherwise (this build; as [`F64Lanes`]).
+#[cfg(not(target_feature = "avx"))]
+pub type F32Lanes = f32x4;
 
 /// A scalar the generated kernels run on.
 pub trait Real:
@@ -117,6 +140,8 @@ macro_rules! lanes {
 
 lanes!(f64x4, f64);
 lanes!(f32x8, f32);
+lanes!(f64x2, f64);
+lanes!(f32x4, f32);
 
 /// SIMD lanes as a batch of states: `L::LANES` states per kernel call, each coordinate
 /// one vector of lanes (structure of arrays). [`pack`] and [`unpack`] convert from and
@@ -148,6 +173,8 @@ macro_rules! batch {
 
 batch!(f64x4, f64, 4);
 batch!(f32x8, f32, 8);
+batch!(f64x2, f64, 2);
+batch!(f32x4, f32, 4);
 
 /// One lane: the scalar itself, so that code written for batches runs on single states.
 impl Lanes for f64 {

@@ -8,7 +8,7 @@ mod common;
 use common::Rng;
 use filippov::runtime::kernels::GenericDynamics;
 use filippov::runtime::lockstep::{Final, LockstepError, LockstepOptions, Run, lockstep};
-use filippov::runtime::real::f64x4;
+use filippov::runtime::real::{f64x2, f64x4};
 use filippov::runtime::{MechanicalSystem, Method, Options, Problem, solve};
 
 #[path = "common/oblique.rs"]
@@ -53,7 +53,8 @@ fn largest_difference(a: &[Final<3>], b: &[[f64; 6]]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Eleven runs (three batches of four, the last with a spare lane): each lane's end state
+/// Eleven runs (three batches of four, the last with a spare lane; six of two in
+/// `f64x2`, the last with a spare lane): each lane's end state
 /// equals the same run integrated alone, and the library's DOPRI5 on the scene built
 /// with the run's parameters, within the tolerances.
 #[test]
@@ -66,14 +67,18 @@ fn lanes_agree_with_single_runs_and_with_solve() {
         ..LockstepOptions::default()
     };
     let lanes = lockstep::<Oblique, f64x4, 3, 7>(&runs, 2.0, &options).expect("lanes");
+    let halves = lockstep::<Oblique, f64x2, 3, 7>(&runs, 2.0, &options).expect("halves");
     let single = lockstep::<Oblique, f64, 3, 7>(&runs, 2.0, &options).expect("single runs");
     assert_eq!(lanes.len(), 11);
+    assert_eq!(halves.len(), 11);
     let single_states: Vec<[f64; 6]> = single
         .iter()
         .map(|f| std::array::from_fn(|i| if i < 3 { f.q[i] } else { f.v[i - 3] }))
         .collect();
     let d = largest_difference(&lanes, &single_states);
     assert!(d < 1e-7, "lanes against single runs: {d:.2e}");
+    let d = largest_difference(&halves, &single_states);
+    assert!(d < 1e-7, "f64x2 lanes against single runs: {d:.2e}");
     let method = Method::Dopri5(Options::tolerances(1e-10, 1e-12));
     let reference: Vec<[f64; 6]> = runs
         .iter()
@@ -127,7 +132,7 @@ mod nonsmooth {
     use filippov::prelude::*;
     use filippov::runtime::lockstep::{NonSmoothRun, time_stepping_lockstep};
     use filippov::runtime::nonsmooth::time_stepping;
-    use filippov::runtime::real::f64x4;
+    use filippov::runtime::real::{f64x2, f64x4};
     use filippov::runtime::{ErrorKind, NonSmoothProblem, Solution};
 
     type V3 = SVector<f64, 3>;
@@ -207,7 +212,7 @@ mod nonsmooth {
     }
 
     /// Nineteen random runs of different lengths (lanes refill as runs end), at θ = 1
-    /// and θ = ½: every run in the lanes of `f64x4` and of `f64` is the run
+    /// and θ = ½: every run in the lanes of `f64x4`, of `f64x2` and of `f64` is the run
     /// `time_stepping` makes alone — the same steps, the same switches, the same states
     /// up to the kernels' rounding.
     #[test]
@@ -217,8 +222,10 @@ mod nonsmooth {
         for theta in [1.0, 0.5] {
             let h = 2e-3;
             let lanes = time_stepping_lockstep::<_, f64x4, _, 3, 8>(&runs, &zero, h, theta);
+            let halves = time_stepping_lockstep::<_, f64x2, _, 3, 8>(&runs, &zero, h, theta);
             let single = time_stepping_lockstep::<_, f64, _, 3, 8>(&runs, &zero, h, theta);
             assert_eq!(lanes.len(), runs.len());
+            assert_eq!(halves.len(), runs.len());
             let mut switches = 0;
             for (i, run) in runs.iter().enumerate() {
                 let alone = time_stepping(&run.system, &zero, &run.problem, h, theta)
@@ -235,6 +242,15 @@ mod nonsmooth {
                 );
                 let d = difference(one, &alone);
                 assert!(d < 1e-9, "run {i}, θ = {theta}: f64 against alone {d:.2e}");
+                let half = halves[i]
+                    .as_ref()
+                    .unwrap_or_else(|e| panic!("run {i}: {e}"));
+                assert_eq!(half.stats.steps, alone.stats.steps);
+                let d = difference(half, &alone);
+                assert!(
+                    d < 1e-9,
+                    "run {i}, θ = {theta}: f64x2 against alone {d:.2e}"
+                );
                 switches += alone.switches.len();
             }
             assert!(

@@ -1,6 +1,7 @@
 //! Ensembles in lockstep: independent runs of one scene (each with its own parameters
 //! and initial state) integrated together in the lanes of a SIMD batch
-//! ([`Lanes`]: `f64x4` holds four runs), every right-hand side one
+//! ([`Lanes`]: `f64x4` holds four runs, `f64x2` two; [`F64Lanes`](crate::real::F64Lanes)
+//! is the width of one register of the build's target), every right-hand side one
 //! call of the scene's generic forward dynamics for all lanes at once.
 //!
 //! The lanes share one step: Dormand–Prince 5(4) with the step chosen by the worst

@@ -1,6 +1,7 @@
 //! Non-smooth ensembles in lockstep: many time-stepping runs of one scene (each with
 //! its own parameters, elements and initial state) whose kernels are evaluated together
-//! in the lanes of a SIMD batch ([`Lanes`]: `f64x4` holds four runs).
+//! in the lanes of a SIMD batch ([`Lanes`]: `f64x4` holds four runs, `f64x2` two;
+//! [`F64Lanes`](crate::real::F64Lanes) is the width of one register of the build's target).
 //!
 //! Each run is exactly a [`time_stepping`](super::time_stepping) run: its own grid, its
 //! own element solve (Gauss–Seidel on its Delassus operator), its own switch log and
@@ -47,10 +48,10 @@ pub struct NonSmoothRun<S, const N: usize> {
 ///
 /// ```rust,ignore
 /// use filippov::runtime::lockstep::{NonSmoothRun, time_stepping_lockstep};
-/// use filippov::runtime::real::f64x4;
+/// use filippov::runtime::real::F64Lanes;
 /// let runs: Vec<NonSmoothRun<Arm, 3>> = /* a scene and a problem per run */;
 /// let zero = |_t: f64, _q: &V3, _v: &V3| V3::zeros();
-/// let solutions = time_stepping_lockstep::<_, f64x4, _, 3, 3>(&runs, &zero, 1e-3, 1.0);
+/// let solutions = time_stepping_lockstep::<_, F64Lanes, _, 3, 3>(&runs, &zero, 1e-3, 1.0);
 /// ```
 pub fn time_stepping_lockstep<S, L, F, const N: usize, const P: usize>(
     runs: &[NonSmoothRun<S, N>],

@@ -76,10 +76,11 @@ fn source(models: &[Model], declarations: &str) -> String {
     for m in models {
         let (nq, n) = m.dims;
         // With `batch` (models with generic kernels): four copies of the state in the
-        // lanes of one f64x4 call, ns per state.
+        // lanes of one f64x4 call, ns per state; with `lanes`, as many as the build's
+        // register holds (`F64Lanes`).
         let batch = if m.batch {
             format!(
-                "            if batch || dispatch {{\n                let q4: [f64x4; {nq}] = pack(&[q.into(); 4]);\n                let v4: [f64x4; {n}] = pack(&[v.into(); 4]);\n                let t4: [f64x4; {n}] = pack(&[tau.into(); 4]);\n                let t = if dispatch {{\n                    time_ns(|| unsafe {{ fd4_avx2(bb(&sys), bb(&q4), bb(&v4), bb(&t4)) }})\n                }} else {{\n                    time_ns(|| bb(&sys).forward_dynamics_as(bb(&q4), bb(&v4), bb(&t4)))\n                }};\n                return println!(\"fd_ns {{}} {{}} {{}}\", t[0] / 4.0, t[1] / 4.0, t[2] / 4.0);\n            }}\n"
+                "            if lanes {{\n                let k = F64Lanes::LANES;\n                let ql: [F64Lanes; {nq}] = pack(&vec![q.into(); k]);\n                let vl: [F64Lanes; {n}] = pack(&vec![v.into(); k]);\n                let tl: [F64Lanes; {n}] = pack(&vec![tau.into(); k]);\n                let t = time_ns(|| bb(&sys).forward_dynamics_as(bb(&ql), bb(&vl), bb(&tl)));\n                let k = k as f64;\n                return println!(\"fd_ns {{}} {{}} {{}}\", t[0] / k, t[1] / k, t[2] / k);\n            }}\n            if batch || dispatch {{\n                let q4: [f64x4; {nq}] = pack(&[q.into(); 4]);\n                let v4: [f64x4; {n}] = pack(&[v.into(); 4]);\n                let t4: [f64x4; {n}] = pack(&[tau.into(); 4]);\n                let t = if dispatch {{\n                    time_ns(|| unsafe {{ fd4_avx2(bb(&sys), bb(&q4), bb(&v4), bb(&t4)) }})\n                }} else {{\n                    time_ns(|| bb(&sys).forward_dynamics_as(bb(&q4), bb(&v4), bb(&t4)))\n                }};\n                return println!(\"fd_ns {{}} {{}} {{}}\", t[0] / 4.0, t[1] / 4.0, t[2] / 4.0);\n            }}\n"
             )
         } else {
             String::new()
@@ -93,7 +94,7 @@ fn source(models: &[Model], declarations: &str) -> String {
         r#"#![allow(dead_code)]
 use filippov::nalgebra::SVector;
 use filippov::prelude::*;
-use filippov::runtime::real::{{f64x4, pack}};
+use filippov::runtime::real::{{F64Lanes, Lanes, f64x4, pack}};
 use std::hint::black_box as bb;
 use std::time::Instant;
 
@@ -147,7 +148,7 @@ fn time_ns<T>(mut f: impl FnMut() -> T) -> [f64; 3] {{
 fn main() {{
     let args: Vec<String> = std::env::args().collect();
     let (Some(name), Some(path)) = (args.get(1), args.get(2)) else {{
-        eprintln!("usage: fd MODEL STATE_FILE [batch]");
+        eprintln!("usage: fd MODEL STATE_FILE [batch | lanes | dispatch]");
         std::process::exit(2);
     }};
     let text = std::fs::read_to_string(path).expect("the state file");
@@ -156,6 +157,7 @@ fn main() {{
         .map(|l| l.split_whitespace().map(|x| x.parse().expect("a number")).collect())
         .collect();
     let batch = args.get(3).is_some_and(|a| a == "batch");
+    let lanes = args.get(3).is_some_and(|a| a == "lanes");
     // Runtime dispatch: the batch kernel compiled a second time inside a function built
     // for AVX2 and FMA, called when the CPU has them.
     let dispatch = args.get(3).is_some_and(|a| a == "dispatch")
@@ -415,10 +417,16 @@ pub fn flags(config: &Config) -> Section {
                 .then(|| program_timing(&b, &dispatch_args, "fd_ns"))
                 .flatten()
         };
+        let lanes_args = [m.name.as_ref(), state.as_os_str(), "lanes".as_ref()];
+        let mut obl = || {
+            m.batch
+                .then(|| program_timing(&b, &lanes_args, "fd_ns"))
+                .flatten()
+        };
         let t = in_rounds(
             ROUNDS,
             &mut [
-                &mut ob, &mut on, &mut pb, &mut pn, &mut ob4, &mut on4, &mut od4,
+                &mut ob, &mut on, &mut pb, &mut pn, &mut ob4, &mut on4, &mut od4, &mut obl,
             ],
         );
         let cell = |t: Option<Timing>| t.map_or("failed".into(), |t| t.show(0));
@@ -436,6 +444,7 @@ pub fn flags(config: &Config) -> Section {
             cell(t[1]),
             cell(t[3]),
             ratio(t[3], t[1]),
+            if m.batch { cell(t[7]) } else { "—".into() },
             if m.batch { cell(t[4]) } else { "—".into() },
             if m.batch { cell(t[5]) } else { "—".into() },
             if m.batch { cell(t[6]) } else { "—".into() },
@@ -489,6 +498,7 @@ pub fn flags(config: &Config) -> Section {
             "ours, native [ns]",
             "peer, native [ns]",
             "peer / ours, native",
+            "ours f64x2 (the baseline build's F64Lanes) [ns/state]",
             "ours f64x4, baseline [ns/state]",
             "ours f64x4, native [ns/state]",
             "ours f64x4, baseline build + AVX2/FMA function [ns/state]",
@@ -513,8 +523,10 @@ pub fn flags(config: &Config) -> Section {
             list.join("; ")
         ));
         page.para(
-            "The last four columns (URDF robots, `emit = [generic]`): the same forward dynamics on four copies of the \
-             state in the lanes of one `f64x4` call, ns per state, in the same rounds. With the baseline flags each \
+            "The last five columns (URDF robots, `emit = [generic]`): the same forward dynamics on copies of the \
+             state in the lanes of one call, ns per state, in the same rounds: two in `f64x2` (the lanes of one SSE2 \
+             register, `runtime::real::F64Lanes` of the baseline build; the native build's is `f64x4`), four in \
+             `f64x4`. With the baseline flags each \
              `f64x4` operation is two SSE2 halves; with `-C target-cpu=native` one AVX register. Runtime dispatch: the \
              baseline build calling the kernel through a function compiled with `#[target_feature(enable = \"avx,avx2,fma\")]` \
              (chosen at run time by `is_x86_feature_detected!`); the `f64x4` type itself is chosen when `wide` is \

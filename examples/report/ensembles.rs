@@ -24,6 +24,7 @@ use super::agreement_support::Rng;
 use super::config::Config;
 use super::markdown::{Page, headline, sci};
 use super::panda_limits::{PandaOnLimits, V7, release_pose, zero};
+use super::scalars::lanes_name;
 use super::timing::{Timing, in_rounds};
 use super::urdf::PandaUrdf;
 
@@ -58,6 +59,12 @@ fn once(job: impl FnOnce() -> bool) -> Option<Timing> {
         min: s,
         max: s,
     })
+}
+
+/// Of a result in `f64x2` lanes and one in `f64x4` lanes, the build's register
+/// width's ([`F64Lanes`]).
+fn register_width<'a, T>(two: &'a T, four: &'a T) -> &'a T {
+    if F64Lanes::LANES == 2 { two } else { four }
 }
 
 fn largest_difference(a: impl Iterator<Item = f64>, b: impl Iterator<Item = f64>) -> f64 {
@@ -136,11 +143,7 @@ fn smooth(config: &Config) -> Measured {
             .flat_map(|x| x.q.iter().chain(&x.v).copied())
             .collect()
     };
-    let own = if F64Lanes::LANES == 2 {
-        &halves
-    } else {
-        &lanes
-    };
+    let own = register_width(&halves, &lanes);
     let lane_ends = ends(own);
     let difference =
         largest_difference(lane_ends.iter().copied(), library.iter().flatten().copied());
@@ -224,11 +227,7 @@ fn nonsmooth(config: &Config) -> Measured {
             .flatten()
             .collect()
     };
-    let own = if F64Lanes::LANES == 2 {
-        &halves
-    } else {
-        &lanes
-    };
+    let own = register_width(&halves, &lanes);
     let difference = largest_difference(last(own).into_iter(), last(&library).into_iter());
     // The switch logs: a mode decided at the rounding level (a friction sticking, a stop
     // closing, at a velocity that rounds to either side of zero) may switch a step
@@ -293,11 +292,7 @@ pub fn ensembles(config: &Config) -> Section {
     ];
     // The build's register width (f64x2 on the baseline target, f64x4 with AVX): the
     // headline's lanes.
-    let (own, width) = if F64Lanes::LANES == 2 {
-        (1, "f64x2")
-    } else {
-        (0, "f64x4")
-    };
+    let (own, width) = (*register_width(&1, &0), lanes_name());
     for (name, library, m) in &cases {
         let rate = |i: usize| m.times[i].map(|t| per_second(m.runs, &t));
         let show = |t: Option<Timing>| t.map_or("**failed**".into(), |t| t.show(0));

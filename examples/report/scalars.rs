@@ -394,7 +394,7 @@ pub fn scalars(config: &Config) -> Section {
 }
 
 /// The name of [`F64Lanes`] in this build.
-fn lanes_name() -> &'static str {
+pub(super) fn lanes_name() -> &'static str {
     if F64Lanes::LANES == 2 {
         "f64x2"
     } else {

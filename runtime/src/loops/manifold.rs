@@ -8,7 +8,7 @@
 //! a constraint's worth of stiffness, as a four-bar at a change point does — and the
 //! constraint forces would grow without bound.
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{DMatrix, SMatrix, SVector};
 
 use super::LoopConstraints;
 pub use super::error::LoopError;
@@ -17,43 +17,57 @@ pub use super::error::LoopError;
 /// when its pivot in `G M⁻¹ Gᵀ` is below this fraction of the largest diagonal entry.
 pub const SINGULAR_PIVOT: f64 = 1e-10;
 
-/// The largest diagonal entry of `A`: the scale the pivots are measured against (a row
-/// of `G` that vanishes, as at a four-bar's change point, has a pivot that vanishes
-/// against it, not against its own diagonal).
-fn largest_diagonal<const M: usize>(a: &SMatrix<f64, M, M>) -> f64 {
-    (0..M).map(|j| a[(j, j)]).fold(0.0, f64::max)
+/// `A = L D Lᵀ` (`L` unit lower triangular, stored below the diagonal, `D` on it), and
+/// the smallest pivot against `A`'s largest diagonal entry (a row of `G` that vanishes,
+/// as at a four-bar's change point, has a pivot that vanishes against it, not against
+/// its own diagonal) with its row; the factorisation stops at the first pivot that is
+/// not positive (that row and the rest are left unfactored).
+fn factor<const M: usize>(a: &SMatrix<f64, M, M>) -> (SMatrix<f64, M, M>, (f64, usize)) {
+    let mut ld = SMatrix::<f64, M, M>::zeros();
+    let worst = factor_in(a.as_slice(), M, ld.as_mut_slice());
+    (ld, worst)
 }
 
-/// `A = L D Lᵀ` (`L` unit lower triangular, stored below the diagonal, `D` on it), and
-/// the smallest pivot against `A`'s largest diagonal entry with its row; the
-/// factorisation stops at the first pivot that is not positive (that row and the rest
-/// are left unfactored).
-fn factor<const M: usize>(a: &SMatrix<f64, M, M>) -> (SMatrix<f64, M, M>, (f64, usize)) {
-    let scale = largest_diagonal(a);
-    let mut ld = SMatrix::<f64, M, M>::zeros();
+/// [`factor`] on `m × m` column-major slices (`ld` zero on entry): not generic, so
+/// compiled once, optimised, here, whatever crate names the scene.
+fn factor_in(a: &[f64], m: usize, ld: &mut [f64]) -> (f64, usize) {
+    let at = |i: usize, j: usize| i + j * m;
+    let scale = (0..m).map(|j| a[at(j, j)]).fold(0.0, f64::max);
     let mut worst = (f64::INFINITY, 0);
-    for j in 0..M {
-        let mut d = a[(j, j)];
+    for j in 0..m {
+        let mut d = a[at(j, j)];
         for k in 0..j {
-            d -= ld[(j, k)] * ld[(j, k)] * ld[(k, k)];
+            d -= ld[at(j, k)] * ld[at(j, k)] * ld[at(k, k)];
         }
         let pivot = d / scale;
         if !(pivot >= worst.0) {
             worst = (pivot, j);
         }
         if !(d > 0.0) {
-            return (ld, (pivot.min(0.0), j));
+            return (pivot.min(0.0), j);
         }
-        ld[(j, j)] = d;
-        for i in j + 1..M {
-            let mut s = a[(i, j)];
+        ld[at(j, j)] = d;
+        for i in j + 1..m {
+            let mut s = a[at(i, j)];
             for k in 0..j {
-                s -= ld[(i, k)] * ld[(j, k)] * ld[(k, k)];
+                s -= ld[at(i, k)] * ld[at(j, k)] * ld[at(k, k)];
             }
-            ld[(i, j)] = s / d;
+            ld[at(i, j)] = s / d;
         }
     }
-    (ld, worst)
+    worst
+}
+
+/// The smallest relative pivot of `G M⁻¹ Gᵀ` and its row (`(0, 0)` where `M` is not
+/// positive definite), for `G` and `M` as dynamic matrices: the rank test sampled
+/// seven times a step, compiled here rather than in the crate that names the scene.
+fn conditioning_of(g: &DMatrix<f64>, mass: DMatrix<f64>) -> (f64, usize) {
+    let Some(chol) = mass.cholesky() else {
+        return (0.0, 0);
+    };
+    let a = g * chol.solve(&g.transpose());
+    let mut ld = vec![0.0; a.len()];
+    factor_in(a.as_slice(), a.nrows(), &mut ld)
 }
 
 /// Newton iterations of a position projection before it is declared stuck.
@@ -104,10 +118,11 @@ impl<const N: usize, const M: usize> Schur<N, M> {
     /// depends on the rows before it).
     pub fn conditioning<S: LoopConstraints<N, M>>(s: &S, q: &SVector<f64, N>) -> (f64, usize) {
         let g = s.constraint_jacobian(q);
-        let Some(chol) = s.mass_matrix(q).cholesky() else {
-            return (0.0, 0);
-        };
-        factor(&(g * chol.solve(&g.transpose()))).1
+        let mass = s.mass_matrix(q);
+        conditioning_of(
+            &DMatrix::from_column_slice(M, N, g.as_slice()),
+            DMatrix::from_column_slice(N, N, mass.as_slice()),
+        )
     }
 
     /// `Y A⁻¹ r`: the smallest change, in the mass metric, that moves `G x` by `r`.

@@ -106,6 +106,7 @@ use crate::element::{Element, ElementKind, Law, Mode, NonSmooth, Selection, Side
 use crate::events::{Crossings, EventHit, Tracker, hermite_qv};
 use crate::input::{Capped, Input};
 use crate::method::{Begin, DenseStep, Eval, Stepper};
+use crate::numerics::factor;
 use crate::numerics::rootfind::find_root;
 use crate::solve::{Observer, unobserved};
 use crate::{ErrorKind, Keep, OdeSystem, Options, Solution, SolveError, Stats, Switch, SwitchKind};
@@ -1686,7 +1687,7 @@ where
                 let (_, ck, _, target) = cands[idx[i]];
                 before[ck] - target
             });
-            let Some(p) = wss.lu().solve(&rhs) else {
+            let Some(p) = factor::lu_solve(&wss, &rhs) else {
                 break;
             };
             // A stop's impulse removes velocity into it: it has the sign `side_sign`.

@@ -22,6 +22,7 @@ use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 use super::kind::{At, Context, Forces, Kind, with_kind};
 use super::law::{Branch, Branches};
 use crate::element::{Element, ElementKind, Mode, NonSmooth, StopKind};
+use crate::numerics::factor;
 
 /// The branch a dash-pot slips on at speed `w = |v_c| > 0`: approach 2 the unique one
 /// whose range holds `w` (its top end excluded); approach 1 the lowest one whose range
@@ -226,7 +227,7 @@ pub(crate) fn evaluate<S: NonSmooth<N>, const N: usize>(
         let coord = |i: usize| elements[rows[i]].coordinate;
         let waa = DMatrix::from_fn(k, k, |i, j| w[(coord(i), coord(j))]);
         let rhs = DVector::from_fn(k, |i, _| a[coord(i)]);
-        let fa = waa.cholesky()?.solve(&rhs);
+        let fa = factor::cholesky_solve(&waa, &rhs)?;
         if fa.iter().any(|x| !x.is_finite()) {
             return None;
         }

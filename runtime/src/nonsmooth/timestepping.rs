@@ -89,6 +89,7 @@ use super::law::{Graph, LawError, Line, Part, StepState, position_weight};
 use crate::element::{self, ElementKind, NonSmooth, StopKind};
 use crate::events::{EventHit, Tracker, hermite_qv};
 use crate::input::Input;
+use crate::numerics::factor;
 use crate::solve::{Observer, unobserved};
 use crate::{ErrorKind, ForwardJacobian, Keep, Solution, SolveError, Switch, SwitchKind};
 
@@ -917,7 +918,7 @@ fn polish<const N: usize>(
     let k = cs.len();
     let a = DMatrix::from_fn(k, k, |i, j| hn * minv[(cs[i], cs[j])]);
     let r = nalgebra::DVector::from_fn(k, |i, _| v_now[cs[i]] - target[solved[cs[i]]]);
-    if let Some(d) = a.lu().solve(&r)
+    if let Some(d) = factor::lu_solve(&a, &r)
         && d.iter().all(|x| x.is_finite())
     {
         for (i, &c) in cs.iter().enumerate() {

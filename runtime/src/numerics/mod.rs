@@ -3,7 +3,9 @@
 //! ([`tableau`]), polynomial dense output ([`dense`]), counted evaluation of a system
 //! (`eval`), the simplified-Newton matrix and finite-difference Jacobians
 //! (`newton`) with its small dense LU (`lu`), bracketing root finding on dense output ([`rootfind`]),
-//! and linear complementarity problems by complementary pivoting ([`lcp`]).
+//! linear complementarity problems by complementary pivoting ([`lcp`]), and the
+//! factorisations that drivers generic over a scene call through plain functions
+//! (`factor`), so that they are compiled, optimised, in this crate.
 //!
 //! Nothing here knows a method or a driver; methods (`crate::method`, the Lie-group
 //! ones in `crate::liegroup`) and drivers (`crate::solve`, `crate::nonsmooth`) use it.
@@ -11,6 +13,7 @@
 pub mod control;
 pub mod dense;
 pub(crate) mod eval;
+pub(crate) mod factor;
 pub mod lcp;
 pub(crate) mod lu;
 pub(crate) mod newton;

@@ -29,6 +29,7 @@ use crate::element::Mode;
 use crate::input::Input;
 use crate::method::{Begin, Eval, Method, Stepper};
 use crate::nonsmooth::NonSmoothProblem;
+use crate::numerics::factor;
 use crate::numerics::rootfind::find_root;
 use crate::system::Mechanism;
 use crate::{ErrorKind, Keep, OdeSystem, Solution, SolveError, Switch, SwitchKind};
@@ -116,12 +117,8 @@ where
     }
 
     fn inverse_mass(&self, q: &SVector<f64, N>) -> DMatrix<f64> {
-        let m = self.scene.mass_matrix(q);
-        let inv = m
-            .cholesky()
-            .map(|c| c.inverse())
-            .unwrap_or_else(|| m.try_inverse().unwrap_or(m * f64::NAN));
-        DMatrix::from_fn(N, N, |i, j| inv[(i, j)])
+        let m = factor::dynamic(&self.scene.mass_matrix(q));
+        factor::inverse(&m).unwrap_or_else(|| m * f64::NAN)
     }
 
     /// The scale of the contact forces at a switch of the `candidates`: the largest of
@@ -234,11 +231,8 @@ where
         let a0d = DVector::from_iterator(N, a0.iter().copied());
         let lhs = DMatrix::from_fn(m, m, |i, j| rows[i].0.dot(&effect[j]));
         let rhs = DVector::from_fn(m, |i, _| rows[i].1 - rows[i].0.dot(&a0d));
-        let lambda = lhs
-            .clone()
-            .svd(true, true)
-            .solve(&rhs, 1e-12 * lhs.amax().max(f64::MIN_POSITIVE))
-            .unwrap_or_else(|_| DVector::from_element(m, f64::NAN));
+        let lambda = factor::least_squares(&lhs, &rhs, 1e-12)
+            .unwrap_or_else(|| DVector::from_element(m, f64::NAN));
         let lambda = self.share_friction(&rows, lambda);
         let mut a = a0d;
         for (j, (_, _, k, which)) in rows.iter().enumerate() {
@@ -266,7 +260,7 @@ where
             // rest, exactly), not the round-off of the forces' solve.
             let c = DMatrix::from_fn(m, N, |i, j| rows[i].0[j]);
             let gamma = DVector::from_fn(m, |i, _| rows[i].1);
-            if let Ok(x) = c.svd(true, true).solve(&gamma, 0.0) {
+            if let Some(x) = factor::least_squares(&c, &gamma, 0.0) {
                 out.a = SVector::from_iterator(x.iter().copied());
             }
         }
@@ -288,7 +282,7 @@ where
         }
         let m = stuck.len();
         let gram = DMatrix::from_fn(m, m, |a, b| rows[stuck[a]].0.dot(&rows[stuck[b]].0));
-        let eig = gram.symmetric_eigen();
+        let eig = factor::symmetric_eigen(&gram);
         let top = eig.eigenvalues.amax();
         let null: Vec<usize> = (0..m)
             .filter(|&i| eig.eigenvalues[i] <= 1e-12 * top)
@@ -316,7 +310,7 @@ where
         let zw = DMatrix::from_fn(m, null.len(), |a, b| z[(a, b)] * inv[a]);
         let lhs = z.transpose() * &zw;
         let rhs = -(zw.transpose() * &lt);
-        if let Some(c) = lhs.cholesky().map(|ch| ch.solve(&rhs)) {
+        if let Some(c) = factor::cholesky_solve(&lhs, &rhs) {
             let shift = &z * c;
             for (a, &j) in stuck.iter().enumerate() {
                 lambda[j] += shift[a];
@@ -377,8 +371,7 @@ where
             return false;
         }
         let c = DMatrix::from_fn(rows.len(), N, |i, j| rows[i].0[j]);
-        let sv = c.singular_values();
-        sv.min() > 1e-10 * sv.max()
+        factor::full_column_rank(&c, 1e-10)
     }
 
     /// Onto the closed contacts' gaps (Newton steps, least change in the mass metric)
@@ -397,15 +390,9 @@ where
             let w_n = self.scene.contact_normal_jacobian(q);
             let g = DMatrix::from_fn(closed.len(), N, |i, j| w_n[(closed[i], j)]);
             let r = DVector::from_fn(closed.len(), |i, _| gaps[closed[i]]);
-            let a = &g * &w * g.transpose();
-            let Ok(x) = a
-                .clone()
-                .svd(true, true)
-                .solve(&r, 1e-12 * a.amax().max(f64::MIN_POSITIVE))
-            else {
+            let Some(dq) = factor::least_change(&g, &w, &r) else {
                 break;
             };
-            let dq = &w * g.transpose() * x;
             *q -= SVector::<f64, N>::from_iterator(dq.iter().copied());
         }
         let rows = self.constraints(q, v);
@@ -417,13 +404,7 @@ where
         let c = DMatrix::from_fn(rows.len(), N, |i, j| rows[i].0[j]);
         let vd = DVector::from_iterator(N, v.iter().copied());
         let r = &c * &vd;
-        let a = &c * &w * c.transpose();
-        if let Ok(x) = a
-            .clone()
-            .svd(true, true)
-            .solve(&r, 1e-12 * a.amax().max(f64::MIN_POSITIVE))
-        {
-            let dv = &w * c.transpose() * x;
+        if let Some(dv) = factor::least_change(&c, &w, &r) {
             *v -= SVector::<f64, N>::from_iterator(dv.iter().copied());
         }
     }
@@ -986,13 +967,8 @@ where
         }
         let c = DMatrix::from_fn(held_rows.len(), N, |i, j| held_rows[i][j]);
         let vd = DVector::from_iterator(N, v.iter().copied());
-        let a = &c * &w * c.transpose();
-        let x = a
-            .clone()
-            .svd(true, true)
-            .solve(&(&c * &vd), 1e-12 * a.amax().max(f64::MIN_POSITIVE))
-            .unwrap_or_else(|_| DVector::zeros(held_rows.len()));
-        let v_new = &vd - &w * c.transpose() * x;
+        let dv = factor::least_change(&c, &w, &(&c * &vd)).unwrap_or_else(|| DVector::zeros(N));
+        let v_new = &vd - dv;
         let before = y.clone();
         v = SVector::from_iterator(v_new.iter().copied());
         y[N..].copy_from_slice(v.as_slice());
@@ -1300,14 +1276,8 @@ where
     }
     let hm = DMatrix::from_fn(rows.len(), N, |i, j| rows[i][j]);
     let gram = &hm * hm.transpose();
-    let x = gram
-        .clone()
-        .svd(true, true)
-        .solve(
-            &DVector::from_vec(shift),
-            1e-12 * gram.amax().max(f64::MIN_POSITIVE),
-        )
-        .unwrap_or_else(|_| DVector::zeros(rows.len()));
+    let x = factor::least_squares(&gram, &DVector::from_vec(shift), 1e-12)
+        .unwrap_or_else(|| DVector::zeros(rows.len()));
     let v_shift = hm.transpose() * x;
     let v_free = DVector::from_iterator(N, (v + a0 * h).iter().copied()) - &v_shift;
     let locals: Vec<ConeContact> = candidates

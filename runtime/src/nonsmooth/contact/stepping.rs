@@ -36,6 +36,7 @@ use crate::element::{Element, ElementKind, Law, Mode, Side, StopKind};
 use crate::input::Input;
 use crate::nonsmooth::NonSmoothProblem;
 use crate::nonsmooth::bearing::{self, BEARING_ITERATIONS, BEARING_TOL, Bearings};
+use crate::numerics::factor;
 use crate::system::{Mechanism, state_names};
 use crate::{ErrorKind, Keep, Solution, SolveError, Switch, SwitchKind};
 
@@ -181,23 +182,15 @@ where
         if sunk.is_empty() {
             return;
         }
-        let Some(chol) = scene.mass_matrix(q).cholesky() else {
+        let Some(w) = factor::spd_inverse(&factor::dynamic(&scene.mass_matrix(q))) else {
             return;
         };
         let w_n = scene.contact_normal_jacobian(q);
         let g = DMatrix::from_fn(sunk.len(), N, |i, j| w_n[(sunk[i], j)]);
-        let inv = chol.inverse();
-        let w = DMatrix::from_fn(N, N, |i, j| inv[(i, j)]);
-        let a = &g * &w * g.transpose();
         let r = DVector::from_fn(sunk.len(), |i, _| -gaps[sunk[i]]);
-        let Ok(x) = a
-            .clone()
-            .svd(true, true)
-            .solve(&r, 1e-12 * a.amax().max(f64::MIN_POSITIVE))
-        else {
+        let Some(dq) = factor::least_change(&g, &w, &r) else {
             return;
         };
-        let dq = &w * g.transpose() * x;
         *q += SVector::<f64, N>::from_iterator(dq.iter().copied());
     }
 }
@@ -208,8 +201,7 @@ fn locks<const N: usize>(rows: &[DVector<f64>]) -> bool {
         return false;
     }
     let m = DMatrix::from_fn(rows.len(), N, |i, j| rows[i][j]);
-    let sv = m.singular_values();
-    sv.min() > LOCK_RANK * sv.max()
+    factor::full_column_rank(&m, LOCK_RANK)
 }
 
 /// Integrates `scene` with its contacts (and its joint friction elements and rigid
@@ -333,7 +325,7 @@ where
             }
         }
         if !active.is_empty() || !acting.is_empty() {
-            let Some(chol) = scene.mass_matrix(&q).cholesky() else {
+            let Some(w) = factor::spd_inverse(&factor::dynamic(&scene.mass_matrix(&q))) else {
                 return Err(SolveError::new(
                     ErrorKind::IllPosedMode {
                         t,
@@ -342,8 +334,6 @@ where
                     sol,
                 ));
             };
-            let inverse = chol.inverse();
-            let w = DMatrix::from_fn(N, N, |i, j| inverse[(i, j)]);
             let v_free_d = DVector::from_iterator(N, v_free.iter().copied());
             if general {
                 let rows_of = |k: usize| cone::contact_rows(&w_n, &w_t, k, tangent_rows(k));

@@ -3,8 +3,8 @@
 # the Python module's. It makes its own virtual environment (target/python/venv),
 # installs python/requirements-test.txt into it from PyPI (maturin, NumPy, pandas,
 # matplotlib, Dask, Ray, pytest), builds the `filippov` module into it with maturin (release:
-# the ensembles' tests run ten thousand runs three ways), builds the Rust side the
-# Python tests compare against (examples/python_reference.rs), and runs pytest on
+# the ensembles' tests run ten thousand runs three ways), and, with cargo's tests, the Rust
+# side the Python tests compare against (examples/python_reference.rs), and runs pytest on
 # python/tests (which starts its own two-worker Dask cluster and a local Ray).
 #
 # Work that leaves a core idle overlaps other work: the virtual environment (mostly
@@ -46,13 +46,18 @@ venv=$root/target/python/venv
 venv_job=$!
 
 # The Python glue and the wheel are built (optimised) by maturin below; built here too
-# they would only compile PyO3 twice.
+# they would only compile PyO3 twice. This build includes the examples, among them the
+# Rust side of the Python tests (target/debug/examples/python_reference: the macros'
+# compile tests turn on the facade's `urdf` feature it requires). Built again by itself
+# with `--features urdf`, it would resolve the features differently and compile the
+# facade and the runtime a second time.
 cargo test --workspace --exclude filippov-python --exclude filippov-wheel --no-run
+if [ ! -x target/debug/examples/python_reference ]; then
+    echo "scripts/test.sh: cargo's test build made no target/debug/examples/python_reference" \
+        "(it requires the facade's urdf feature)" >&2
+    exit 1
+fi
 phase "cargo's tests built"
-# In the test profile, so that everything but the facade (here with its URDF robots)
-# is cargo test's build.
-cargo build --quiet --profile test --features urdf --example python_reference
-phase "the Rust reference built"
 wait_for $venv_job "$logs/venv.log" "making the virtual environment"
 phase "the virtual environment waited for"
 

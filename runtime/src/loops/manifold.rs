@@ -8,7 +8,7 @@
 //! a constraint's worth of stiffness, as a four-bar at a change point does — and the
 //! constraint forces would grow without bound.
 
-use nalgebra::{DMatrix, SMatrix, SVector};
+use nalgebra::{SMatrix, SVector};
 
 use super::LoopConstraints;
 pub use super::error::LoopError;
@@ -58,16 +58,55 @@ fn factor_in(a: &[f64], m: usize, ld: &mut [f64]) -> (f64, usize) {
     worst
 }
 
-/// The smallest relative pivot of `G M⁻¹ Gᵀ` and its row (`(0, 0)` where `M` is not
-/// positive definite), for `G` and `M` as dynamic matrices: the rank test sampled
-/// seven times a step, compiled here rather than in the crate that names the scene.
-fn conditioning_of(g: &DMatrix<f64>, mass: DMatrix<f64>) -> (f64, usize) {
-    let Some(chol) = mass.cholesky() else {
-        return (0.0, 0);
-    };
-    let a = g * chol.solve(&g.transpose());
-    let mut ld = vec![0.0; a.len()];
-    factor_in(a.as_slice(), a.nrows(), &mut ld)
+/// The smallest relative pivot of `A = G M⁻¹ Gᵀ` and its row (`(0, 0)` where `M` is not
+/// positive definite), on the caller's column-major buffers: `l` holds `M` (`n × n`)
+/// and is overwritten by its Cholesky factor `L`, `y` holds `Gᵀ` (`n × m`) and is
+/// overwritten by `L⁻¹ Gᵀ`, so that `A = yᵀ y` goes to `a`, and its factor to `ld`
+/// (both `m × m`, zero on entry). The rank test is sampled seven times a step: on
+/// buffers the caller keeps on its stack it allocates nothing, and not being generic it
+/// is compiled here, optimised, whatever crate names the scene.
+fn conditioning_in(
+    n: usize,
+    m: usize,
+    l: &mut [f64],
+    y: &mut [f64],
+    a: &mut [f64],
+    ld: &mut [f64],
+) -> (f64, usize) {
+    for j in 0..n {
+        let mut d = l[j + j * n];
+        for k in 0..j {
+            d -= l[j + k * n] * l[j + k * n];
+        }
+        if !(d > 0.0) {
+            return (0.0, 0);
+        }
+        let d = d.sqrt();
+        l[j + j * n] = d;
+        for i in j + 1..n {
+            let mut s = l[i + j * n];
+            for k in 0..j {
+                s -= l[i + k * n] * l[j + k * n];
+            }
+            l[i + j * n] = s / d;
+        }
+    }
+    for c in 0..m {
+        let col = &mut y[c * n..(c + 1) * n];
+        for i in 0..n {
+            let mut s = col[i];
+            for k in 0..i {
+                s -= l[i + k * n] * col[k];
+            }
+            col[i] = s / l[i + i * n];
+        }
+    }
+    for c in 0..m {
+        for r in 0..m {
+            a[r + c * m] = (0..n).map(|i| y[i + r * n] * y[i + c * n]).sum();
+        }
+    }
+    factor_in(a, m, ld)
 }
 
 /// Newton iterations of a position projection before it is declared stuck.
@@ -117,11 +156,16 @@ impl<const N: usize, const M: usize> Schur<N, M> {
     /// constraints are from losing rank (`1` for orthogonal rows, `0` where a row
     /// depends on the rows before it).
     pub fn conditioning<S: LoopConstraints<N, M>>(s: &S, q: &SVector<f64, N>) -> (f64, usize) {
-        let g = s.constraint_jacobian(q);
-        let mass = s.mass_matrix(q);
-        conditioning_of(
-            &DMatrix::from_column_slice(M, N, g.as_slice()),
-            DMatrix::from_column_slice(N, N, mass.as_slice()),
+        let mut l = s.mass_matrix(q);
+        let mut y = s.constraint_jacobian(q).transpose();
+        let (mut a, mut ld) = (SMatrix::<f64, M, M>::zeros(), SMatrix::<f64, M, M>::zeros());
+        conditioning_in(
+            N,
+            M,
+            l.as_mut_slice(),
+            y.as_mut_slice(),
+            a.as_mut_slice(),
+            ld.as_mut_slice(),
         )
     }
 
@@ -216,4 +260,57 @@ where
     S: LoopConstraints<N, M>,
 {
     Schur::conditioning(s, q).0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::DMatrix;
+
+    /// A small deterministic generator (splitmix64), uniform in `[-1, 1)`.
+    fn uniform(state: &mut u64) -> f64 {
+        *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = *state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        2.0 * ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64 - 1.0
+    }
+
+    /// The buffers' rank test against the same pivots of `G M⁻¹ Gᵀ` formed by nalgebra's
+    /// Cholesky solve, on random positive definite `M` and random `G` (one with a row
+    /// repeated, whose pivot vanishes), and `(0, 0)` for a mass matrix that is not
+    /// positive definite.
+    #[test]
+    fn conditioning_on_buffers_is_the_pivots_of_the_schur_complement() {
+        let mut state = 7;
+        for trial in 0..200 {
+            let n = 1 + trial % 7;
+            let m = 1 + (trial / 7) % n;
+            let b = DMatrix::from_fn(n, n, |_, _| uniform(&mut state));
+            let mass = b.transpose() * &b + DMatrix::identity(n, n) * 0.1;
+            let mut g = DMatrix::from_fn(m, n, |_, _| uniform(&mut state));
+            if m > 1 && trial % 5 == 0 {
+                let first = g.row(0).into_owned();
+                g.set_row(m - 1, &first);
+            }
+            let a = &g * mass.clone().cholesky().unwrap().solve(&g.transpose());
+            let mut ld = vec![0.0; m * m];
+            let expected = factor_in(a.as_slice(), m, &mut ld);
+            let (mut l, mut y) = (mass.clone(), g.transpose());
+            let (mut a2, mut ld2) = (vec![0.0; m * m], vec![0.0; m * m]);
+            let got = conditioning_in(n, m, l.as_mut_slice(), y.as_mut_slice(), &mut a2, &mut ld2);
+            assert_eq!(got.1, expected.1, "trial {trial}: row");
+            assert!(
+                (got.0 - expected.0).abs() <= 1e-12,
+                "trial {trial}: {got:?} {expected:?}"
+            );
+            if m > 1 && trial % 5 == 0 {
+                assert!(got.0 < 1e-12, "trial {trial}: a repeated row keeps {got:?}");
+            }
+        }
+        let mut l = vec![1.0, 0.0, 0.0, -1.0];
+        let mut y = vec![1.0, 1.0];
+        let got = conditioning_in(2, 1, &mut l, &mut y, &mut [0.0], &mut [0.0]);
+        assert_eq!(got, (0.0, 0));
+    }
 }

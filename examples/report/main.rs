@@ -71,6 +71,9 @@ mod scaling;
 mod spatial_agreement;
 #[path = "../support/supported_arm.rs"]
 mod supported_arm;
+#[cfg(test)]
+#[path = "tests.rs"]
+mod tests;
 #[path = "timing.rs"]
 mod timing;
 #[path = "urdf.rs"]

@@ -1,14 +1,18 @@
 //! The report's code paths run on a tiny configuration (timings are not checked here:
 //! they belong in the report itself). Its sections run as two reports, one per test, so
-//! that the test harness runs them side by side.
+//! that the test harness runs them side by side. (`cargo test --example report`: the
+//! report is a test target of its own, see `Cargo.toml`.)
 
-#[path = "../examples/report/main.rs"]
-mod report;
+use crate as report;
 
 /// The report of `sections` on the tiny configuration: it runs, every run in it
 /// succeeds, and it has the headings `expected`. Returns its directory.
 fn tiny(name: &str, sections: &[&str], expected: &[&str]) -> std::path::PathBuf {
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    // Where cargo puts integration tests' scratch files (`CARGO_TARGET_TMPDIR`, which it
+    // sets for those only).
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("target/tmp")
+        .join(name);
     let _ = std::fs::remove_dir_all(&dir);
     let mut config = report::Config::tiny(dir.clone());
     config.only = Some(sections.iter().map(|s| s.to_string()).collect());

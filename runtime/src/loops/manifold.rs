@@ -61,7 +61,7 @@ fn factor_in(a: &[f64], m: usize, ld: &mut [f64]) -> (f64, usize) {
 /// The smallest relative pivot of `A = G M⁻¹ Gᵀ` and its row (`(0, 0)` where `M` is not
 /// positive definite), on the caller's column-major buffers: `l` holds `M` (`n × n`)
 /// and is overwritten by its Cholesky factor `L`, `y` holds `Gᵀ` (`n × m`) and is
-/// overwritten by `L⁻¹ Gᵀ`, so that `A = yᵀ y` goes to `a`, and its factor to `ld`
+/// overwritten by `L⁻¹ Gᵀ`, so that `A = yᵀ y` (its lower triangle) goes to `a`, and its factor to `ld`
 /// (both `m × m`, zero on entry). The rank test is sampled seven times a step: on
 /// buffers the caller keeps on its stack it allocates nothing, and not being generic it
 /// is compiled here, optimised, whatever crate names the scene.
@@ -101,8 +101,9 @@ fn conditioning_in(
             col[i] = s / l[i + i * n];
         }
     }
+    // `factor_in` reads the lower triangle only.
     for c in 0..m {
-        for r in 0..m {
+        for r in c..m {
             a[r + c * m] = (0..n).map(|i| y[i + r * n] * y[i + c * n]).sum();
         }
     }

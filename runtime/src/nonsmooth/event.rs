@@ -1687,7 +1687,7 @@ where
                 let (_, ck, _, target) = cands[idx[i]];
                 before[ck] - target
             });
-            let Some(p) = factor::lu_solve(&wss, &rhs) else {
+            let Some(p) = factor::lu_solve(wss, &rhs) else {
                 break;
             };
             // A stop's impulse removes velocity into it: it has the sign `side_sign`.

@@ -227,7 +227,7 @@ pub(crate) fn evaluate<S: NonSmooth<N>, const N: usize>(
         let coord = |i: usize| elements[rows[i]].coordinate;
         let waa = DMatrix::from_fn(k, k, |i, j| w[(coord(i), coord(j))]);
         let rhs = DVector::from_fn(k, |i, _| a[coord(i)]);
-        let fa = factor::cholesky_solve(&waa, &rhs)?;
+        let fa = factor::cholesky_solve(waa, &rhs)?;
         if fa.iter().any(|x| !x.is_finite()) {
             return None;
         }

@@ -918,7 +918,7 @@ fn polish<const N: usize>(
     let k = cs.len();
     let a = DMatrix::from_fn(k, k, |i, j| hn * minv[(cs[i], cs[j])]);
     let r = nalgebra::DVector::from_fn(k, |i, _| v_now[cs[i]] - target[solved[cs[i]]]);
-    if let Some(d) = factor::lu_solve(&a, &r)
+    if let Some(d) = factor::lu_solve(a, &r)
         && d.iter().all(|x| x.is_finite())
     {
         for (i, &c) in cs.iter().enumerate() {

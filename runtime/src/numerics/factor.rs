@@ -6,7 +6,8 @@
 //! calls directly is compiled there with it, at that crate's optimisation: in a debug
 //! build or a test crate, an unoptimised SVD, about a hundred times slower than this
 //! crate's. Called through these functions, each factorisation is compiled once, here.
-//! They compute exactly what the nalgebra call they wrap computes.
+//! They compute exactly what the nalgebra call they wrap computes, and take the matrix
+//! they factorise by value (the drivers' are temporaries), so that none is copied.
 
 use nalgebra::{DMatrix, DVector, SMatrix, SymmetricEigen};
 
@@ -17,16 +18,9 @@ pub(crate) fn dynamic<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) ->
 
 /// `A⁺ b` by SVD, singular values at or below `rel · max|Aᵢⱼ|` taken as zero: the
 /// least-norm least-squares solution. `None` where the SVD fails.
-pub(crate) fn least_squares(a: &DMatrix<f64>, b: &DVector<f64>, rel: f64) -> Option<DVector<f64>> {
-    a.clone()
-        .svd(true, true)
-        .solve(b, rel * a.amax().max(f64::MIN_POSITIVE))
-        .ok()
-}
-
-/// `C W Cᵀ`: constraint rows `C` in the metric `W`.
-pub(crate) fn congruence(c: &DMatrix<f64>, w: &DMatrix<f64>) -> DMatrix<f64> {
-    c * w * c.transpose()
+pub(crate) fn least_squares(a: DMatrix<f64>, b: &DVector<f64>, rel: f64) -> Option<DVector<f64>> {
+    let eps = rel * a.amax().max(f64::MIN_POSITIVE);
+    a.svd(true, true).solve(b, eps).ok()
 }
 
 /// The least change `W Cᵀ (C W Cᵀ)⁺ r` in the metric `W` that changes the rows' values
@@ -37,7 +31,7 @@ pub(crate) fn least_change(
     w: &DMatrix<f64>,
     r: &DVector<f64>,
 ) -> Option<DVector<f64>> {
-    let x = least_squares(&congruence(c, w), r, 1e-12)?;
+    let x = least_squares(c * w * c.transpose(), r, 1e-12)?;
     Some(w * c.transpose() * x)
 }
 
@@ -52,29 +46,29 @@ pub(crate) fn full_column_rank(m: &DMatrix<f64>, rel: f64) -> bool {
 }
 
 /// `M⁻¹` by Cholesky; `None` where `M` is not positive definite.
-pub(crate) fn spd_inverse(m: &DMatrix<f64>) -> Option<DMatrix<f64>> {
-    m.clone().cholesky().map(|c| c.inverse())
+pub(crate) fn spd_inverse(m: DMatrix<f64>) -> Option<DMatrix<f64>> {
+    m.cholesky().map(|c| c.inverse())
 }
 
 /// `M⁻¹` by Cholesky, or by LU where `M` is not positive definite; `None` where it is
 /// singular.
-pub(crate) fn inverse(m: &DMatrix<f64>) -> Option<DMatrix<f64>> {
-    spd_inverse(m).or_else(|| m.clone().try_inverse())
+pub(crate) fn inverse(m: DMatrix<f64>) -> Option<DMatrix<f64>> {
+    spd_inverse(m.clone()).or_else(|| m.try_inverse())
 }
 
 /// `A⁻¹ b` by Cholesky; `None` where `A` is not positive definite.
-pub(crate) fn cholesky_solve(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
-    a.clone().cholesky().map(|c| c.solve(b))
+pub(crate) fn cholesky_solve(a: DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
+    a.cholesky().map(|c| c.solve(b))
 }
 
 /// `A⁻¹ b` by LU with partial pivoting; `None` where `A` is singular.
-pub(crate) fn lu_solve(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
-    a.clone().lu().solve(b)
+pub(crate) fn lu_solve(a: DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
+    a.lu().solve(b)
 }
 
 /// The eigenvalues and eigenvectors of the symmetric `m`.
-pub(crate) fn symmetric_eigen(m: &DMatrix<f64>) -> SymmetricEigen<f64, nalgebra::Dyn> {
-    m.clone().symmetric_eigen()
+pub(crate) fn symmetric_eigen(m: DMatrix<f64>) -> SymmetricEigen<f64, nalgebra::Dyn> {
+    m.symmetric_eigen()
 }
 
 #[cfg(test)]
@@ -86,15 +80,15 @@ mod tests {
         let m = DMatrix::from_row_slice(3, 3, &[4.0, 1.0, 0.5, 1.0, 3.0, 0.2, 0.5, 0.2, 2.0]);
         let b = DVector::from_vec(vec![1.0, -2.0, 0.5]);
         let eye = DMatrix::identity(3, 3);
-        assert!((&m * spd_inverse(&m).unwrap() - &eye).amax() < 1e-14);
-        assert!((&m * cholesky_solve(&m, &b).unwrap() - &b).amax() < 1e-14);
-        assert!((&m * lu_solve(&m, &b).unwrap() - &b).amax() < 1e-14);
-        assert!((&m * least_squares(&m, &b, 1e-12).unwrap() - &b).amax() < 1e-14);
+        assert!((&m * spd_inverse(m.clone()).unwrap() - &eye).amax() < 1e-14);
+        assert!((&m * cholesky_solve(m.clone(), &b).unwrap() - &b).amax() < 1e-14);
+        assert!((&m * lu_solve(m.clone(), &b).unwrap() - &b).amax() < 1e-14);
+        assert!((&m * least_squares(m.clone(), &b, 1e-12).unwrap() - &b).amax() < 1e-14);
         let indefinite = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, 1.0, 0.0]);
-        assert!(spd_inverse(&indefinite).is_none());
-        assert!((inverse(&indefinite).unwrap() - &indefinite).amax() == 0.0);
-        assert!(inverse(&DMatrix::zeros(2, 2)).is_none());
-        let eig = symmetric_eigen(&m);
+        assert!(spd_inverse(indefinite.clone()).is_none());
+        assert!((inverse(indefinite.clone()).unwrap() - &indefinite).amax() == 0.0);
+        assert!(inverse(DMatrix::zeros(2, 2)).is_none());
+        let eig = symmetric_eigen(m.clone());
         for i in 0..3 {
             let x = eig.eigenvectors.column(i);
             assert!((&m * x - x * eig.eigenvalues[i]).amax() < 1e-13);

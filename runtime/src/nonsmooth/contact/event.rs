@@ -117,8 +117,8 @@ where
     }
 
     fn inverse_mass(&self, q: &SVector<f64, N>) -> DMatrix<f64> {
-        let m = factor::dynamic(&self.scene.mass_matrix(q));
-        factor::inverse(&m).unwrap_or_else(|| m * f64::NAN)
+        factor::inverse(factor::dynamic(&self.scene.mass_matrix(q)))
+            .unwrap_or_else(|| DMatrix::from_element(N, N, f64::NAN))
     }
 
     /// The scale of the contact forces at a switch of the `candidates`: the largest of
@@ -231,7 +231,7 @@ where
         let a0d = DVector::from_iterator(N, a0.iter().copied());
         let lhs = DMatrix::from_fn(m, m, |i, j| rows[i].0.dot(&effect[j]));
         let rhs = DVector::from_fn(m, |i, _| rows[i].1 - rows[i].0.dot(&a0d));
-        let lambda = factor::least_squares(&lhs, &rhs, 1e-12)
+        let lambda = factor::least_squares(lhs, &rhs, 1e-12)
             .unwrap_or_else(|| DVector::from_element(m, f64::NAN));
         let lambda = self.share_friction(&rows, lambda);
         let mut a = a0d;
@@ -260,7 +260,7 @@ where
             // rest, exactly), not the round-off of the forces' solve.
             let c = DMatrix::from_fn(m, N, |i, j| rows[i].0[j]);
             let gamma = DVector::from_fn(m, |i, _| rows[i].1);
-            if let Some(x) = factor::least_squares(&c, &gamma, 0.0) {
+            if let Some(x) = factor::least_squares(c, &gamma, 0.0) {
                 out.a = SVector::from_iterator(x.iter().copied());
             }
         }
@@ -282,7 +282,7 @@ where
         }
         let m = stuck.len();
         let gram = DMatrix::from_fn(m, m, |a, b| rows[stuck[a]].0.dot(&rows[stuck[b]].0));
-        let eig = factor::symmetric_eigen(&gram);
+        let eig = factor::symmetric_eigen(gram);
         let top = eig.eigenvalues.amax();
         let null: Vec<usize> = (0..m)
             .filter(|&i| eig.eigenvalues[i] <= 1e-12 * top)
@@ -310,7 +310,7 @@ where
         let zw = DMatrix::from_fn(m, null.len(), |a, b| z[(a, b)] * inv[a]);
         let lhs = z.transpose() * &zw;
         let rhs = -(zw.transpose() * &lt);
-        if let Some(c) = factor::cholesky_solve(&lhs, &rhs) {
+        if let Some(c) = factor::cholesky_solve(lhs, &rhs) {
             let shift = &z * c;
             for (a, &j) in stuck.iter().enumerate() {
                 lambda[j] += shift[a];
@@ -1276,7 +1276,7 @@ where
     }
     let hm = DMatrix::from_fn(rows.len(), N, |i, j| rows[i][j]);
     let gram = &hm * hm.transpose();
-    let x = factor::least_squares(&gram, &DVector::from_vec(shift), 1e-12)
+    let x = factor::least_squares(gram, &DVector::from_vec(shift), 1e-12)
         .unwrap_or_else(|| DVector::zeros(rows.len()));
     let v_shift = hm.transpose() * x;
     let v_free = DVector::from_iterator(N, (v + a0 * h).iter().copied()) - &v_shift;

@@ -182,7 +182,7 @@ where
         if sunk.is_empty() {
             return;
         }
-        let Some(w) = factor::spd_inverse(&factor::dynamic(&scene.mass_matrix(q))) else {
+        let Some(w) = factor::spd_inverse(factor::dynamic(&scene.mass_matrix(q))) else {
             return;
         };
         let w_n = scene.contact_normal_jacobian(q);
@@ -325,7 +325,7 @@ where
             }
         }
         if !active.is_empty() || !acting.is_empty() {
-            let Some(w) = factor::spd_inverse(&factor::dynamic(&scene.mass_matrix(&q))) else {
+            let Some(w) = factor::spd_inverse(factor::dynamic(&scene.mass_matrix(&q))) else {
                 return Err(SolveError::new(
                     ErrorKind::IllPosedMode {
                         t,

@@ -3,7 +3,9 @@
 //! dynamics); on dual numbers the derivatives with respect to the state equal the
 //! symbolic Jacobian the derive writes separately, and those with respect to the
 //! parameters equal central differences and the complex step; on `f32` close to `f64`;
-//! on SIMD lanes each lane the scalar kernel bit for bit.
+//! on SIMD lanes each lane the scalar kernel bit for bit. The `f64` kernels are compared
+//! bit for bit on their portable path (`runtime::numerics::fused` off); their fused
+//! multiply–add twins are compared to rounding.
 
 mod common;
 #[path = "../examples/support/complex_step.rs"]
@@ -29,6 +31,13 @@ fn array<const N: usize>(rng: &mut Rng, scale: f64) -> [f64; N] {
 /// A random state: coordinates within ±2, velocities ±3, torques ±5.
 fn state<const N: usize>(rng: &mut Rng) -> ([f64; N], [f64; N], [f64; N]) {
     (array(rng, 2.0), array(rng, 3.0), array(rng, 5.0))
+}
+
+/// The `f64` kernels' portable path for the rest of the run: their fused multiply–add
+/// twins round differently, and the generic kernels are always portable. (The switch is
+/// global; no test here needs it on, `fused_twins_…` calls the twins directly.)
+fn portable() {
+    filippov::runtime::numerics::fused::set_enabled(false);
 }
 
 fn bits<const N: usize>(x: &[f64; N]) -> [u64; N] {
@@ -72,6 +81,7 @@ fn other_kernels_bit_for_bit<S, const N: usize, const P: usize>(
 
 #[test]
 fn on_f64_it_is_the_f64_kernel_bit_for_bit() {
+    portable();
     let mut rng = Rng::new(7);
     for _ in 0..50 {
         let (q, v, tau) = state::<3>(&mut rng);
@@ -273,6 +283,7 @@ fn on_f32_it_is_close_to_f64() {
 /// fourth lane repeating the third), each the scalar kernel's result bit for bit.
 #[test]
 fn batches_of_every_kernel_are_the_scalar_kernels_bit_for_bit() {
+    portable();
     use filippov::runtime::real::{f64x4, pack, unpack};
     let mut rng = Rng::new(31);
     let panda = Panda::default();
@@ -308,6 +319,7 @@ fn batches_of_every_kernel_are_the_scalar_kernels_bit_for_bit() {
 /// `f64` lanes, the generic kernel on `f32` for `f32` lanes).
 #[test]
 fn simd_lanes_are_the_scalar_kernel_bit_for_bit() {
+    portable();
     use filippov::runtime::real::{Lanes, f32x4, f32x8, f64x2, f64x4, pack, unpack};
     type State = ([f64; 7], [f64; 7], [f64; 7]);
     /// The accelerations of the first `L::LANES` states, from one call.
@@ -356,4 +368,72 @@ fn simd_lanes_are_the_scalar_kernel_bit_for_bit() {
             }
         }
     }
+}
+
+/// The `f64` forward dynamics and mass matrix run a twin compiled for AVX2 and FMA where
+/// the processor has them (`runtime::numerics::fused`): the same algorithm with products
+/// fused into sums, so the same numbers to rounding. Called directly here (where the
+/// processor has the features), against the generic kernel on `f64`, which is the
+/// portable path: the mass matrices within eight units in the last place of their
+/// largest entry, the accelerations within the rounding that `M`'s condition number
+/// `κ` amplifies, `|Δv̇| ≤ 4 ε κ max(1, |v̇|)` (both measured far below).
+#[test]
+fn fused_twins_agree_with_the_portable_kernels() {
+    if !filippov::runtime::numerics::fused::available() {
+        eprintln!("this processor has no AVX2 and FMA: no fused twins to compare");
+        return;
+    }
+    fn check<S, const N: usize, const P: usize>(
+        s: &S,
+        q: [f64; N],
+        v: [f64; N],
+        tau: [f64; N],
+        fused: (SVector<f64, N>, SMatrix<f64, N, N>),
+        worst: &mut (f64, f64),
+    ) where
+        S: GenericDynamics<N, N, P>,
+    {
+        let a = s.forward_dynamics_as::<f64>(&q, &v, &tau);
+        let m = s.mass_matrix_as::<f64>(&q);
+        let m = SMatrix::<f64, N, N>::from_fn(|i, j| m[i][j]);
+        let eig =
+            filippov::nalgebra::DMatrix::from_fn(N, N, |i, j| m[(i, j)]).symmetric_eigenvalues();
+        let kappa = eig.amax() / eig.amin();
+        let scale = a.iter().fold(1.0f64, |x, y| x.max(y.abs()));
+        let da = (0..N).fold(0.0f64, |x, i| x.max((fused.0[i] - a[i]).abs()));
+        let dm = (fused.1 - m).amax() / m.amax();
+        worst.0 = worst.0.max(da / (f64::EPSILON * kappa * scale));
+        worst.1 = worst.1.max(dm / f64::EPSILON);
+    }
+    let mut rng = Rng::new(41);
+    let panda = Panda::default();
+    let mut worst = (0.0, 0.0);
+    for _ in 0..200 {
+        let (q, v, tau) = state::<7>(&mut rng);
+        let (qs, vs, ts) = (q.into(), v.into(), tau.into());
+        // SAFETY: `available` says the processor has AVX2 and FMA.
+        let fused = unsafe {
+            (
+                panda.__forward_dynamics_fused(&qs, &vs, &ts),
+                panda.__mass_matrix_fused(&qs),
+            )
+        };
+        check(&panda, q, v, tau, fused, &mut worst);
+        let (q, v, tau) = state::<3>(&mut rng);
+        let (qs, vs, ts) = (q.into(), v.into(), tau.into());
+        // SAFETY: as above.
+        let fused = unsafe {
+            (
+                OBLIQUE.__forward_dynamics_fused(&qs, &vs, &ts),
+                OBLIQUE.__mass_matrix_fused(&qs),
+            )
+        };
+        check(&OBLIQUE, q, v, tau, fused, &mut worst);
+    }
+    eprintln!(
+        "fused against portable: accelerations {:.2} ε κ, mass matrices {:.2} ε",
+        worst.0, worst.1
+    );
+    assert!(worst.0 <= 4.0, "accelerations differ by {} ε κ", worst.0);
+    assert!(worst.1 <= 8.0, "mass matrices differ by {} ε", worst.1);
 }

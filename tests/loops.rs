@@ -271,6 +271,9 @@ fn check_dynamics<S, const N: usize, const M: usize>(
             x[N + r]
         );
     }
+    // The same solve as the forward dynamics kernel's portable path, bit for bit (its
+    // fused multiply–add twin rounds differently).
+    filippov::runtime::numerics::fused::set_enabled(false);
     assert_eq!(s.forward_dynamics(q, v, tau), a);
     // The constraint holds at the acceleration level.
     let residual = (g * a - s.constraint_gamma(q, v)).amax();

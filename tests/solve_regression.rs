@@ -5,7 +5,8 @@
 //! existed; a change of any step, rejection or evaluation count shows as a diff.
 //!
 //! A numerical change that is wanted (a better controller, say) updates the snapshot in
-//! its own commit, saying why.
+//! its own commit, saying why. The kernels run their portable path (fused multiply–adds
+//! off, `runtime::numerics::fused`), so that the bits are those of every machine.
 
 use filippov::runtime::{MechanicalSystem, Method, Options, Problem, solve};
 use filippov_scenes::{DoublePendulum, Panda};
@@ -33,6 +34,7 @@ fn methods() -> Vec<(&'static str, Method)> {
 }
 
 fn record<S: filippov::runtime::OdeSystem>(sys: &S, y0: &[f64], tf: f64) -> String {
+    filippov::runtime::numerics::fused::set_enabled(false);
     let mut out = String::new();
     for (name, method) in methods() {
         let traj = solve(sys, &Problem::new(0.0, tf, y0.to_vec()), &method).expect("solves");

@@ -6,8 +6,9 @@
 //! `sin`, `cos`, `√`, `exp` and `ln` on the inputs and the scene's parameters; run on
 //! `f64` it is the `f64` kernel (bit for bit), on `f32` half the width, on SIMD lanes
 //! ([`f64x4`], [`f32x8`]) a batch of states per call, each lane bit for bit the scalar
-//! kernel's result (sine, cosine, exponential and logarithm are taken lane by lane from
-//! the standard library; the arithmetic and square root are IEEE in every lane), on duals it
+//! kernel's result (sine and cosine of `f64` from [`numerics::trig`](crate::numerics::trig)
+//! on all lanes at once, of `f32` and the exponential and logarithm lane by lane from the
+//! standard library; the arithmetic and square root are IEEE in every lane), on duals it
 //! differentiates itself: seed a coordinate's or a parameter's derivative with 1 and the
 //! result's derivative part is the kernel's partial derivative along it, exact to
 //! rounding (no step to choose, unlike finite differences).
@@ -57,30 +58,46 @@ pub trait Real:
     fn cos(self) -> Self;
     /// `(sin x, cos x)` together (one evaluation where the scalar has one).
     fn sin_cos(self) -> (Self, Self);
+    /// `(sin x, cos x)` of each of `K` values, as two arrays: on `f64` one batch that
+    /// runs in SIMD registers ([`numerics::trig`](crate::numerics::trig)), the same bit
+    /// for bit as [`sin_cos`](Real::sin_cos) of each.
+    #[inline(always)]
+    fn sin_cos_n<const K: usize>(x: [Self; K]) -> ([Self; K], [Self; K]) {
+        let sc = x.map(Self::sin_cos);
+        (sc.map(|x| x.0), sc.map(|x| x.1))
+    }
     fn sqrt(self) -> Self;
     fn exp(self) -> Self;
     fn ln(self) -> Self;
 }
 
-/// A primitive float: its own operations (`cst` rounds to the nearest value of the type).
+/// A primitive float: its own operations (`cst` rounds to the nearest value of the type),
+/// its sines and cosines from `$trig`, a function giving `(sin x, cos x)`, and from
+/// `$batch` for an array of them when given.
 macro_rules! primitive {
-    ($t:ty) => {
+    ($t:ty, $trig:path $(, $batch:path)?) => {
         impl Real for $t {
+            $(
+                #[inline(always)]
+                fn sin_cos_n<const K: usize>(x: [Self; K]) -> ([Self; K], [Self; K]) {
+                    $batch(x)
+                }
+            )?
             #[inline(always)]
             fn cst(x: f64) -> Self {
                 x as $t
             }
             #[inline(always)]
             fn sin(self) -> Self {
-                <$t>::sin(self)
+                $trig(self).0
             }
             #[inline(always)]
             fn cos(self) -> Self {
-                <$t>::cos(self)
+                $trig(self).1
             }
             #[inline(always)]
             fn sin_cos(self) -> (Self, Self) {
-                <$t>::sin_cos(self)
+                $trig(self)
             }
             #[inline(always)]
             fn sqrt(self) -> Self {
@@ -98,12 +115,21 @@ macro_rules! primitive {
     };
 }
 
-primitive!(f64);
-primitive!(f32);
+// `f64` takes its sines and cosines from `numerics::trig`, whose batches vectorise, so
+// that a kernel is the same bit for bit whether it takes its angles one at a time (the
+// generic kernels, the compact loops) or in a batch (the `f64` kernels).
+primitive!(
+    f64,
+    crate::numerics::trig::sin_cos,
+    crate::numerics::trig::sin_cos_n
+);
+primitive!(f32, f32::sin_cos);
 
-/// SIMD lanes: each lane as the scalar would compute it.
+/// SIMD lanes: each lane as the scalar would compute it, the sines and cosines of all
+/// lanes from `$trig`, a function from an array of lanes to the arrays of their sines and
+/// cosines.
 macro_rules! lanes {
-    ($t:ty, $s:ty) => {
+    ($t:ty, $s:ty, $trig:expr) => {
         impl Real for $t {
             #[inline(always)]
             fn cst(x: f64) -> Self {
@@ -111,16 +137,16 @@ macro_rules! lanes {
             }
             #[inline(always)]
             fn sin(self) -> Self {
-                <$t>::new(self.to_array().map(<$s>::sin))
+                <$t>::new($trig(self.to_array()).0)
             }
             #[inline(always)]
             fn cos(self) -> Self {
-                <$t>::new(self.to_array().map(<$s>::cos))
+                <$t>::new($trig(self.to_array()).1)
             }
             #[inline(always)]
             fn sin_cos(self) -> (Self, Self) {
-                let sc = self.to_array().map(<$s>::sin_cos);
-                (<$t>::new(sc.map(|x| x.0)), <$t>::new(sc.map(|x| x.1)))
+                let (s, c) = $trig(self.to_array());
+                (<$t>::new(s), <$t>::new(c))
             }
             #[inline(always)]
             fn sqrt(self) -> Self {
@@ -138,10 +164,17 @@ macro_rules! lanes {
     };
 }
 
-lanes!(f64x4, f64);
-lanes!(f32x8, f32);
-lanes!(f64x2, f64);
-lanes!(f32x4, f32);
+/// Each `f32` lane's sine and cosine from the standard library.
+#[inline(always)]
+fn f32_lanes<const L: usize>(x: [f32; L]) -> ([f32; L], [f32; L]) {
+    let sc = x.map(f32::sin_cos);
+    (sc.map(|x| x.0), sc.map(|x| x.1))
+}
+
+lanes!(f64x4, f64, crate::numerics::trig::sin_cos_n);
+lanes!(f32x8, f32, f32_lanes);
+lanes!(f64x2, f64, crate::numerics::trig::sin_cos_n);
+lanes!(f32x4, f32, f32_lanes);
 
 /// SIMD lanes as a batch of states: `L::LANES` states per kernel call, each coordinate
 /// one vector of lanes (structure of arrays). [`pack`] and [`unpack`] convert from and

@@ -31,11 +31,12 @@ pub fn forward_dynamics<T: Real, const B: usize, const N: usize>(
     let mut d_inv = [zero; B];
     let mut u_tau = [zero; B];
     let mut out = [zero; N];
+    let trig = T::sin_cos_n(*q);
 
     // Outwards: placements, velocities, velocity-product accelerations and forces.
     for i in 0..B {
         let (node, body) = (&nodes[i], &bodies[i]);
-        let (r, p) = placement(body, node.joint, q);
+        let (r, p) = placement(body, node.joint, q, &trig);
         let mut vi = match node.parent {
             Some(pa) => vel[pa].motion_to_child(&r, p),
             None => Spatial::zero(),

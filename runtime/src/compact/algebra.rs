@@ -54,6 +54,19 @@ pub fn mul_t<T: Real>(r: &M3<T>, x: V3<T>) -> V3<T> {
     ]
 }
 
+/// `A B`.
+#[inline(always)]
+pub fn mat_mul<T: Real>(a: &M3<T>, b: &M3<T>) -> M3<T> {
+    let row = |r: &[T; 3]| {
+        [
+            r[0] * b[0][0] + r[1] * b[1][0] + r[2] * b[2][0],
+            r[0] * b[0][1] + r[1] * b[1][1] + r[2] * b[2][1],
+            r[0] * b[0][2] + r[1] * b[1][2] + r[2] * b[2][2],
+        ]
+    };
+    [row(&a[0]), row(&a[1]), row(&a[2])]
+}
+
 /// `C Rz(θ)` from `(sin θ, cos θ)`: the first two columns turn, the third stays.
 #[inline(always)]
 pub fn turn_z<T: Real>(c: &M3<T>, s: T, co: T) -> M3<T> {

@@ -1,8 +1,11 @@
 //! The mass matrix of a compact tree by the composite-rigid-body algorithm
 //! (Featherstone, *Rigid Body Dynamics Algorithms*, §6.2): composite inertias inwards,
-//! then each joint's column of `M` by carrying its force `I_c S` towards the root.
+//! then each joint's force `I_c S` and motion subspace `S` in the world frame, whose
+//! dot products are the entries of `M`.
 
-use super::algebra::{M3, Spatial, Sym, V3, add, cross, dot, mul, scale, sym_mul, sym_rotate};
+use super::algebra::{
+    M3, Spatial, Sym, V3, add, cross, dot, mat_mul, mul, scale, sym_mul, sym_rotate,
+};
 use super::{Body, Joint, Node, placement};
 use crate::real::Real;
 
@@ -80,6 +83,11 @@ fn joint_part<T: Real>(f: &Spatial<T>, joint: Joint) -> Option<(usize, T)> {
 }
 
 /// `M(q)` of the tree `nodes`/`bodies` (parents before children), an array of rows.
+///
+/// Composite inertias are summed inwards in the bodies' own frames; each joint's force
+/// `F = I_c S` and every joint's motion subspace `S` are then written once in the world
+/// frame, so that each entry `M_ij = S_jᵀ F_i` is one independent six-term dot product
+/// instead of a force carried link by link towards the root.
 pub fn mass_matrix<T: Real, const B: usize, const N: usize>(
     nodes: &[Node; B],
     bodies: &[Body<T>; B],
@@ -93,8 +101,9 @@ pub fn mass_matrix<T: Real, const B: usize, const N: usize>(
         h: bodies[i].first_moment,
         i: bodies[i].inertia,
     });
+    let trig = T::sin_cos_n(*q);
     for i in 0..B {
-        let (r, p) = placement(&bodies[i], nodes[i].joint, q);
+        let (r, p) = placement(&bodies[i], nodes[i].joint, q, &trig);
         rot[i] = r;
         pos[i] = p;
     }
@@ -104,22 +113,53 @@ pub fn mass_matrix<T: Real, const B: usize, const N: usize>(
             composite[pa] = composite[pa].plus(&moved);
         }
     }
+    // Outwards: each body's axes and origin in the world, its joint's motion subspace
+    // and its composite force there, the diagonal from the force in the body's frame.
+    let mut world_rot = [[[zero; 3]; 3]; B];
+    let mut world_pos = [[zero; 3]; B];
+    let mut subspace = [Spatial::zero(); B];
+    let mut force = [Spatial::zero(); B];
     let mut m = [[zero; N]; N];
     for i in 0..B {
+        let (w, o) = match nodes[i].parent {
+            Some(pa) => (
+                mat_mul(&world_rot[pa], &rot[i]),
+                add(world_pos[pa], mul(&world_rot[pa], pos[i])),
+            ),
+            None => (rot[i], pos[i]),
+        };
+        world_rot[i] = w;
+        world_pos[i] = o;
         let joint = nodes[i].joint;
-        let revolute = matches!(joint, Joint::Revolute(_));
         let Some(ci) = joint.coordinate() else {
             continue;
         };
-        let mut f = composite[i].times_joint(revolute);
+        let revolute = matches!(joint, Joint::Revolute(_));
+        let f = composite[i].times_joint(revolute);
         if let Some((_, d)) = joint_part(&f, joint) {
             m[ci][ci] = d;
         }
+        force[i] = f.force_to_parent(&w, o);
+        let z = [w[0][2], w[1][2], w[2][2]];
+        subspace[i] = if revolute {
+            Spatial {
+                w: z,
+                l: cross(o, z),
+            }
+        } else {
+            Spatial { w: [zero; 3], l: z }
+        };
+    }
+    for i in 0..B {
+        let Some(ci) = nodes[i].joint.coordinate() else {
+            continue;
+        };
+        let f = force[i];
         let mut j = i;
         while let Some(pa) = nodes[j].parent {
-            f = f.force_to_parent(&rot[j], pos[j]);
             j = pa;
-            if let Some((cj, x)) = joint_part(&f, nodes[j].joint) {
+            if let Some(cj) = nodes[j].joint.coordinate() {
+                let x = subspace[j].dot(f);
                 m[ci][cj] = x;
                 m[cj][ci] = x;
             }

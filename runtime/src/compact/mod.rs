@@ -94,14 +94,20 @@ impl Body<f64> {
 }
 
 /// A body's transform from its parent: its axes `R` in the parent's frame and its
-/// origin `p` there.
+/// origin `p` there. `trig` holds `(sin q, cos q)` of every coordinate
+/// ([`Real::sin_cos_n`], taken once per call of a kernel).
 #[inline(always)]
-pub fn placement<T: Real>(body: &Body<T>, joint: Joint, q: &[T]) -> (M3<T>, V3<T>) {
+pub fn placement<T: Real, const N: usize>(
+    body: &Body<T>,
+    joint: Joint,
+    q: &[T; N],
+    trig: &([T; N], [T; N]),
+) -> (M3<T>, V3<T>) {
     match joint {
-        Joint::Revolute(k) => {
-            let (s, c) = q[k].sin_cos();
-            (turn_z(&body.rotation, s, c), body.translation)
-        }
+        Joint::Revolute(k) => (
+            turn_z(&body.rotation, trig.0[k], trig.1[k]),
+            body.translation,
+        ),
         Joint::Prismatic(k) => {
             let r = &body.rotation;
             let z = [r[0][2], r[1][2], r[2][2]];

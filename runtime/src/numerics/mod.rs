@@ -5,7 +5,9 @@
 //! (`newton`) with its small dense LU (`lu`), bracketing root finding on dense output ([`rootfind`]),
 //! linear complementarity problems by complementary pivoting ([`lcp`]), and the
 //! factorisations that drivers generic over a scene call through plain functions
-//! (`factor`), so that they are compiled, optimised, in this crate.
+//! (`factor`), so that they are compiled, optimised, in this crate, and the sines and
+//! cosines of a batch of angles that the generated kernels take ([`trig`]), and the
+//! switch for their fused multiply–add twins ([`fused`]).
 //!
 //! Nothing here knows a method or a driver; methods (`crate::method`, the Lie-group
 //! ones in `crate::liegroup`) and drivers (`crate::solve`, `crate::nonsmooth`) use it.
@@ -14,11 +16,13 @@ pub mod control;
 pub mod dense;
 pub(crate) mod eval;
 pub(crate) mod factor;
+pub mod fused;
 pub mod lcp;
 pub(crate) mod lu;
 pub(crate) mod newton;
 pub mod rootfind;
 pub mod tableau;
+pub mod trig;
 
 use crate::{ErrorKind, Options};
 

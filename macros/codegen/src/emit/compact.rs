@@ -140,6 +140,7 @@ pub fn compact_impl(
                 vis: quote!(),
                 elements: 0,
                 generic: Some(np),
+                fused: false,
             };
             let e = emit(g, params, (n, n), &sig, &entries, &|o| table_value(&o, b));
             helpers.extend(e.method);
@@ -162,6 +163,7 @@ pub fn compact_impl(
             vis: quote!(),
             elements: 0,
             generic: Some(np),
+            fused: false,
         };
         let e = emit(g, params, (n, n), &sig, f, &|o| quote!([#(#o),*]));
         helpers.extend(e.method);

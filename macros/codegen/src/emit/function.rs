@@ -2,7 +2,8 @@
 //!
 //! Every reachable node used more than once gets a `let` (common subexpressions, in
 //! arena order, which is topological); a node used once is written inline into its only
-//! user. Each `sin`/`cos` pair of one argument comes from a single `sin_cos()`.
+//! user. Each `sin`/`cos` pair of one argument comes from a single `sin_cos()`, and in a
+//! function emitted whole the pairs of inputs come from one batched `sin_cos_n`.
 //! Functions beyond [`WHOLE`] lets are split into helper functions of [`CHUNK`] lets that pass the values
 //! crossing a split through a stack array: rustc's time grows much faster than linearly
 //! in the length of one function, and its debug build overflows its stack beyond a few
@@ -40,6 +41,10 @@ pub struct Signature {
     /// `Some(P)`: an associated function generic over its scalar `T: Real`, the `P`
     /// parameters an input `p: &[T; P]` (no `self`); `None`: a method on `f64`.
     pub generic: Option<usize>,
+    /// Also emit a twin compiled for AVX2 and FMA, products fused into sums, which the
+    /// method calls when the processor has them (`runtime::numerics::fused`). Only for
+    /// `f64` methods emitted whole; what the integrators call most.
+    pub fused: bool,
 }
 
 /// A generated method and the helper chunks it calls.
@@ -238,10 +243,11 @@ pub fn emit(
 
     let generic = sig.generic.is_some();
     let real = quote!(::filippov::runtime::Real);
-    let r = Renderer {
+    let mut r = Renderer {
         g,
         params,
         generic,
+        fused: false,
         bound: &bound,
         names: &names,
         def_chunk: &def_chunk,
@@ -289,60 +295,120 @@ pub fn emit(
         chunk_items[chunk_of_item(k)].push(*it);
     }
     let mut main_body = TokenStream::new();
-    for (c, its) in chunk_items.iter().enumerate() {
-        let mut used = BTreeSet::new();
-        let mut body = TokenStream::new();
-        for it in its {
-            let defs: Vec<Id> = match *it {
-                Item::Let(id) => {
-                    let name = names[id.index()].as_ref().expect("named");
-                    let e = r.inline(id, c, &mut used);
-                    body.extend(quote!(let #name = #e;));
-                    vec![id]
+    // In a function emitted whole, the sines and cosines of inputs (the joint angles)
+    // are taken in one batch at its start (`Real::sin_cos_n`; on `f64` one vectorised
+    // evaluation instead of a library call per angle, `runtime::numerics::trig`).
+    let batched: Vec<(Id, Id, Id)> = if nchunks == 1 {
+        items
+            .iter()
+            .filter_map(|it| match *it {
+                Item::SinCos(s, c) => match g.node(s) {
+                    Node::Unary(_, x) if matches!(g.node(x), Node::Input(_)) => Some((s, c, x)),
+                    _ => None,
+                },
+                Item::Let(_) => None,
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let batched = if batched.len() >= 2 {
+        batched
+    } else {
+        Vec::new()
+    };
+    // The fused twin of an `f64` function emitted whole (see `Signature::fused`).
+    let twin = sig.fused && !generic && nchunks == 1;
+    let mut fused_body = TokenStream::new();
+    for fused in [false, true] {
+        if fused && !twin {
+            break;
+        }
+        r.fused = fused;
+        let main_body = if fused {
+            &mut fused_body
+        } else {
+            &mut main_body
+        };
+        for (c, its) in chunk_items.iter().enumerate() {
+            let mut used = BTreeSet::new();
+            let mut body = TokenStream::new();
+            if c == 0 && !batched.is_empty() {
+                let name = |id: Id| names[id.index()].as_ref().expect("named");
+                let ss = batched.iter().map(|b| name(b.0));
+                let cs = batched.iter().map(|b| name(b.1));
+                let xs: Vec<TokenStream> =
+                    batched.iter().map(|b| r.expr(b.2, c, &mut used)).collect();
+                body.extend(if generic {
+                    quote!(let ([#(#ss),*], [#(#cs),*]) = <T as #real>::sin_cos_n([#(#xs),*]);)
+                } else {
+                    {
+                        let f = r.trig("sin_cos_n");
+                        quote!(let ([#(#ss),*], [#(#cs),*]) = #f([#(#xs),*]);)
+                    }
+                });
+            }
+            for it in its {
+                if let Item::SinCos(s, _) = *it
+                    && batched.iter().any(|b| b.0 == s)
+                {
+                    continue;
                 }
-                Item::SinCos(s, cs) => {
-                    let (ns, nc) = (
-                        names[s.index()].as_ref().expect("named"),
-                        names[cs.index()].as_ref().expect("named"),
-                    );
-                    let Node::Unary(_, x) = g.node(s) else {
-                        unreachable!()
-                    };
-                    let e = r.atom(x, c, &mut used);
-                    body.extend(if generic {
-                        quote!(let (#ns, #nc) = #real::sin_cos(#e);)
-                    } else {
-                        quote!(let (#ns, #nc) = #e.sin_cos();)
-                    });
-                    vec![s, cs]
-                }
-            };
-            for d in defs {
-                if slot[d.index()] != usize::MAX {
-                    let k = Literal::usize_unsuffixed(slot[d.index()]);
-                    let name = names[d.index()].as_ref().expect("named");
-                    body.extend(quote!(t[#k] = #name;));
+                let defs: Vec<Id> = match *it {
+                    Item::Let(id) => {
+                        let name = names[id.index()].as_ref().expect("named");
+                        let e = r.inline(id, c, &mut used);
+                        body.extend(quote!(let #name = #e;));
+                        vec![id]
+                    }
+                    Item::SinCos(s, cs) => {
+                        let (ns, nc) = (
+                            names[s.index()].as_ref().expect("named"),
+                            names[cs.index()].as_ref().expect("named"),
+                        );
+                        let Node::Unary(_, x) = g.node(s) else {
+                            unreachable!()
+                        };
+                        let e = r.atom(x, c, &mut used);
+                        body.extend(if generic {
+                            quote!(let (#ns, #nc) = #real::sin_cos(#e);)
+                        } else {
+                            {
+                                let f = r.trig("sin_cos");
+                                quote!(let (#ns, #nc) = #f(#e);)
+                            }
+                        });
+                        vec![s, cs]
+                    }
+                };
+                for d in defs {
+                    if slot[d.index()] != usize::MAX {
+                        let k = Literal::usize_unsuffixed(slot[d.index()]);
+                        let name = names[d.index()].as_ref().expect("named");
+                        body.extend(quote!(t[#k] = #name;));
+                    }
                 }
             }
-        }
-        if c + 1 == nchunks {
-            let outs: Vec<TokenStream> = outputs.iter().map(|o| r.expr(*o, c, &mut used)).collect();
-            let ret = assemble(outs);
-            let binds = bind_inputs(&used);
-            main_body = quote!(#binds #body #ret);
-        } else {
-            let hname = format_ident!("__{}_part{}", sig.name, c);
-            let binds = bind_inputs(&used);
-            helpers.extend(quote! {
-                #[doc(hidden)]
-                #[inline(never)]
-                #[allow(clippy::all, unused_variables)]
-                fn #hname #type_params(#receiver #(#args,)* t: &mut [#scalar; #nslots_lit]) {
-                    #binds
-                    #body
-                }
-            });
-            calls.extend(quote!(#call #hname(#(#arg_names,)* &mut t);));
+            if c + 1 == nchunks {
+                let outs: Vec<TokenStream> =
+                    outputs.iter().map(|o| r.expr(*o, c, &mut used)).collect();
+                let ret = assemble(outs);
+                let binds = bind_inputs(&used);
+                *main_body = quote!(#binds #body #ret);
+            } else {
+                let hname = format_ident!("__{}_part{}", sig.name, c);
+                let binds = bind_inputs(&used);
+                helpers.extend(quote! {
+                    #[doc(hidden)]
+                    #[inline(never)]
+                    #[allow(clippy::all, unused_variables)]
+                    fn #hname #type_params(#receiver #(#args,)* t: &mut [#scalar; #nslots_lit]) {
+                        #binds
+                        #body
+                    }
+                });
+                calls.extend(quote!(#call #hname(#(#arg_names,)* &mut t);));
+            }
         }
     }
     let scratch = match (nchunks > 1, generic) {
@@ -351,11 +417,38 @@ pub fn emit(
         (true, true) => quote!(let mut t = [<T as #real>::cst(0.0); #nslots_lit];),
     };
     let (name, ret, doc, vis) = (&sig.name, &sig.ret, &sig.doc, &sig.vis);
+    let dispatch = if twin {
+        let tname = format_ident!("__{}_fused", sig.name);
+        helpers.extend(quote! {
+            /// The fused multiply–add twin (`runtime::numerics::fused`).
+            ///
+            /// # Safety
+            /// Only on a processor with AVX2 and FMA.
+            #[cfg(target_arch = "x86_64")]
+            #[doc(hidden)]
+            #[target_feature(enable = "avx2,fma")]
+            #[allow(unused_variables, clippy::all)]
+            pub unsafe fn #tname(&self, #(#args),*) -> #ret {
+                #fused_body
+            }
+        });
+        quote! {
+            #[cfg(target_arch = "x86_64")]
+            if ::filippov::runtime::numerics::fused::enabled() {
+                // SAFETY: `enabled` holds only where the processor has AVX2 and FMA.
+                #[allow(unused_unsafe)]
+                return unsafe { self.#tname(#(#arg_names),*) };
+            }
+        }
+    } else {
+        quote!()
+    };
     let method = quote! {
         #[doc = #doc]
         #[inline]
         #[allow(unused_variables, clippy::all)]
         #vis fn #name #type_params(#receiver #(#args),*) -> #ret {
+            #dispatch
             #scratch
             #calls
             #main_body
@@ -384,6 +477,9 @@ struct Renderer<'a> {
     params: &'a [Ident],
     /// Generic over `T: Real`: constants through `T::cst`, parameters from `p`.
     generic: bool,
+    /// The fused twin (`f64` only): each inline product feeding a sum as
+    /// `f64::mul_add`, sines and cosines by `trig`'s fused functions.
+    fused: bool,
     bound: &'a [bool],
     names: &'a [Option<Ident>],
     def_chunk: &'a [usize],
@@ -396,6 +492,17 @@ const PRODUCT: u8 = 2;
 const ATOM: u8 = 3;
 
 impl Renderer<'_> {
+    /// The path of `runtime::numerics::trig`'s function `name`, or of its fused
+    /// variant in the fused twin.
+    fn trig(&self, name: &str) -> TokenStream {
+        let f = if self.fused {
+            format_ident!("{}_fused", name)
+        } else {
+            format_ident!("{}", name)
+        };
+        quote!(::filippov::runtime::numerics::trig::#f)
+    }
+
     /// The node as an operand needing at least precedence `min`.
     fn operand(
         &self,
@@ -503,6 +610,42 @@ impl Renderer<'_> {
                 // Only inline negations are absorbed; a bound `-x` is a value.
                 let na = neg(a).filter(|_| !self.bound[a.index()]);
                 let nb = neg(b).filter(|_| !self.bound[b.index()]);
+                if self.fused {
+                    let mulp = |x: Id| match g.node(x) {
+                        Node::Mul(p, q)
+                            if !self.bound[x.index()]
+                                && !matches!(g.node(p), Node::Unary(Unary::Recip, _))
+                                && !matches!(g.node(q), Node::Unary(Unary::Recip, _)) =>
+                        {
+                            Some((p, q))
+                        }
+                        _ => None,
+                    };
+                    let fused =
+                        |m: Id, other: Id, negate: bool, used: &mut BTreeSet<(InputKind, u16)>| {
+                            let (p, q) = mulp(m).expect("a product");
+                            let x = self.atom(p, chunk, used);
+                            let y = self.expr(q, chunk, used);
+                            let c = self.expr(other, chunk, used);
+                            if negate {
+                                quote!(f64::mul_add(-#x, #y, #c))
+                            } else {
+                                quote!(f64::mul_add(#x, #y, #c))
+                            }
+                        };
+                    if mulp(a).is_some() {
+                        return (fused(a, b, false, used), ATOM);
+                    }
+                    if mulp(b).is_some() {
+                        return (fused(b, a, false, used), ATOM);
+                    }
+                    if let Some(y) = nb.filter(|y| mulp(*y).is_some()) {
+                        return (fused(y, a, true, used), ATOM);
+                    }
+                    if let Some(x) = na.filter(|x| mulp(*x).is_some()) {
+                        return (fused(x, b, true, used), ATOM);
+                    }
+                }
                 match (na, nb) {
                     (_, Some(y)) => {
                         let l = self.operand(a, chunk, SUM, used);
@@ -558,8 +701,14 @@ impl Renderer<'_> {
                 match op {
                     Unary::Neg => (quote!(-#x), SUM),
                     Unary::Recip => (quote!(1.0 / #x), PRODUCT),
-                    Unary::Sin => (quote!(#x.sin()), ATOM),
-                    Unary::Cos => (quote!(#x.cos()), ATOM),
+                    Unary::Sin => {
+                        let f = self.trig("sin_cos");
+                        (quote!(#f(#x).0), ATOM)
+                    }
+                    Unary::Cos => {
+                        let f = self.trig("sin_cos");
+                        (quote!(#f(#x).1), ATOM)
+                    }
                     Unary::Sqrt => (quote!(#x.sqrt()), ATOM),
                     Unary::Exp => (quote!(#x.exp()), ATOM),
                     Unary::Ln => (quote!(#x.ln()), ATOM),

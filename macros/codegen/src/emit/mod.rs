@@ -115,6 +115,8 @@ impl<'a> Methods<'a> {
     ) -> TokenStream {
         let sig = Signature {
             generic: self.generic,
+            // The kernels an explicit integrator calls at every stage.
+            fused: matches!(name, "forward_dynamics" | "mass_matrix"),
             vis: quote!(),
             elements: 0,
             name: format_ident!("{}", name),
@@ -577,6 +579,7 @@ fn frames_impl(model: &Model, k: &Kernels, stats: &mut Vec<FnStats>) -> (TokenSt
         let doc = format!(" World pose of frame `{}`.", f.name);
         let sig = Signature {
             generic: None,
+            fused: false,
             vis: quote!(),
             elements: 0,
             name: format_ident!("__filippov_frame_pose_{}", i),
@@ -599,6 +602,7 @@ fn frames_impl(model: &Model, k: &Kernels, stats: &mut Vec<FnStats>) -> (TokenSt
         );
         let sig = Signature {
             generic: None,
+            fused: false,
             vis: quote!(),
             elements: 0,
             name: format_ident!("__filippov_frame_jacobian_{}", i),

@@ -59,6 +59,7 @@ pub fn nonsmooth_impl(
                         let hname = format_ident!("__law_{}", i);
                         let sig = Signature {
                             generic: None,
+                            fused: false,
                             vis: quote!(),
                             elements: 0,
                             name: hname.clone(),
@@ -130,6 +131,7 @@ pub fn nonsmooth_impl(
     let inv_flat: Vec<_> = inv.iter().flatten().copied().collect();
     let sig = Signature {
             generic: None,
+            fused: false,
         vis: quote!(),
         elements: 0,
         name: format_ident!("inverse_mass_matrix"),
@@ -216,6 +218,7 @@ fn bearing_limits(
         .collect();
     let sig = Signature {
         generic: None,
+        fused: false,
         vis: quote!(),
         elements: 0,
         name: format_ident!("__bearing_limits"),
@@ -273,6 +276,7 @@ fn element_kernels(model: &Model, k: &Kernels, stats: &mut Vec<FnStats>) -> Toke
                    doc: String| {
         let sig = Signature {
             generic: None,
+            fused: false,
             vis: quote!(pub),
             elements: m,
             name: format_ident!("{}", name),

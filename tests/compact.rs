@@ -4,7 +4,9 @@
 //! its Jacobian (dual numbers through the loop against the symbolic Jacobian), the
 //! generic kernels on dual parameters and SIMD lanes, on a parametric oblique tree with
 //! springs and dampers and on URDF robots. `tests/random_trees.rs` checks compact trees
-//! against the numeric implementation too.
+//! against the numeric implementation too. The bit-for-bit comparisons are of the `f64`
+//! kernels' portable path; their fused multiply–add twins (`runtime::compact::fused`)
+//! are compared to rounding.
 
 // clippy's duplicated_attributes misreads repeated derive-helper attributes.
 #![allow(clippy::duplicated_attributes)]
@@ -16,6 +18,12 @@ use filippov::nalgebra::SVector;
 use filippov::prelude::*;
 use filippov::runtime::Dual;
 use filippov::runtime::kernels::GenericDynamics;
+
+/// The `f64` kernels' portable path for the rest of the run (the switch is global; the
+/// fused twins' test calls them directly).
+fn portable() {
+    filippov::runtime::numerics::fused::set_enabled(false);
+}
 
 /// Declares the same scene twice: compact, and unrolled by the articulated-body
 /// algorithm.
@@ -112,6 +120,7 @@ struct Ur5Unrolled;
 
 /// Forward dynamics and its Jacobian of two declarations of one scene at random states.
 fn agree<A: Mechanism<N>, B: Mechanism<N>, const N: usize>(a: &A, b: &B, seed: u64) {
+    portable();
     let mut rng = Rng::new(seed);
     for _ in 0..50 {
         let q: SVector<f64, N> = rng.vector(2.5);
@@ -150,6 +159,7 @@ fn urdf_robots_compact_equal_unrolled() {
 /// gravity) by duals through the compact loop against those through the unrolled code.
 #[test]
 fn parameter_sensitivities_compact_equal_unrolled() {
+    portable();
     let mut rng = Rng::new(4);
     let p = compact().parameters();
     assert_eq!(p, unrolled().parameters());
@@ -188,6 +198,7 @@ fn four_states(rng: &mut Rng) -> (Vec<[f64; 7]>, Vec<[f64; 7]>, Vec<[f64; 7]>) {
 /// bit for bit.
 #[test]
 fn lanes_are_the_scalar_compact_kernel_bit_for_bit() {
+    portable();
     use filippov::runtime::real::{f64x4, pack, unpack};
     let mut rng = Rng::new(5);
     for _ in 0..20 {
@@ -209,6 +220,7 @@ fn lanes_are_the_scalar_compact_kernel_bit_for_bit() {
 /// `f64` kernel bit for bit, on `f64x4` each lane the scalar kernel bit for bit.
 #[test]
 fn generic_jacobian_is_the_scalar_one_bit_for_bit() {
+    portable();
     use filippov::runtime::real::{f64x4, pack, unpack};
     let mut rng = Rng::new(6);
     let bits = |m: &filippov::nalgebra::SMatrix<f64, 7, 7>| -> Vec<u64> {
@@ -238,6 +250,7 @@ fn generic_jacobian_is_the_scalar_one_bit_for_bit() {
 /// and its lanes against the scalar loop bit for bit.
 #[test]
 fn compact_mass_matrix_equals_unrolled() {
+    portable();
     use filippov::runtime::real::{f64x4, pack, unpack};
     let mut rng = Rng::new(7);
     for _ in 0..50 {
@@ -268,4 +281,52 @@ fn compact_mass_matrix_equals_unrolled() {
             }
         }
     }
+}
+
+/// The fused multiply–add twins of the compact forward dynamics and mass matrix
+/// (`runtime::compact::fused`, what the `f64` kernels call where the processor has AVX2
+/// and FMA), called directly, against the portable loop on `f64`: the mass matrices
+/// within eight units in the last place of their largest entry, the accelerations
+/// within `4 ε κ max(1, |v̇|)`, `κ` the condition number of `M`.
+#[test]
+fn fused_twins_agree_with_the_portable_loops() {
+    use filippov::runtime::compact::fused;
+    if !filippov::runtime::numerics::fused::available() {
+        eprintln!("this processor has no AVX2 and FMA: no fused twins to compare");
+        return;
+    }
+    let mut rng = Rng::new(8);
+    let mut worst = (0.0f64, 0.0f64);
+    let (bodies, gravity) = &PandaCompact::__FILIPPOV_TABLE;
+    let nodes = &PandaCompact::__FILIPPOV_NODES;
+    for _ in 0..200 {
+        let q: [f64; 7] = rng.vector::<7>(2.5).into();
+        let v: [f64; 7] = rng.vector::<7>(3.0).into();
+        let tau: [f64; 7] = rng.vector::<7>(5.0).into();
+        // SAFETY: `available` says the processor has AVX2 and FMA.
+        let (a, m) = unsafe {
+            (
+                fused::forward_dynamics(nodes, bodies, *gravity, &q, &v, &tau),
+                fused::mass_matrix(nodes, bodies, &q),
+            )
+        };
+        let a0 = PandaCompact.forward_dynamics_as::<f64>(&q, &v, &tau);
+        let m0 = PandaCompact.mass_matrix_as::<f64>(&q);
+        let m0 = filippov::nalgebra::DMatrix::from_fn(7, 7, |i, j| m0[i][j]);
+        let eig = m0.clone().symmetric_eigenvalues();
+        let kappa = eig.amax() / eig.amin();
+        let scale = a0.iter().fold(1.0f64, |x, y| x.max(y.abs()));
+        let da = (0..7).fold(0.0f64, |x, i| x.max((a[i] - a0[i]).abs()));
+        let dm = (0..49).fold(0.0f64, |x, k| {
+            x.max((m[k / 7][k % 7] - m0[(k / 7, k % 7)]).abs())
+        });
+        worst.0 = worst.0.max(da / (f64::EPSILON * kappa * scale));
+        worst.1 = worst.1.max(dm / (f64::EPSILON * m0.amax()));
+    }
+    eprintln!(
+        "fused against portable: accelerations {:.2} ε κ, mass matrices {:.2} ε",
+        worst.0, worst.1
+    );
+    assert!(worst.0 <= 4.0, "accelerations differ by {} ε κ", worst.0);
+    assert!(worst.1 <= 8.0, "mass matrices differ by {} ε", worst.1);
 }

@@ -69,6 +69,13 @@ pub trait Real:
     fn sqrt(self) -> Self;
     fn exp(self) -> Self;
     fn ln(self) -> Self;
+    /// `self · a + b`: two roundings on every scalar here, one on the fused scalar of
+    /// the compact kernels' twins (`compact::fused`), which is what the spatial algebra
+    /// writes its sums of products with.
+    #[inline(always)]
+    fn mul_add(self, a: Self, b: Self) -> Self {
+        self * a + b
+    }
 }
 
 /// A primitive float: its own operations (`cst` rounds to the nearest value of the type),

@@ -3,7 +3,7 @@
 //! and bias terms outwards, articulated inertias inwards, accelerations outwards.
 //! Gravity is the world's acceleration `−γ`.
 
-use super::algebra::{Inertia, Spatial, add, cross};
+use super::algebra::{Inertia, Spatial, add, cross, scale, sub, sym_mul};
 use super::{Body, Joint, Node, placement};
 use crate::real::Real;
 
@@ -11,6 +11,9 @@ use crate::real::Real;
 /// children) under gravity `gravity` (world frame), `N` its coordinates.
 ///
 /// The work arrays live on the stack: no allocation.
+// Inlined into its callers, so that the fused twins (`fused`) compile it with their
+// target features.
+#[inline(always)]
 pub fn forward_dynamics<T: Real, const B: usize, const N: usize>(
     nodes: &[Node; B],
     bodies: &[Body<T>; B],
@@ -42,23 +45,29 @@ pub fn forward_dynamics<T: Real, const B: usize, const N: usize>(
             None => Spatial::zero(),
         };
         let mut ci = Spatial::zero();
+        // `x × (0, 0, s)`, its zeros not multiplied.
+        let cross_z = |x: [T; 3], s: T| [x[1] * s, -(x[0] * s), zero];
         match node.joint {
             Joint::Revolute(k) => {
-                let e = [zero, zero, v[k]];
                 vi.w[2] = vi.w[2] + v[k];
-                ci.w = cross(vi.w, e);
-                ci.l = cross(vi.l, e);
+                ci.w = cross_z(vi.w, v[k]);
+                ci.l = cross_z(vi.l, v[k]);
             }
             Joint::Prismatic(k) => {
-                let e = [zero, zero, v[k]];
                 vi.l[2] = vi.l[2] + v[k];
-                ci.l = cross(vi.w, e);
+                ci.l = cross_z(vi.w, v[k]);
             }
             Joint::Fixed => {}
         }
-        let inertia = Inertia::rigid(body.mass, body.first_moment, body.inertia);
-        bias[i] = vi.cross_force(inertia.apply(vi));
-        art[i] = inertia;
+        // The rigid body's momentum `I v = (Ī ω + h × v, m v − h × ω)`, without the
+        // zeros of its spatial inertia.
+        let h = body.first_moment;
+        let momentum = Spatial {
+            w: add(sym_mul(&body.inertia, vi.w), cross(h, vi.l)),
+            l: sub(scale(body.mass, vi.l), cross(h, vi.w)),
+        };
+        bias[i] = vi.cross_force(momentum);
+        art[i] = Inertia::rigid(body.mass, h, body.inertia);
         vel[i] = vi;
         bias_acc[i] = ci;
         rot[i] = r;

@@ -26,15 +26,15 @@ pub fn scale<T: Real>(k: T, a: V3<T>) -> V3<T> {
 
 #[inline(always)]
 pub fn dot<T: Real>(a: V3<T>, b: V3<T>) -> T {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    a[2].mul_add(b[2], a[1].mul_add(b[1], a[0] * b[0]))
 }
 
 #[inline(always)]
 pub fn cross<T: Real>(a: V3<T>, b: V3<T>) -> V3<T> {
     [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
+        a[1].mul_add(b[2], -(a[2] * b[1])),
+        a[2].mul_add(b[0], -(a[0] * b[2])),
+        a[0].mul_add(b[1], -(a[1] * b[0])),
     ]
 }
 
@@ -47,22 +47,16 @@ pub fn mul<T: Real>(r: &M3<T>, x: V3<T>) -> V3<T> {
 /// `Rᵀ x`.
 #[inline(always)]
 pub fn mul_t<T: Real>(r: &M3<T>, x: V3<T>) -> V3<T> {
-    [
-        r[0][0] * x[0] + r[1][0] * x[1] + r[2][0] * x[2],
-        r[0][1] * x[0] + r[1][1] * x[1] + r[2][1] * x[2],
-        r[0][2] * x[0] + r[1][2] * x[1] + r[2][2] * x[2],
-    ]
+    let col = |j: usize| dot([r[0][j], r[1][j], r[2][j]], x);
+    [col(0), col(1), col(2)]
 }
 
 /// `A B`.
 #[inline(always)]
 pub fn mat_mul<T: Real>(a: &M3<T>, b: &M3<T>) -> M3<T> {
     let row = |r: &[T; 3]| {
-        [
-            r[0] * b[0][0] + r[1] * b[1][0] + r[2] * b[2][0],
-            r[0] * b[0][1] + r[1] * b[1][1] + r[2] * b[2][1],
-            r[0] * b[0][2] + r[1] * b[1][2] + r[2] * b[2][2],
-        ]
+        let col = |j: usize| dot(*r, [b[0][j], b[1][j], b[2][j]]);
+        [col(0), col(1), col(2)]
     };
     [row(&a[0]), row(&a[1]), row(&a[2])]
 }
@@ -70,7 +64,13 @@ pub fn mat_mul<T: Real>(a: &M3<T>, b: &M3<T>) -> M3<T> {
 /// `C Rz(θ)` from `(sin θ, cos θ)`: the first two columns turn, the third stays.
 #[inline(always)]
 pub fn turn_z<T: Real>(c: &M3<T>, s: T, co: T) -> M3<T> {
-    let row = |r: [T; 3]| [r[0] * co + r[1] * s, r[1] * co - r[0] * s, r[2]];
+    let row = |r: [T; 3]| {
+        [
+            r[1].mul_add(s, r[0] * co),
+            r[1].mul_add(co, -(r[0] * s)),
+            r[2],
+        ]
+    };
     [row(c[0]), row(c[1]), row(c[2])]
 }
 
@@ -85,9 +85,9 @@ pub fn sym_full<T: Real>(s: &Sym<T>) -> M3<T> {
 #[inline(always)]
 pub fn sym_mul<T: Real>(s: &Sym<T>, x: V3<T>) -> V3<T> {
     [
-        s[0] * x[0] + s[3] * x[1] + s[4] * x[2],
-        s[3] * x[0] + s[1] * x[1] + s[5] * x[2],
-        s[4] * x[0] + s[5] * x[1] + s[2] * x[2],
+        dot([s[0], s[3], s[4]], x),
+        dot([s[3], s[1], s[5]], x),
+        dot([s[4], s[5], s[2]], x),
     ]
 }
 
@@ -227,20 +227,21 @@ impl<T: Real> Inertia<T> {
     pub fn minus_rank_one(&self, u: Spatial<T>, inv: T) -> Self {
         let uw = scale(inv, u.w);
         let ul = scale(inv, u.l);
+        // s − y x, as (−y) x + s (the same rounding unfused).
         let s = |s: &Sym<T>, x: V3<T>, y: V3<T>| {
             [
-                s[0] - y[0] * x[0],
-                s[1] - y[1] * x[1],
-                s[2] - y[2] * x[2],
-                s[3] - y[0] * x[1],
-                s[4] - y[0] * x[2],
-                s[5] - y[1] * x[2],
+                (-y[0]).mul_add(x[0], s[0]),
+                (-y[1]).mul_add(x[1], s[1]),
+                (-y[2]).mul_add(x[2], s[2]),
+                (-y[0]).mul_add(x[1], s[3]),
+                (-y[0]).mul_add(x[2], s[4]),
+                (-y[1]).mul_add(x[2], s[5]),
             ]
         };
         let mut b = self.b;
         for (i, row) in b.iter_mut().enumerate() {
             for (j, x) in row.iter_mut().enumerate() {
-                *x = *x - uw[i] * u.l[j];
+                *x = (-uw[i]).mul_add(u.l[j], *x);
             }
         }
         Inertia {

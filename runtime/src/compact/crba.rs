@@ -3,9 +3,7 @@
 //! then each joint's force `I_c S` and motion subspace `S` in the world frame, whose
 //! dot products are the entries of `M`.
 
-use super::algebra::{
-    M3, Spatial, Sym, V3, add, cross, dot, mat_mul, mul, scale, sym_mul, sym_rotate,
-};
+use super::algebra::{M3, Spatial, Sym, V3, add, cross, dot, mat_mul, mul, sym_rotate};
 use super::{Body, Joint, Node, placement};
 use crate::real::Real;
 
@@ -28,11 +26,16 @@ impl<T: Real> Rigid<T> {
         let ap = dot(a, p);
         let pp = dot(p, p);
         let two = T::cst(2.0);
-        let diag = two * ap + self.m * pp;
-        let e = |i: usize, j: usize| p[i] * a[j] + a[i] * p[j] + self.m * p[i] * p[j];
+        let diag = self.m.mul_add(pp, two * ap);
+        let e = |i: usize, j: usize| (self.m * p[i]).mul_add(p[j], a[i].mul_add(p[j], p[i] * a[j]));
+        let m = self.m;
         Rigid {
-            m: self.m,
-            h: add(a, scale(self.m, p)),
+            m,
+            h: [
+                m.mul_add(p[0], a[0]),
+                m.mul_add(p[1], a[1]),
+                m.mul_add(p[2], a[2]),
+            ],
             i: [
                 ri[0] - e(0, 0) + diag,
                 ri[1] - e(1, 1) + diag,
@@ -57,15 +60,17 @@ impl<T: Real> Rigid<T> {
     #[inline(always)]
     fn times_joint(&self, revolute: bool) -> Spatial<T> {
         let z = T::cst(0.0);
-        let e = [z, z, T::cst(1.0)];
+        let h = self.h;
         if revolute {
+            // (Ī e_z, e_z × h): Ī's third column.
             Spatial {
-                w: sym_mul(&self.i, e),
-                l: cross(e, self.h),
+                w: [self.i[4], self.i[5], self.i[2]],
+                l: [-h[1], h[0], z],
             }
         } else {
+            // (h × e_z, m e_z).
             Spatial {
-                w: cross(self.h, e),
+                w: [h[1], -h[0], z],
                 l: [z, z, self.m],
             }
         }
@@ -88,6 +93,9 @@ fn joint_part<T: Real>(f: &Spatial<T>, joint: Joint) -> Option<(usize, T)> {
 /// `F = I_c S` and every joint's motion subspace `S` are then written once in the world
 /// frame, so that each entry `M_ij = S_jᵀ F_i` is one independent six-term dot product
 /// instead of a force carried link by link towards the root.
+// Inlined into its callers, so that the fused twins (`fused`) compile it with their
+// target features.
+#[inline(always)]
 pub fn mass_matrix<T: Real, const B: usize, const N: usize>(
     nodes: &[Node; B],
     bodies: &[Body<T>; B],

@@ -16,11 +16,14 @@
 //! - [`algebra`]: 3-vectors, 3×3 blocks and articulated inertias on any [`Real`];
 //! - [`aba`]: forward dynamics by the articulated-body algorithm;
 //! - [`crba`]: the mass matrix by the composite-rigid-body algorithm;
-//! - [`jacobian`]: its Jacobian with respect to `(q, v)`, by dual numbers through it.
+//! - [`jacobian`]: its Jacobian with respect to `(q, v)`, by dual numbers through it;
+//! - [`fused`]: the forward dynamics and mass matrix on `f64` with fused multiply–adds,
+//!   for processors with AVX2 and FMA.
 
 pub mod aba;
 pub mod algebra;
 pub mod crba;
+pub mod fused;
 pub mod jacobian;
 
 use crate::real::Real;
@@ -61,6 +64,7 @@ pub struct Node {
 /// The body frame is `parent · Trans(translation) · Rot(rotation) · J(q)`, `J` the
 /// joint's motion along `z`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub struct Body<T> {
     /// The joint frame's axes in the parent's frame (columns), row-major.
     pub rotation: [[T; 3]; 3],

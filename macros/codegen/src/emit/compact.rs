@@ -214,6 +214,15 @@ pub fn compact_impl(
             #arrays
             let tau = #forces_f64;
             let (bodies, gravity) = &#table_f64;
+            #[cfg(target_arch = "x86_64")]
+            if ::filippov::runtime::numerics::fused::enabled() {
+                // SAFETY: `enabled` holds only where the processor has AVX2 and FMA.
+                return ::filippov::nalgebra::SVector::<f64, #n>::from(unsafe {
+                    ::filippov::runtime::compact::fused::forward_dynamics(
+                        &Self::__FILIPPOV_NODES, bodies, *gravity, &q, &v, &tau,
+                    )
+                });
+            }
             ::filippov::nalgebra::SVector::<f64, #n>::from(
                 ::filippov::runtime::compact::aba::forward_dynamics(
                     &Self::__FILIPPOV_NODES, bodies, *gravity, &q, &v, &tau,
@@ -288,8 +297,19 @@ pub fn compact_impl(
         fn mass_matrix(&self, q: &#vec_t) -> #mat_t {
             let q: [f64; #n] = (*q).into();
             let (bodies, _) = &#table_f64;
+            #[cfg(target_arch = "x86_64")]
+            if ::filippov::runtime::numerics::fused::enabled() {
+                // SAFETY: `enabled` holds only where the processor has AVX2 and FMA.
+                let m = unsafe {
+                    ::filippov::runtime::compact::fused::mass_matrix(&Self::__FILIPPOV_NODES, bodies, &q)
+                };
+                // Symmetric: its rows are its columns.
+                return ::filippov::nalgebra::SMatrix::<f64, #n, #n>::from_data(
+                    ::filippov::nalgebra::ArrayStorage(m),
+                );
+            }
             let m = ::filippov::runtime::compact::crba::mass_matrix(&Self::__FILIPPOV_NODES, bodies, &q);
-            ::filippov::nalgebra::SMatrix::<f64, #n, #n>::from_fn(|i, j| m[i][j])
+            ::filippov::nalgebra::SMatrix::<f64, #n, #n>::from_data(::filippov::nalgebra::ArrayStorage(m))
         }
     };
     let generic_mass = quote! {

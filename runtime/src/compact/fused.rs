@@ -1,0 +1,134 @@
+//! The compact kernels' fused multiply–add twins (`runtime::numerics::fused`).
+//!
+//! The loops of [`aba`](super::aba) and [`crba`](super::crba) write every sum of
+//! products of their spatial algebra with [`Real::mul_add`], which rounds twice on
+//! `f64`. Run on [`Fma`], an `f64` whose `mul_add` is the processor's fused
+//! multiply–add, inside functions compiled for AVX2 and FMA, the same loops take one
+//! instruction where they took two, and the joint angles' sines and cosines run four to
+//! a register. The derive calls these twins from a compact scene's `f64` forward
+//! dynamics and mass matrix where the processor has the features.
+
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+use super::{Body, Node, aba, crba};
+use crate::numerics::trig;
+use crate::real::Real;
+
+/// An `f64` whose [`Real::mul_add`] is fused (one rounding). Use it only in code
+/// compiled with the `fma` target feature, where `f64::mul_add` is one instruction
+/// (elsewhere it is a library call).
+#[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
+#[repr(transparent)]
+pub struct Fma(pub f64);
+
+macro_rules! binary {
+    ($tr:ident, $f:ident, $op:tt) => {
+        impl $tr for Fma {
+            type Output = Fma;
+            #[inline(always)]
+            fn $f(self, o: Fma) -> Fma {
+                Fma(self.0 $op o.0)
+            }
+        }
+    };
+}
+
+binary!(Add, add, +);
+binary!(Sub, sub, -);
+binary!(Mul, mul, *);
+binary!(Div, div, /);
+
+impl Neg for Fma {
+    type Output = Fma;
+    #[inline(always)]
+    fn neg(self) -> Fma {
+        Fma(-self.0)
+    }
+}
+
+impl Real for Fma {
+    #[inline(always)]
+    fn cst(x: f64) -> Self {
+        Fma(x)
+    }
+    #[inline(always)]
+    fn sin(self) -> Self {
+        Fma(trig::sin_cos_fused(self.0).0)
+    }
+    #[inline(always)]
+    fn cos(self) -> Self {
+        Fma(trig::sin_cos_fused(self.0).1)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        let (s, c) = trig::sin_cos_fused(self.0);
+        (Fma(s), Fma(c))
+    }
+    #[inline(always)]
+    fn sin_cos_n<const K: usize>(x: [Self; K]) -> ([Self; K], [Self; K]) {
+        let (s, c) = trig::sin_cos_n_fused(x.map(|x| x.0));
+        (s.map(Fma), c.map(Fma))
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        Fma(self.0.sqrt())
+    }
+    #[inline(always)]
+    fn exp(self) -> Self {
+        Fma(self.0.exp())
+    }
+    #[inline(always)]
+    fn ln(self) -> Self {
+        Fma(self.0.ln())
+    }
+    #[inline(always)]
+    fn mul_add(self, a: Self, b: Self) -> Self {
+        Fma(self.0.mul_add(a.0, b.0))
+    }
+}
+
+/// The table read as [`Fma`]s, without a copy.
+#[inline(always)]
+fn as_fused<const B: usize>(bodies: &[Body<f64>; B]) -> &[Body<Fma>; B] {
+    // SAFETY: `Fma` is `repr(transparent)` over `f64` and `Body` is `repr(C)`, so
+    // `Body<Fma>` has `Body<f64>`'s layout, and arrays of them alike.
+    unsafe { &*(bodies as *const [Body<f64>; B]).cast::<[Body<Fma>; B]>() }
+}
+
+/// [`aba::forward_dynamics`] on [`Fma`].
+///
+/// # Safety
+/// Only on a processor with AVX2 and FMA ([`crate::numerics::fused::available`]).
+#[target_feature(enable = "avx2,fma")]
+pub unsafe fn forward_dynamics<const B: usize, const N: usize>(
+    nodes: &[Node; B],
+    bodies: &[Body<f64>; B],
+    gravity: [f64; 3],
+    q: &[f64; N],
+    v: &[f64; N],
+    tau: &[f64; N],
+) -> [f64; N] {
+    let f = |x: &[f64; N]| x.map(Fma);
+    aba::forward_dynamics(
+        nodes,
+        as_fused(bodies),
+        gravity.map(Fma),
+        &f(q),
+        &f(v),
+        &f(tau),
+    )
+    .map(|x| x.0)
+}
+
+/// [`crba::mass_matrix`] on [`Fma`].
+///
+/// # Safety
+/// Only on a processor with AVX2 and FMA ([`crate::numerics::fused::available`]).
+#[target_feature(enable = "avx2,fma")]
+pub unsafe fn mass_matrix<const B: usize, const N: usize>(
+    nodes: &[Node; B],
+    bodies: &[Body<f64>; B],
+    q: &[f64; N],
+) -> [[f64; N]; N] {
+    crba::mass_matrix(nodes, as_fused(bodies), &q.map(Fma)).map(|r| r.map(|x| x.0))
+}

@@ -136,7 +136,7 @@ fn measure<S, const N: usize, const NQ: usize, const P: usize>(
     s: &S,
     rotations: &[(usize, usize)],
     fd64: impl Fn(&[f64; NQ], &[f64; N], &[f64; N]) -> [f64; N],
-    m64: impl Fn(&[f64; NQ]) -> [[f64; N]; N],
+    m64: impl Fn(&[f64; NQ]) -> SMatrix<f64, N, N>,
 ) -> Measured
 where
     S: GenericDynamics<N, NQ, P>,
@@ -228,10 +228,6 @@ where
     }
 }
 
-fn rows<const N: usize>(m: SMatrix<f64, N, N>) -> [[f64; N]; N] {
-    std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))
-}
-
 pub fn scalars(config: &Config) -> Section {
     let mut page = Page::empty();
     let mut summary = Vec::new();
@@ -249,7 +245,7 @@ pub fn scalars(config: &Config) -> Section {
                         Mechanism::forward_dynamics(&$s, &(*q).into(), &(*v).into(), &(*t).into())
                             .into()
                     },
-                    |q| rows(Mechanism::mass_matrix(&$s, &(*q).into())),
+                    |q| Mechanism::mass_matrix(&$s, &(*q).into()),
                 )
             };
         }
@@ -269,7 +265,7 @@ pub fn scalars(config: &Config) -> Section {
                         )
                         .into()
                     },
-                    |q| rows(LieMechanism::mass_matrix(&$s, &(*q).into())),
+                    |q| LieMechanism::mass_matrix(&$s, &(*q).into()),
                 )
             };
         }

@@ -1,6 +1,6 @@
 //! The compact kernels' fused multiply–add twins (`runtime::numerics::fused`).
 //!
-//! The loops of [`aba`](super::aba) and [`crba`](super::crba) write every sum of
+//! The loops of [`aba`] and [`crba`] write every sum of
 //! products of their spatial algebra with [`Real::mul_add`], which rounds twice on
 //! `f64`. Run on [`Fma`], an `f64` whose `mul_add` is the processor's fused
 //! multiply–add, inside functions compiled for AVX2 and FMA, the same loops take one

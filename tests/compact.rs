@@ -289,6 +289,7 @@ fn compact_mass_matrix_equals_unrolled() {
 /// within eight units in the last place of their largest entry, the accelerations
 /// within `4 ε κ max(1, |v̇|)`, `κ` the condition number of `M`.
 #[test]
+#[cfg(target_arch = "x86_64")]
 fn fused_twins_agree_with_the_portable_loops() {
     use filippov::runtime::compact::fused;
     if !filippov::runtime::numerics::fused::available() {

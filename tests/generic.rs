@@ -378,6 +378,7 @@ fn simd_lanes_are_the_scalar_kernel_bit_for_bit() {
 /// largest entry, the accelerations within the rounding that `M`'s condition number
 /// `κ` amplifies, `|Δv̇| ≤ 4 ε κ max(1, |v̇|)` (both measured far below).
 #[test]
+#[cfg(target_arch = "x86_64")]
 fn fused_twins_agree_with_the_portable_kernels() {
     if !filippov::runtime::numerics::fused::available() {
         eprintln!("this processor has no AVX2 and FMA: no fused twins to compare");

@@ -11,10 +11,24 @@ use crate::real::Real;
 /// children) under gravity `gravity` (world frame), `N` its coordinates.
 ///
 /// The work arrays live on the stack: no allocation.
-// Inlined into its callers, so that the fused twins (`fused`) compile it with their
-// target features.
-#[inline(always)]
+#[inline(never)]
 pub fn forward_dynamics<T: Real, const B: usize, const N: usize>(
+    nodes: &[Node; B],
+    bodies: &[Body<T>; B],
+    gravity: [T; 3],
+    q: &[T; N],
+    v: &[T; N],
+    tau: &[T; N],
+) -> [T; N] {
+    forward_dynamics_in(nodes, bodies, gravity, q, v, tau)
+}
+
+/// [`forward_dynamics`]'s body, inlined into its callers: the fused twins (`super::fused`)
+/// compile it with their target features. (The public function is never inlined: on
+/// wide duals its unoptimised frame is over a megabyte, and the Jacobian that calls it
+/// in a loop would otherwise carry it in its own.)
+#[inline(always)]
+pub(crate) fn forward_dynamics_in<T: Real, const B: usize, const N: usize>(
     nodes: &[Node; B],
     bodies: &[Body<T>; B],
     gravity: [T; 3],

@@ -24,9 +24,19 @@ pub fn scale<T: Real>(k: T, a: V3<T>) -> V3<T> {
     [k * a[0], k * a[1], k * a[2]]
 }
 
+/// `a₀ b₀ + a₁ b₁ + a₂ b₂` of six scalar expressions, summed in that order through
+/// `mul_add` (the same rounding as the plain sum where `mul_add` is unfused). A macro,
+/// not a function: unoptimised, every call would copy its arguments into the caller's
+/// frame, and the compact loops on wide duals have large frames already.
+macro_rules! dot3 {
+    ($a0:expr, $b0:expr, $a1:expr, $b1:expr, $a2:expr, $b2:expr) => {
+        $a2.mul_add($b2, $a1.mul_add($b1, $a0 * $b0))
+    };
+}
+
 #[inline(always)]
 pub fn dot<T: Real>(a: V3<T>, b: V3<T>) -> T {
-    a[2].mul_add(b[2], a[1].mul_add(b[1], a[0] * b[0]))
+    dot3!(a[0], b[0], a[1], b[1], a[2], b[2])
 }
 
 #[inline(always)]
@@ -41,24 +51,26 @@ pub fn cross<T: Real>(a: V3<T>, b: V3<T>) -> V3<T> {
 /// `R x`.
 #[inline(always)]
 pub fn mul<T: Real>(r: &M3<T>, x: V3<T>) -> V3<T> {
-    [dot(r[0], x), dot(r[1], x), dot(r[2], x)]
+    let row = |i: usize| dot3!(r[i][0], x[0], r[i][1], x[1], r[i][2], x[2]);
+    [row(0), row(1), row(2)]
 }
 
 /// `Rᵀ x`.
 #[inline(always)]
 pub fn mul_t<T: Real>(r: &M3<T>, x: V3<T>) -> V3<T> {
-    let col = |j: usize| dot([r[0][j], r[1][j], r[2][j]], x);
+    let col = |j: usize| dot3!(r[0][j], x[0], r[1][j], x[1], r[2][j], x[2]);
     [col(0), col(1), col(2)]
 }
 
 /// `A B`.
 #[inline(always)]
 pub fn mat_mul<T: Real>(a: &M3<T>, b: &M3<T>) -> M3<T> {
-    let row = |r: &[T; 3]| {
-        let col = |j: usize| dot(*r, [b[0][j], b[1][j], b[2][j]]);
-        [col(0), col(1), col(2)]
-    };
-    [row(&a[0]), row(&a[1]), row(&a[2])]
+    let e = |i: usize, j: usize| dot3!(a[i][0], b[0][j], a[i][1], b[1][j], a[i][2], b[2][j]);
+    [
+        [e(0, 0), e(0, 1), e(0, 2)],
+        [e(1, 0), e(1, 1), e(1, 2)],
+        [e(2, 0), e(2, 1), e(2, 2)],
+    ]
 }
 
 /// `C Rz(θ)` from `(sin θ, cos θ)`: the first two columns turn, the third stays.
@@ -85,9 +97,9 @@ pub fn sym_full<T: Real>(s: &Sym<T>) -> M3<T> {
 #[inline(always)]
 pub fn sym_mul<T: Real>(s: &Sym<T>, x: V3<T>) -> V3<T> {
     [
-        dot([s[0], s[3], s[4]], x),
-        dot([s[3], s[1], s[5]], x),
-        dot([s[4], s[5], s[2]], x),
+        dot3!(s[0], x[0], s[3], x[1], s[4], x[2]),
+        dot3!(s[3], x[0], s[1], x[1], s[5], x[2]),
+        dot3!(s[4], x[0], s[5], x[1], s[2], x[2]),
     ]
 }
 

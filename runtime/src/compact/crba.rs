@@ -93,10 +93,21 @@ fn joint_part<T: Real>(f: &Spatial<T>, joint: Joint) -> Option<(usize, T)> {
 /// `F = I_c S` and every joint's motion subspace `S` are then written once in the world
 /// frame, so that each entry `M_ij = S_jᵀ F_i` is one independent six-term dot product
 /// instead of a force carried link by link towards the root.
-// Inlined into its callers, so that the fused twins (`fused`) compile it with their
-// target features.
-#[inline(always)]
+#[inline(never)]
 pub fn mass_matrix<T: Real, const B: usize, const N: usize>(
+    nodes: &[Node; B],
+    bodies: &[Body<T>; B],
+    q: &[T; N],
+) -> [[T; N]; N] {
+    mass_matrix_in(nodes, bodies, q)
+}
+
+/// [`mass_matrix`]'s body, inlined into its callers: the fused twins (`super::fused`)
+/// compile it with their target features. (The public function is never inlined: on
+/// wide duals its unoptimised frame is over a megabyte, and the Jacobian that calls it
+/// in a loop would otherwise carry it in its own.)
+#[inline(always)]
+pub(crate) fn mass_matrix_in<T: Real, const B: usize, const N: usize>(
     nodes: &[Node; B],
     bodies: &[Body<T>; B],
     q: &[T; N],

@@ -6,10 +6,11 @@
 //! multiply–add, inside functions compiled for AVX2 and FMA, the same loops take one
 //! instruction where they took two, and the joint angles' sines and cosines run four to
 //! a register. The derive calls these twins from a compact scene's `f64` forward
-//! dynamics and mass matrix where the processor has the features.
+//! dynamics and mass matrix where the processor has the features (x86-64 only).
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
+#[cfg(target_arch = "x86_64")]
 use super::{Body, Node, aba, crba};
 use crate::numerics::trig;
 use crate::real::Real;
@@ -88,6 +89,7 @@ impl Real for Fma {
 }
 
 /// The table read as [`Fma`]s, without a copy.
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn as_fused<const B: usize>(bodies: &[Body<f64>; B]) -> &[Body<Fma>; B] {
     // SAFETY: `Fma` is `repr(transparent)` over `f64` and `Body` is `repr(C)`, so
@@ -99,6 +101,7 @@ fn as_fused<const B: usize>(bodies: &[Body<f64>; B]) -> &[Body<Fma>; B] {
 ///
 /// # Safety
 /// Only on a processor with AVX2 and FMA ([`crate::numerics::fused::available`]).
+#[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 pub unsafe fn forward_dynamics<const B: usize, const N: usize>(
     nodes: &[Node; B],
@@ -109,7 +112,7 @@ pub unsafe fn forward_dynamics<const B: usize, const N: usize>(
     tau: &[f64; N],
 ) -> [f64; N] {
     let f = |x: &[f64; N]| x.map(Fma);
-    aba::forward_dynamics(
+    aba::forward_dynamics_in(
         nodes,
         as_fused(bodies),
         gravity.map(Fma),
@@ -124,11 +127,12 @@ pub unsafe fn forward_dynamics<const B: usize, const N: usize>(
 ///
 /// # Safety
 /// Only on a processor with AVX2 and FMA ([`crate::numerics::fused::available`]).
+#[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 pub unsafe fn mass_matrix<const B: usize, const N: usize>(
     nodes: &[Node; B],
     bodies: &[Body<f64>; B],
     q: &[f64; N],
 ) -> [[f64; N]; N] {
-    crba::mass_matrix(nodes, as_fused(bodies), &q.map(Fma)).map(|r| r.map(|x| x.0))
+    crba::mass_matrix_in(nodes, as_fused(bodies), &q.map(Fma)).map(|r| r.map(|x| x.0))
 }

@@ -131,7 +131,10 @@ pub(crate) fn forward_dynamics_in<T: Real, const B: usize, const N: usize>(
             Joint::Fixed => (ia, bias[i]),
         };
         if let Some(pa) = nodes[i].parent {
-            let moved = ia_child.to_parent(&rot[i], pos[i]);
+            let moved = match nodes[i].joint {
+                Joint::Revolute(_) => ia_child.to_parent_revolute(&rot[i], pos[i]),
+                _ => ia_child.to_parent(&rot[i], pos[i]),
+            };
             art[pa].add_to(&moved);
             bias[pa] = bias[pa].plus(pa_child.force_to_parent(&rot[i], pos[i]));
         }

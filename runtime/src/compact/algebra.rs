@@ -265,11 +265,66 @@ impl<T: Real> Inertia<T> {
 
     /// The inertia in the parent's frame, `Xᵀ I X` (`R` the child's axes in the
     /// parent's frame, `p` its origin there).
-    #[inline(always)]
+    // Unoptimised (where debug assertions are on), out of line: inlined, the two
+    // variants' temporaries would share one frame of the loop, over a megabyte on wide
+    // duals. Optimised, always inlined, so that the fused twins compile it with FMA.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn to_parent(&self, r: &M3<T>, p: V3<T>) -> Self {
         let a = sym_rotate(r, &self.a);
         let b = rotate(r, &self.b);
         let c = sym_rotate(r, &self.c);
+        Self::shifted(a, b, c, p)
+    }
+
+    /// [`to_parent`](Self::to_parent) of the articulated inertia a revolute joint
+    /// passes on, `I^a = I^A − U Uᵀ / D`: its angular `z` row and column vanish
+    /// (`I^a S = 0`, `S = e_z`), so `A`'s third row and column and `B`'s third row are not
+    /// read, and the rotation of `A` and `B` takes two of `R`'s columns where it took
+    /// three (Featherstone, *Rigid Body Dynamics Algorithms*, §7.3).
+    // Unoptimised (where debug assertions are on), out of line: inlined, the two
+    // variants' temporaries would share one frame of the loop, over a megabyte on wide
+    // duals. Optimised, always inlined, so that the fused twins compile it with FMA.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn to_parent_revolute(&self, r: &M3<T>, p: V3<T>) -> Self {
+        let (a0, a1, a3) = (self.a[0], self.a[1], self.a[3]);
+        // Row i of R A: (R_i0 a0 + R_i1 a3, R_i0 a3 + R_i1 a1, 0).
+        let ra = |i: usize| {
+            [
+                r[i][1].mul_add(a3, r[i][0] * a0),
+                r[i][1].mul_add(a1, r[i][0] * a3),
+            ]
+        };
+        let (ra0, ra1, ra2) = (ra(0), ra(1), ra(2));
+        let ar = |x: [T; 2], j: usize| x[1].mul_add(r[j][1], x[0] * r[j][0]);
+        let a = [
+            ar(ra0, 0),
+            ar(ra1, 1),
+            ar(ra2, 2),
+            ar(ra0, 1),
+            ar(ra0, 2),
+            ar(ra1, 2),
+        ];
+        // Row i of R B: R_i0 B_0 + R_i1 B_1 (B's rows; its third is zero).
+        let b = &self.b;
+        let rb = |i: usize| -> V3<T> {
+            std::array::from_fn(|k| r[i][1].mul_add(b[1][k], r[i][0] * b[0][k]))
+        };
+        let (rb0, rb1, rb2) = (rb(0), rb(1), rb(2));
+        let b = [
+            [dot(rb0, r[0]), dot(rb0, r[1]), dot(rb0, r[2])],
+            [dot(rb1, r[0]), dot(rb1, r[1]), dot(rb1, r[2])],
+            [dot(rb2, r[0]), dot(rb2, r[1]), dot(rb2, r[2])],
+        ];
+        let c = sym_rotate(r, &self.c);
+        Self::shifted(a, b, c, p)
+    }
+
+    /// The blocks `a`, `b`, `c`, already rotated into the parent's axes, shifted by the
+    /// child's origin `p` there.
+    #[inline(always)]
+    fn shifted(a: Sym<T>, b: M3<T>, c: Sym<T>, p: V3<T>) -> Self {
         // Shift by p: B'' = B + p× C, A'' = A + p× Bᵀ + (p× B''ᵀ)ᵀ.
         let cf = sym_full(&c);
         let px = |x: V3<T>| cross(p, x);

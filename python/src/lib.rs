@@ -12,7 +12,8 @@
 //! shape `(n,)` or a batch of shape `(batch, n)`), `solve`, `solve_nonsmooth` and
 //! `integrator` and `ensemble`. The module also holds
 //! [`Solution`](solution::PySolution), [`Integrator`](integrator::PyIntegrator),
-//! [`Ensemble`](ensemble::PyEnsemble) and the exceptions ([`errors`]).
+//! [`Ensemble`](ensemble::PyEnsemble), the exceptions ([`errors`]) and
+//! `fused_kernels`, the switch for the kernels' fused multiply–add twins.
 //!
 //! * `arrays`: NumPy in and out, shapes checked against the scene's coordinates.
 //! * `options`: a run's options by name.
@@ -46,6 +47,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<integrator::PyIntegrator>()?;
     m.add_class::<ensemble::PyEnsemble>()?;
     m.add_function(pyo3::wrap_pyfunction!(ensemble::_rebuild_ensemble, m)?)?;
+    m.add_function(pyo3::wrap_pyfunction!(fused_kernels, m)?)?;
     m.add("FilippovError", py.get_type::<errors::FilippovError>())?;
     m.add("SolveError", py.get_type::<errors::SolveError>())?;
     m.add("ParameterError", py.get_type::<errors::ParameterError>())?;
@@ -53,6 +55,19 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
         adopt(m, name)?;
     }
     Ok(())
+}
+
+/// `fused_kernels(on=None)`: whether the scenes' forward dynamics and mass matrix run
+/// their fused multiply–add twins (on processors with AVX2 and FMA;
+/// `runtime::numerics::fused`). With `on`, turns them on (where the processor has them)
+/// or off for the whole process first: off, every machine gives the same bits.
+#[pyfunction]
+#[pyo3(signature = (on = None))]
+fn fused_kernels(on: Option<bool>) -> bool {
+    match on {
+        Some(on) => filippov_runtime::numerics::fused::set_enabled(on),
+        None => filippov_runtime::numerics::fused::enabled(),
+    }
 }
 
 /// Sets the class `name`'s `__module__` to `m`'s name.

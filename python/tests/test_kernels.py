@@ -94,3 +94,35 @@ def test_inputs_of_any_array_like_and_dtype():
     qs = np.array([[0.3, 9.0], [-0.2, 9.0]])
     assert same_bits(arm.mass_matrix(qs[:, 0]), a)
     assert same_bits(arm.mass_matrix(np.array([0, 1], dtype=np.int32)), arm.mass_matrix([0.0, 1.0]))
+
+
+def test_fused_kernels_switch_agrees_to_rounding():
+    """`fused_kernels(False)` puts the forward dynamics and mass matrix on their portable
+    path for the process and `fused_kernels()` reports it; the two paths agree to
+    rounding (bit for bit where the processor has no AVX2 and FMA). The switch is put
+    back as it was."""
+    rng = np.random.default_rng(11)
+    arm = filippov.Panda()
+    q = rng.uniform(-2.0, 2.0, (20, 7))
+    v = rng.uniform(-3.0, 3.0, (20, 7))
+    tau = rng.uniform(-5.0, 5.0, (20, 7))
+    was = filippov.fused_kernels()
+    try:
+        filippov.fused_kernels(True)
+        on = filippov.fused_kernels()
+        a1, m1 = arm.forward_dynamics(q, v, tau), arm.mass_matrix(q)
+        assert filippov.fused_kernels(False) is False
+        assert filippov.fused_kernels() is False
+        a0, m0 = arm.forward_dynamics(q, v, tau), arm.mass_matrix(q)
+    finally:
+        filippov.fused_kernels(was)
+    assert filippov.fused_kernels() == was
+    if not on:
+        assert same_bits(a1, a0) and same_bits(m1, m0)
+    for i in range(len(q)):
+        eig = np.linalg.eigvalsh(m0[i])
+        kappa = eig.max() / eig.min()
+        scale = max(1.0, np.abs(a0[i]).max())
+        eps = np.finfo(float).eps
+        assert np.abs(a1[i] - a0[i]).max() <= 4 * eps * kappa * scale
+        assert np.abs(m1[i] - m0[i]).max() <= 8 * eps * np.abs(m0[i]).max()

@@ -102,7 +102,7 @@ def test_fused_kernels_switch_agrees_to_rounding():
     rounding (bit for bit where the processor has no AVX2 and FMA). The switch is put
     back as it was."""
     rng = np.random.default_rng(11)
-    arm = filippov.Panda()
+    arm = filippov.Panda(g=9.81)
     q = rng.uniform(-2.0, 2.0, (20, 7))
     v = rng.uniform(-3.0, 3.0, (20, 7))
     tau = rng.uniform(-5.0, 5.0, (20, 7))

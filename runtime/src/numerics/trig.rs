@@ -3,8 +3,8 @@
 //! call ([`sin_cos_n`]) instead of one library call per joint.
 //!
 //! The standard library's `sin_cos` is a call into the C library per angle, which the
-//! compiler cannot vectorise: on the Panda's forward dynamics its six calls were a fifth
-//! of the kernel's time. Here the angle is reduced by `π/2` and the two polynomials of
+//! compiler cannot vectorise: on the Panda's forward dynamics its six calls were 14 % of
+//! the kernel's time in a default build and 22 % built for AVX2 and FMA (`perf record`). Here the angle is reduced by `π/2` and the two polynomials of
 //! the reduced angle are evaluated lane by lane with no branch and no call, so a batch
 //! of angles runs in SIMD registers (two per SSE2 register, four with AVX).
 //!

@@ -342,10 +342,8 @@ pub fn emit(
                 body.extend(if generic {
                     quote!(let ([#(#ss),*], [#(#cs),*]) = <T as #real>::sin_cos_n([#(#xs),*]);)
                 } else {
-                    {
-                        let f = r.trig("sin_cos_n");
-                        quote!(let ([#(#ss),*], [#(#cs),*]) = #f([#(#xs),*]);)
-                    }
+                    let f = r.trig("sin_cos_n");
+                    quote!(let ([#(#ss),*], [#(#cs),*]) = #f([#(#xs),*]);)
                 });
             }
             for it in its {
@@ -373,10 +371,8 @@ pub fn emit(
                         body.extend(if generic {
                             quote!(let (#ns, #nc) = #real::sin_cos(#e);)
                         } else {
-                            {
-                                let f = r.trig("sin_cos");
-                                quote!(let (#ns, #nc) = #f(#e);)
-                            }
+                            let f = r.trig("sin_cos");
+                            quote!(let (#ns, #nc) = #f(#e);)
                         });
                         vec![s, cs]
                     }
@@ -611,39 +607,30 @@ impl Renderer<'_> {
                 let na = neg(a).filter(|_| !self.bound[a.index()]);
                 let nb = neg(b).filter(|_| !self.bound[b.index()]);
                 if self.fused {
-                    let mulp = |x: Id| match g.node(x) {
-                        Node::Mul(p, q)
-                            if !self.bound[x.index()]
-                                && !matches!(g.node(p), Node::Unary(Unary::Recip, _))
-                                && !matches!(g.node(q), Node::Unary(Unary::Recip, _)) =>
-                        {
-                            Some((p, q))
+                    // A product written inline (not a name, no reciprocal in it) and the
+                    // other operand: `f64::mul_add(x, y, other)`, or with `−x` for a
+                    // subtracted product.
+                    let product = |x: Id| match g.node(x) {
+                        Node::Mul(p, q) if !self.bound[x.index()] => {
+                            let rec = |y: Id| matches!(g.node(y), Node::Unary(Unary::Recip, _));
+                            (!rec(p) && !rec(q)).then_some((p, q))
                         }
                         _ => None,
                     };
-                    let fused =
-                        |m: Id, other: Id, negate: bool, used: &mut BTreeSet<(InputKind, u16)>| {
-                            let (p, q) = mulp(m).expect("a product");
-                            let x = self.atom(p, chunk, used);
-                            let y = self.expr(q, chunk, used);
-                            let c = self.expr(other, chunk, used);
-                            if negate {
-                                quote!(f64::mul_add(-#x, #y, #c))
-                            } else {
-                                quote!(f64::mul_add(#x, #y, #c))
-                            }
-                        };
-                    if mulp(a).is_some() {
-                        return (fused(a, b, false, used), ATOM);
-                    }
-                    if mulp(b).is_some() {
-                        return (fused(b, a, false, used), ATOM);
-                    }
-                    if let Some(y) = nb.filter(|y| mulp(*y).is_some()) {
-                        return (fused(y, a, true, used), ATOM);
-                    }
-                    if let Some(x) = na.filter(|x| mulp(*x).is_some()) {
-                        return (fused(x, b, true, used), ATOM);
+                    let fusable = [
+                        (product(a), b, false),
+                        (product(b), a, false),
+                        (nb.and_then(product), a, true),
+                        (na.and_then(product), b, true),
+                    ];
+                    if let Some(&(Some((p, q)), other, negate)) =
+                        fusable.iter().find(|f| f.0.is_some())
+                    {
+                        let x = self.atom(p, chunk, used);
+                        let y = self.expr(q, chunk, used);
+                        let c = self.expr(other, chunk, used);
+                        let x = if negate { quote!(-#x) } else { x };
+                        return (quote!(f64::mul_add(#x, #y, #c)), ATOM);
                     }
                 }
                 match (na, nb) {

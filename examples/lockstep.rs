@@ -1,7 +1,7 @@
 //! An ensemble in lockstep: 1,000 runs of the Panda (from its URDF, every link mass
 //! drawn within ±10 %, random initial states) for one second, integrated together in the
-//! lanes that fill one SIMD register of the build (`runtime::real::F64Lanes`: two runs per
-//! `f64x2` on the baseline x86-64 target, four per `f64x4` with AVX) by
+//! lanes of `runtime::real::F64Lanes` (four runs per `f64x4` on x86-64, whose forward
+//! dynamics runs in one AVX2 register where the processor has AVX2 and FMA) by
 //! `runtime::lockstep`, beside the same integrator one run at a time on `f64` and beside
 //! the library's DOPRI5 (`solve`) — runs per second on one core, medians of five
 //! repetitions, and the largest difference between the end states.

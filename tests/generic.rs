@@ -438,3 +438,88 @@ fn fused_twins_agree_with_the_portable_kernels() {
     assert!(worst.0 <= 4.0, "accelerations differ by {} ε κ", worst.0);
     assert!(worst.1 <= 8.0, "mass matrices differ by {} ε", worst.1);
 }
+
+/// The generic kernels' twins, which the forward dynamics and mass matrix call on `f64x4`
+/// lanes where the processor has AVX2 and FMA (`runtime::numerics::fused_lanes`): each
+/// lane is the `f64` kernel's fused twin bit for bit, as the portable lanes are the
+/// portable kernel's. Called directly (the switch is off in this test binary).
+#[test]
+#[cfg(target_arch = "x86_64")]
+fn fused_lanes_are_the_fused_scalar_kernel_bit_for_bit() {
+    use filippov::runtime::Real;
+    use filippov::runtime::numerics::fused_lanes::F64x4;
+    use filippov::runtime::real::{Lanes, pack, unpack};
+    if !filippov::runtime::numerics::fused::available() {
+        eprintln!("this processor has no AVX2 and FMA: no fused twins to compare");
+        return;
+    }
+    fn lanes<S, const N: usize, const P: usize>(
+        s: &S,
+        rng: &mut Rng,
+        twins: impl Fn(
+            &[F64x4; P],
+            &[F64x4; N],
+            &[F64x4; N],
+            &[F64x4; N],
+        ) -> ([F64x4; N], [[F64x4; N]; N]),
+        scalar: impl Fn(&[f64; N], &[f64; N], &[f64; N]) -> (SVector<f64, N>, SMatrix<f64, N, N>),
+    ) where
+        S: GenericDynamics<N, N, P>,
+    {
+        let states: Vec<([f64; N], [f64; N], [f64; N])> = (0..4).map(|_| state::<N>(rng)).collect();
+        let take = |k: fn(&([f64; N], [f64; N], [f64; N])) -> [f64; N]| -> [F64x4; N] {
+            pack(&states.iter().map(k).collect::<Vec<_>>())
+        };
+        let p: [F64x4; P] = s.parameters().map(F64x4::cst);
+        let (a, m) = twins(&p, &take(|s| s.0), &take(|s| s.1), &take(|s| s.2));
+        for (l, (q, v, tau)) in states.iter().enumerate() {
+            let (sa, sm) = scalar(q, v, tau);
+            assert_eq!(
+                bits(&unpack(&a, 4)[l]),
+                bits(&sa.into()),
+                "accelerations, lane {l}"
+            );
+            let ml = SMatrix::<f64, N, N>::from_fn(|i, j| m[i][j].lane(l));
+            assert_eq!(matrix_bits(&ml), matrix_bits(&sm), "mass matrix, lane {l}");
+        }
+    }
+    let mut rng = Rng::new(43);
+    let panda = Panda::default();
+    for _ in 0..50 {
+        // SAFETY (all four calls): `available` says the processor has AVX2 and FMA.
+        lanes(
+            &panda,
+            &mut rng,
+            |p, q, v, t| unsafe {
+                (
+                    Panda::__forward_dynamics_generic_fused(p, q, v, t),
+                    Panda::__mass_matrix_generic_fused(p, q),
+                )
+            },
+            |q, v, t| unsafe {
+                let q = (*q).into();
+                (
+                    panda.__forward_dynamics_fused(&q, &(*v).into(), &(*t).into()),
+                    panda.__mass_matrix_fused(&q),
+                )
+            },
+        );
+        lanes(
+            &OBLIQUE,
+            &mut rng,
+            |p, q, v, t| unsafe {
+                (
+                    Oblique::__forward_dynamics_generic_fused(p, q, v, t),
+                    Oblique::__mass_matrix_generic_fused(p, q),
+                )
+            },
+            |q, v, t| unsafe {
+                let q = (*q).into();
+                (
+                    OBLIQUE.__forward_dynamics_fused(&q, &(*v).into(), &(*t).into()),
+                    OBLIQUE.__mass_matrix_fused(&q),
+                )
+            },
+        );
+    }
+}

@@ -41,8 +41,8 @@ struct Measured {
     /// Seconds per ensemble (median over rounds, fastest, slowest) of each way in that
     /// order; `None` if a way failed.
     times: Vec<Option<Timing>>,
-    /// The largest difference between the end states in the build's register-width
-    /// lanes ([`F64Lanes`]) and the library's, relative to max(|x|, 1).
+    /// The largest difference between the end states in the lanes the runtime
+    /// recommends ([`F64Lanes`]) and the library's, relative to max(|x|, 1).
     difference: f64,
     /// What the runs did (steps per run, switches), for the table.
     note: String,
@@ -61,8 +61,8 @@ fn once(job: impl FnOnce() -> bool) -> Option<Timing> {
     })
 }
 
-/// Of a result in `f64x2` lanes and one in `f64x4` lanes, the build's register
-/// width's ([`F64Lanes`]).
+/// Of a result in `f64x2` lanes and one in `f64x4` lanes, the one in the lanes the
+/// runtime recommends ([`F64Lanes`]).
 fn register_width<'a, T>(two: &'a T, four: &'a T) -> &'a T {
     if F64Lanes::LANES == 2 { two } else { four }
 }
@@ -290,8 +290,8 @@ pub fn ensembles(config: &Config) -> Section {
             nonsmooth(config),
         ),
     ];
-    // The build's register width (f64x2 on the baseline target, f64x4 with AVX): the
-    // headline's lanes.
+    // The lanes the runtime recommends (f64x4 on x86-64, f64x2 elsewhere without AVX):
+    // the headline's.
     let (own, width) = (*register_width(&1, &0), lanes_name());
     for (name, library, m) in &cases {
         let rate = |i: usize| m.times[i].map(|t| per_second(m.runs, &t));
@@ -326,7 +326,7 @@ pub fn ensembles(config: &Config) -> Section {
             ));
             headline(
                 format!(
-                    "Ensemble in lockstep ({width} lanes: the build's register width), {name}: runs per second on one core"
+                    "Ensemble in lockstep ({width} lanes, `F64Lanes`), {name}: runs per second on one core"
                 ),
                 format!("{} runs/s", l.show(0)),
                 format!("{} runs/s one at a time", s.show(0)),
@@ -344,8 +344,11 @@ pub fn ensembles(config: &Config) -> Section {
         "Many runs of one scene integrated together in SIMD lanes (four runs per call of the scene's generic \
          kernels in `f64x4`, two in `f64x2`), against the same driver one run at a time on `f64` and the \
          library's integrator per run, as runs per second on one core: median over interleaved rounds \
-         (min–max), each round one whole ensemble. This build's register holds `{width}` \
-         (`runtime::real::F64Lanes`); wider lanes run each operation as two halves. Smooth: the batch steps \
+         (min–max), each round one whole ensemble. The headline's lanes are `{width}` \
+         (`runtime::real::F64Lanes`): on x86-64 the forward dynamics and mass matrix on `f64x4` run their \
+         fused twins, four lanes to an AVX2 register, where the processor has AVX2 and FMA \
+         (`runtime::numerics::fused_lanes`); elsewhere lanes wider than the build's register run each \
+         operation as two halves. Smooth: the batch steps \
          by its worst lane's error (`lockstep`). Non-smooth: each lane's run keeps its own steps and element \
          solve and a lane whose run ends takes the next (`time_stepping_lockstep`); the lanes share the \
          forward dynamics with its Jacobian and the mass matrix. Difference: the largest difference between \

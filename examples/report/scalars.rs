@@ -27,7 +27,7 @@ pub struct Section {
 }
 
 /// A headline's robot: Pinocchio's ABA, ours one state per call, ours per state in
-/// [`F64Lanes`] (the build's register width).
+/// [`F64Lanes`] (the lanes the runtime recommends).
 type Head<'a> = (&'a str, Timing, Timing, Timing);
 
 /// Interleaved rounds of our timings and Pinocchio's.
@@ -282,7 +282,7 @@ pub fn scalars(config: &Config) -> Section {
             (Some(p), Some(o)) => p.ratio_to(o, 1),
             _ => "—".into(),
         };
-        // The build's register width: f64x2 on the baseline target, f64x4 with AVX.
+        // The lanes the runtime recommends: f64x4 on x86-64, f64x2 elsewhere without AVX.
         let own = if F64Lanes::LANES == 2 { 1 } else { 2 };
         let (aba, crba) = (&m.fd[5], &m.m[3]);
         table.push(vec![
@@ -335,7 +335,7 @@ pub fn scalars(config: &Config) -> Section {
         let list = |f: &dyn Fn(&Head) -> String| heads.iter().map(f).collect::<Vec<_>>().join("; ");
         super::markdown::headline(
             &format!(
-                "Forward dynamics per state in SIMD batches ({}, {} states per call: the build's register width) against Pinocchio's ABA in C++",
+                "Forward dynamics per state in SIMD batches ({}, {} states per call, `F64Lanes`) against Pinocchio's ABA in C++",
                 lanes_name(),
                 F64Lanes::LANES
             ),
@@ -354,9 +354,11 @@ pub fn scalars(config: &Config) -> Section {
          mass matrix (M) one `f64` state per call, and in SIMD batches of two and four states (`f64x2`, \
          `f64x4`) and, for FD, four and eight (`f32x4`, `f32x8`), as ns per state; Pinocchio's C++ `aba` and \
          `crba` on the model it built from the same file, timed beside ours in three interleaved rounds, with \
-         the ratios Pinocchio / ours (one state per call / per state in `{}`, the lanes that fill one register \
-         of this build's target, `runtime::real::F64Lanes`). Lanes wider than the register (`f64x4` and \
-         `f32x8` without AVX) run each operation as two halves. f32: the largest difference of the `f32` \
+         the ratios Pinocchio / ours (one state per call / per state in `{}`, the lanes the runtime \
+         recommends, `runtime::real::F64Lanes`). On `f64x4` the forward dynamics and mass matrix call \
+         their fused twins where the processor has AVX2 and FMA (`runtime::numerics::fused_lanes`): four \
+         states in one AVX2 register, in a default build. Other lanes wider than the build's register \
+         (`f32x8` without AVX; `f64x4` without the twins) run each operation as two halves. f32: the largest difference of the `f32` \
          accelerations from `f64` at the same eight states (rounded to `f32` first), over the largest \
          acceleration. Sensitivities: the derivative of v̇ along a random direction of (q, v) by dual numbers \
          (`Dual<1>`), against central differences (step ε^⅓) and against the complex step (h = 1e-100), the \
@@ -395,5 +397,95 @@ pub(super) fn lanes_name() -> &'static str {
         "f64x2"
     } else {
         "f64x4"
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Four states in `f64x4` lanes, lane by lane, against the `f64` kernels bit for bit
+    /// (forward dynamics and mass matrix). With the fused twins on (this binary leaves
+    /// them on; they are on where the processor has AVX2 and FMA) that compares the
+    /// lanes' twins with the `f64` twins, including the chunked twins of the free-base
+    /// robots' kernels, which are too long to be emitted whole; without them, the
+    /// portable kernels.
+    fn lanes_match<S, const N: usize, const NQ: usize, const P: usize>(
+        name: &str,
+        s: &S,
+        rotations: &[(usize, usize)],
+        fd64: impl Fn(&[f64; NQ], &[f64; N], &[f64; N]) -> [f64; N],
+        m64: impl Fn(&[f64; NQ]) -> SMatrix<f64, N, N>,
+    ) where
+        S: GenericDynamics<N, NQ, P>,
+    {
+        let mut rng = Rng::new(2033);
+        for _ in 0..5 {
+            let at = states::<N, NQ>(&mut rng, 4, rotations);
+            let q: [f64x4; NQ] = pack(&at.iter().map(|x| x.0).collect::<Vec<_>>());
+            let v: [f64x4; N] = pack(&at.iter().map(|x| x.1).collect::<Vec<_>>());
+            let t: [f64x4; N] = pack(&at.iter().map(|x| x.2).collect::<Vec<_>>());
+            let a = s.forward_dynamics_as(&q, &v, &t);
+            let m = s.mass_matrix_as(&q);
+            for (l, (q, v, t)) in at.iter().enumerate() {
+                let (sa, sm) = (fd64(q, v, t), m64(q));
+                for i in 0..N {
+                    assert_eq!(
+                        a[i].lane(l).to_bits(),
+                        sa[i].to_bits(),
+                        "{name}: v̇[{i}], lane {l}"
+                    );
+                    for j in 0..N {
+                        assert_eq!(
+                            m[i][j].lane(l).to_bits(),
+                            sm[(i, j)].to_bits(),
+                            "{name}: M[{i}][{j}], lane {l}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn f64x4_lanes_are_the_f64_kernels_bit_for_bit() {
+        macro_rules! tree {
+            ($s:ident, $n:literal) => {
+                lanes_match::<_, $n, $n, 0>(
+                    stringify!($s),
+                    &$s,
+                    &[],
+                    |q, v, t| {
+                        Mechanism::forward_dynamics(&$s, &(*q).into(), &(*v).into(), &(*t).into())
+                            .into()
+                    },
+                    |q| Mechanism::mass_matrix(&$s, &(*q).into()),
+                )
+            };
+        }
+        macro_rules! free {
+            ($s:ident, $n:literal, $nq:literal) => {
+                lanes_match::<_, $n, $nq, 0>(
+                    stringify!($s),
+                    &$s,
+                    <$s as LieMechanism<$n, $nq>>::ROTATIONS,
+                    |q, v, t| {
+                        LieMechanism::forward_dynamics(
+                            &$s,
+                            &(*q).into(),
+                            &(*v).into(),
+                            &(*t).into(),
+                        )
+                        .into()
+                    },
+                    |q| LieMechanism::mass_matrix(&$s, &(*q).into()),
+                )
+            };
+        }
+        tree!(PandaUrdf, 7);
+        tree!(Ur5, 6);
+        tree!(ThreeLinkArm, 3);
+        free!(Solo12, 18, 19);
+        free!(Humanoid, 35, 36);
     }
 }

@@ -1,7 +1,8 @@
 //! Ensembles in lockstep: independent runs of one scene (each with its own parameters
 //! and initial state) integrated together in the lanes of a SIMD batch
 //! ([`Lanes`]: `f64x4` holds four runs, `f64x2` two; [`F64Lanes`](crate::real::F64Lanes)
-//! is the width of one register of the build's target), every right-hand side one
+//! is the width to use: four on x86-64, where the kernels' fused twins run four lanes
+//! in one AVX2 register), every right-hand side one
 //! call of the scene's generic forward dynamics for all lanes at once.
 //!
 //! The lanes share one step: Dormand–Prince 5(4) with the step chosen by the worst

@@ -21,31 +21,37 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 /// structure-of-arrays, each coordinate a vector of lanes.
 pub use wide::{f32x4, f32x8, f64x2, f64x4};
 
-/// The `f64` lanes that fill one SIMD register of the build's target: [`f64x4`] where the
-/// target has AVX (for example `RUSTFLAGS="-C target-cpu=native"` on an AVX2 machine;
-/// this build), [`f64x2`] otherwise (a default x86-64 build has SSE2's 128-bit
-/// registers). Lanes wider than the register split every operation into halves and take
-/// two registers per value: on the Panda's forward dynamics in a default build, two
-/// states per `f64x2` call cost less per state than four per `f64x4` call (the report's
-/// section on scalars times both).
-#[cfg(target_feature = "avx")]
+/// The `f64` lanes to batch states in: [`f64x4`] where the build targets AVX (for
+/// example `RUSTFLAGS="-C target-cpu=native"` on an AVX2 machine), and on every x86-64
+/// build (this one), [`f64x2`] elsewhere.
+///
+/// A default x86-64 build targets SSE2's 128-bit registers, where `f64x4` runs each
+/// operation as two halves. But the forward dynamics and the mass matrix generic over
+/// their scalar recognise `f64x4` and call their fused twins, compiled for AVX2 and FMA,
+/// where the processor has them ([`numerics::fused_lanes`](crate::numerics::fused_lanes)):
+/// four states in one register. On a processor without them, `f64x4` costs a few
+/// percent more per state than `f64x2` would (the report's section on scalars times
+/// both).
+#[cfg(any(target_feature = "avx", target_arch = "x86_64"))]
 pub type F64Lanes = f64x4;
-/// The `f64` lanes that fill one SIMD register of the build's target: [`f64x4`] where the
-/// target has AVX, [`f64x2`] otherwise (this build).
-#[cfg(not(target_feature = "avx"))]
+/// The `f64` lanes to batch states in: [`f64x4`] where the build targets AVX and on
+/// x86-64, [`f64x2`] elsewhere (this build).
+#[cfg(not(any(target_feature = "avx", target_arch = "x86_64")))]
 pub type F64Lanes = f64x2;
 /// The `f32` lanes that fill one SIMD register of the build's target: [`f32x8`] with
-/// AVX (this build), [`f32x4`] otherwise (as [`F64Lanes`]).
+/// AVX (this build), [`f32x4`] otherwise (`f32` has no fused twins).
 #[cfg(target_feature = "avx")]
 pub type F32Lanes = f32x8;
 /// The `f32` lanes that fill one SIMD register of the build's target: [`f32x8`] with
-/// AVX, [`f32x4`] otherwise (this build; as [`F64Lanes`]).
+/// AVX, [`f32x4`] otherwise (this build; `f32` has no fused twins).
 #[cfg(not(target_feature = "avx"))]
 pub type F32Lanes = f32x4;
 
-/// A scalar the generated kernels run on.
+/// A scalar the generated kernels run on (`'static`: the generic kernels recognise
+/// [`f64x4`] by its type, to call their fused twins, `numerics::fused_lanes`).
 pub trait Real:
-    Copy
+    'static
+    + Copy
     + Add<Output = Self>
     + Sub<Output = Self>
     + Mul<Output = Self>

@@ -1,7 +1,8 @@
 //! Non-smooth ensembles in lockstep: many time-stepping runs of one scene (each with
 //! its own parameters, elements and initial state) whose kernels are evaluated together
 //! in the lanes of a SIMD batch ([`Lanes`]: `f64x4` holds four runs, `f64x2` two;
-//! [`F64Lanes`](crate::real::F64Lanes) is the width of one register of the build's target).
+//! [`F64Lanes`](crate::real::F64Lanes) is the width to use: four on x86-64, where the
+//! kernels' fused twins run four lanes in one AVX2 register).
 //!
 //! Each run is exactly a [`time_stepping`](super::time_stepping) run: its own grid, its
 //! own element solve (Gauss–Seidel on its Delassus operator), its own switch log and

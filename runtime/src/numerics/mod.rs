@@ -17,6 +17,7 @@ pub mod dense;
 pub(crate) mod eval;
 pub(crate) mod factor;
 pub mod fused;
+pub mod fused_lanes;
 pub mod lcp;
 pub(crate) mod lu;
 pub(crate) mod newton;

@@ -125,6 +125,29 @@ pub fn sin_cos_n_fused<const K: usize>(x: [f64; K]) -> ([f64; K], [f64; K]) {
     batch::<K, true>(x)
 }
 
+/// [`sin_cos_n_fused`] on a slice: `s[i], c[i] = sin x[i], cos x[i]`, for `x` as long
+/// as `s` and `c` (a loop the compiler vectorises whatever the length: the fused lanes'
+/// batches, `numerics::fused_lanes`). As there, only for code compiled with `fma`.
+///
+/// # Panics
+/// If `s` or `c` is shorter than `x`.
+#[inline(always)]
+pub fn sin_cos_slice_fused(x: &[f64], s: &mut [f64], c: &mut [f64]) {
+    let (s, c) = (&mut s[..x.len()], &mut c[..x.len()]);
+    for i in 0..x.len() {
+        (s[i], c[i]) = lane::<true>(x[i]);
+    }
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    let outside = |v: f64| !(v.abs() < LIMIT);
+    if x.iter().any(|&v| outside(v)) {
+        for i in 0..x.len() {
+            if outside(x[i]) {
+                (s[i], c[i]) = x[i].sin_cos();
+            }
+        }
+    }
+}
+
 /// `(sin x, cos x)` of one angle, by the same arithmetic as [`sin_cos_n`]'s lanes (so
 /// that a kernel taking its angles one at a time and one taking them in a batch agree
 /// bit for bit).

@@ -42,8 +42,10 @@ pub struct Signature {
     /// parameters an input `p: &[T; P]` (no `self`); `None`: a method on `f64`.
     pub generic: Option<usize>,
     /// Also emit a twin compiled for AVX2 and FMA, products fused into sums, which the
-    /// method calls when the processor has them (`runtime::numerics::fused`). Only for
-    /// `f64` methods emitted whole; what the integrators call most.
+    /// method calls when the processor has them (`runtime::numerics::fused`): on `f64`
+    /// for a method, on `F64x4` lanes (`runtime::numerics::fused_lanes`) for a function
+    /// generic over its scalar called on `f64x4`; a function split into chunks has
+    /// fused twins of its chunks. For what the integrators call most.
     pub fused: bool,
 }
 
@@ -317,18 +319,26 @@ pub fn emit(
     } else {
         Vec::new()
     };
-    // The fused twin of an `f64` function emitted whole (see `Signature::fused`).
-    let twin = sig.fused && !generic && nchunks == 1;
+    // The fused twin (see `Signature::fused`), with fused twins of its helper chunks.
+    let twin = sig.fused;
     let mut fused_body = TokenStream::new();
+    let mut fused_calls = TokenStream::new();
+    // The twins on lanes keep 32-byte values on their stack: they align their frames
+    // (`runtime::numerics::fused_lanes::align_frame`).
+    let align = if generic {
+        quote!(::filippov::runtime::numerics::fused_lanes::align_frame();)
+    } else {
+        quote!()
+    };
     for fused in [false, true] {
         if fused && !twin {
             break;
         }
         r.fused = fused;
-        let main_body = if fused {
-            &mut fused_body
+        let (main_body, calls) = if fused {
+            (&mut fused_body, &mut fused_calls)
         } else {
-            &mut main_body
+            (&mut main_body, &mut calls)
         };
         for (c, its) in chunk_items.iter().enumerate() {
             let mut used = BTreeSet::new();
@@ -391,6 +401,28 @@ pub fn emit(
                 let ret = assemble(outs);
                 let binds = bind_inputs(&used);
                 *main_body = quote!(#binds #body #ret);
+            } else if fused {
+                let hname = format_ident!("__{}_fused_part{}", sig.name, c);
+                let binds = bind_inputs(&used);
+                helpers.extend(quote! {
+                    /// A chunk of the fused twin.
+                    ///
+                    /// # Safety
+                    /// Only on a processor with AVX2 and FMA.
+                    #[cfg(target_arch = "x86_64")]
+                    #[doc(hidden)]
+                    #[inline(never)]
+                    #[target_feature(enable = "avx2,fma")]
+                    #[allow(clippy::all, unused_variables)]
+                    unsafe fn #hname #type_params(#receiver #(#args,)* t: &mut [#scalar; #nslots_lit]) {
+                        #align
+                        #binds
+                        #body
+                    }
+                });
+                // SAFETY: called from the twin, which runs only where the processor has
+                // AVX2 and FMA.
+                calls.extend(quote!(unsafe { #call #hname(#(#arg_names,)* &mut t) };));
             } else {
                 let hname = format_ident!("__{}_part{}", sig.name, c);
                 let binds = bind_inputs(&used);
@@ -413,7 +445,39 @@ pub fn emit(
         (true, true) => quote!(let mut t = [<T as #real>::cst(0.0); #nslots_lit];),
     };
     let (name, ret, doc, vis) = (&sig.name, &sig.ret, &sig.doc, &sig.vis);
-    let dispatch = if twin {
+    let dispatch = if twin && generic {
+        // On `f64x4` lanes, the twin on `F64x4` (`runtime::numerics::fused_lanes`).
+        let tname = format_ident!("__{}_fused", sig.name);
+        helpers.extend(quote! {
+            /// The fused multiply–add twin (`runtime::numerics::fused_lanes`).
+            ///
+            /// # Safety
+            /// Only on a processor with AVX2 and FMA.
+            #[cfg(target_arch = "x86_64")]
+            #[doc(hidden)]
+            #[target_feature(enable = "avx2,fma")]
+            #[allow(unused_variables, clippy::all)]
+            pub unsafe fn #tname #type_params(#(#args),*) -> #ret {
+                #align
+                #scratch
+                #fused_calls
+                #fused_body
+            }
+        });
+        let lanes = quote!(::filippov::runtime::numerics::fused_lanes);
+        quote! {
+            #[cfg(target_arch = "x86_64")]
+            if ::filippov::runtime::numerics::fused::enabled() {
+                // (No `let` chain: the user's crate may be of an edition before 2024.)
+                if let (#(Some(#arg_names),)*) = (#(#lanes::to_fused(#arg_names),)*) {
+                    // SAFETY: `enabled` holds only where the processor has AVX2 and FMA.
+                    #[allow(unused_unsafe)]
+                    let r = unsafe { Self::#tname::<#lanes::F64x4>(#(#arg_names),*) };
+                    return #lanes::from_fused::<#ret, _>(r);
+                }
+            }
+        }
+    } else if twin {
         let tname = format_ident!("__{}_fused", sig.name);
         helpers.extend(quote! {
             /// The fused multiply–add twin (`runtime::numerics::fused`).
@@ -425,6 +489,8 @@ pub fn emit(
             #[target_feature(enable = "avx2,fma")]
             #[allow(unused_variables, clippy::all)]
             pub unsafe fn #tname(&self, #(#args),*) -> #ret {
+                #scratch
+                #fused_calls
                 #fused_body
             }
         });
@@ -473,8 +539,9 @@ struct Renderer<'a> {
     params: &'a [Ident],
     /// Generic over `T: Real`: constants through `T::cst`, parameters from `p`.
     generic: bool,
-    /// The fused twin (`f64` only): each inline product feeding a sum as
-    /// `f64::mul_add`, sines and cosines by `trig`'s fused functions.
+    /// The fused twin: each inline product feeding a sum as `f64::mul_add` (or
+    /// `Real::mul_add` on the twin's lanes), sines and cosines by `trig`'s fused
+    /// functions (through the lanes' `Real` in a generic function).
     fused: bool,
     bound: &'a [bool],
     names: &'a [Option<Ident>],
@@ -630,7 +697,14 @@ impl Renderer<'_> {
                         let y = self.expr(q, chunk, used);
                         let c = self.expr(other, chunk, used);
                         let x = if negate { quote!(-#x) } else { x };
-                        return (quote!(f64::mul_add(#x, #y, #c)), ATOM);
+                        return if self.generic {
+                            (
+                                quote!(<T as ::filippov::runtime::Real>::mul_add(#x, #y, #c)),
+                                ATOM,
+                            )
+                        } else {
+                            (quote!(f64::mul_add(#x, #y, #c)), ATOM)
+                        };
                     }
                 }
                 match (na, nb) {

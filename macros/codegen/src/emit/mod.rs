@@ -116,7 +116,13 @@ impl<'a> Methods<'a> {
         let sig = Signature {
             generic: self.generic,
             // The kernels an explicit integrator calls at every stage.
-            fused: matches!(name, "forward_dynamics" | "mass_matrix"),
+            fused: matches!(
+                name,
+                "forward_dynamics"
+                    | "mass_matrix"
+                    | "forward_dynamics_generic"
+                    | "mass_matrix_generic"
+            ),
             vis: quote!(),
             elements: 0,
             name: format_ident!("{}", name),

@@ -173,6 +173,9 @@ fn thirty_six_joint_tree_expands() {
     let (mut max_whole, mut max_part) = (0usize, 0usize);
     for line in text.lines() {
         let t = line.trim_start();
+        // `fn`, `pub fn`, `unsafe fn` (the fused twins' chunks), `pub unsafe fn`.
+        let t = t.strip_prefix("pub ").unwrap_or(t);
+        let t = t.strip_prefix("unsafe ").unwrap_or(t);
         if t.starts_with("fn ") {
             lets = 0;
             part = t.contains("_part");

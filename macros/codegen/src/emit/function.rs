@@ -24,6 +24,11 @@ pub const WHOLE: usize = 1200;
 /// build of the user's crate: 63 s with chunks of 1,200, 53 s with 400, 46 s with 200
 /// and 47 s with 100, the kernels' run time unchanged.
 pub const CHUNK: usize = 200;
+/// A function with more lets than this gets no fused twin: the twin compiles the
+/// function a second time, and beyond this size the compile time it adds weighs more
+/// than the run time it saves (the humanoid's forward dynamics, about 3,000 lets, has
+/// one; the unrolled kernels of large trees, which `auto` makes compact anyway, do not).
+pub const TWIN_MAX: usize = 4 * WHOLE;
 /// Deepest expression written inline (operators nested), beyond which a `let` is bound.
 pub const MAX_INLINE_DEPTH: u32 = 32;
 
@@ -320,7 +325,7 @@ pub fn emit(
         Vec::new()
     };
     // The fused twin (see `Signature::fused`), with fused twins of its helper chunks.
-    let twin = sig.fused;
+    let twin = sig.fused && items.len() <= TWIN_MAX;
     let mut fused_body = TokenStream::new();
     let mut fused_calls = TokenStream::new();
     // The twins on lanes keep 32-byte values on their stack: they align their frames

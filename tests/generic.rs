@@ -33,9 +33,10 @@ fn state<const N: usize>(rng: &mut Rng) -> ([f64; N], [f64; N], [f64; N]) {
     (array(rng, 2.0), array(rng, 3.0), array(rng, 5.0))
 }
 
-/// The `f64` kernels' portable path for the rest of the run: their fused multiply–add
-/// twins round differently, and the generic kernels are always portable. (The switch is
-/// global; no test here needs it on, `fused_twins_…` calls the twins directly.)
+/// The kernels' portable path for the rest of the run: their fused multiply–add twins
+/// round differently, and the generic kernels on `f64` and most lanes are always
+/// portable. (The switch is global; no test here needs it on, `fused_…` call the twins
+/// directly.)
 fn portable() {
     filippov::runtime::numerics::fused::set_enabled(false);
 }

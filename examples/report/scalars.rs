@@ -228,6 +228,39 @@ where
     }
 }
 
+/// A fixed-base robot's `f64` forward dynamics and mass matrix on arrays.
+#[allow(clippy::type_complexity)]
+fn tree_kernels<S: Mechanism<N>, const N: usize>(
+    s: &S,
+) -> (
+    impl Fn(&[f64; N], &[f64; N], &[f64; N]) -> [f64; N] + '_,
+    impl Fn(&[f64; N]) -> SMatrix<f64, N, N> + '_,
+) {
+    (
+        move |q, v, t| {
+            s.forward_dynamics(&(*q).into(), &(*v).into(), &(*t).into())
+                .into()
+        },
+        move |q| s.mass_matrix(&(*q).into()),
+    )
+}
+
+/// A free-base robot's `f64` forward dynamics and mass matrix on arrays.
+#[allow(clippy::type_complexity)]
+fn free_kernels<S: LieMechanism<N, NQ>, const N: usize, const NQ: usize>(
+    s: &S,
+) -> (
+    impl Fn(&[f64; NQ], &[f64; N], &[f64; N]) -> [f64; N] + '_,
+    impl Fn(&[f64; NQ]) -> SMatrix<f64, N, N> + '_,
+) {
+    (
+        move |q, v, t| {
+            LieMechanism::forward_dynamics(s, &(*q).into(), &(*v).into(), &(*t).into()).into()
+        },
+        move |q| LieMechanism::mass_matrix(s, &(*q).into()),
+    )
+}
+
 pub fn scalars(config: &Config) -> Section {
     let mut page = Page::empty();
     let mut summary = Vec::new();
@@ -235,39 +268,17 @@ pub fn scalars(config: &Config) -> Section {
     let mut heads = Vec::new();
     for robot in &ROBOTS {
         macro_rules! tree {
-            ($s:ident, $n:literal) => {
-                measure::<_, $n, $n, 0>(
-                    config,
-                    robot.name,
-                    &$s,
-                    &[],
-                    |q, v, t| {
-                        Mechanism::forward_dynamics(&$s, &(*q).into(), &(*v).into(), &(*t).into())
-                            .into()
-                    },
-                    |q| Mechanism::mass_matrix(&$s, &(*q).into()),
-                )
-            };
+            ($s:ident, $n:literal) => {{
+                let (fd, m) = tree_kernels::<_, $n>(&$s);
+                measure::<_, $n, $n, 0>(config, robot.name, &$s, &[], fd, m)
+            }};
         }
         macro_rules! free {
-            ($s:ident, $n:literal, $nq:literal) => {
-                measure::<_, $n, $nq, 0>(
-                    config,
-                    robot.name,
-                    &$s,
-                    <$s as LieMechanism<$n, $nq>>::ROTATIONS,
-                    |q, v, t| {
-                        LieMechanism::forward_dynamics(
-                            &$s,
-                            &(*q).into(),
-                            &(*v).into(),
-                            &(*t).into(),
-                        )
-                        .into()
-                    },
-                    |q| LieMechanism::mass_matrix(&$s, &(*q).into()),
-                )
-            };
+            ($s:ident, $n:literal, $nq:literal) => {{
+                let (fd, m) = free_kernels::<_, $n, $nq>(&$s);
+                let rotations = <$s as LieMechanism<$n, $nq>>::ROTATIONS;
+                measure::<_, $n, $nq, 0>(config, robot.name, &$s, rotations, fd, m)
+            }};
         }
         let m = match robot.name {
             "panda" => tree!(PandaUrdf, 7),
@@ -450,37 +461,17 @@ mod tests {
     #[test]
     fn f64x4_lanes_are_the_f64_kernels_bit_for_bit() {
         macro_rules! tree {
-            ($s:ident, $n:literal) => {
-                lanes_match::<_, $n, $n, 0>(
-                    stringify!($s),
-                    &$s,
-                    &[],
-                    |q, v, t| {
-                        Mechanism::forward_dynamics(&$s, &(*q).into(), &(*v).into(), &(*t).into())
-                            .into()
-                    },
-                    |q| Mechanism::mass_matrix(&$s, &(*q).into()),
-                )
-            };
+            ($s:ident, $n:literal) => {{
+                let (fd, m) = tree_kernels::<_, $n>(&$s);
+                lanes_match::<_, $n, $n, 0>(stringify!($s), &$s, &[], fd, m)
+            }};
         }
         macro_rules! free {
-            ($s:ident, $n:literal, $nq:literal) => {
-                lanes_match::<_, $n, $nq, 0>(
-                    stringify!($s),
-                    &$s,
-                    <$s as LieMechanism<$n, $nq>>::ROTATIONS,
-                    |q, v, t| {
-                        LieMechanism::forward_dynamics(
-                            &$s,
-                            &(*q).into(),
-                            &(*v).into(),
-                            &(*t).into(),
-                        )
-                        .into()
-                    },
-                    |q| LieMechanism::mass_matrix(&$s, &(*q).into()),
-                )
-            };
+            ($s:ident, $n:literal, $nq:literal) => {{
+                let (fd, m) = free_kernels::<_, $n, $nq>(&$s);
+                let rotations = <$s as LieMechanism<$n, $nq>>::ROTATIONS;
+                lanes_match::<_, $n, $nq, 0>(stringify!($s), &$s, rotations, fd, m)
+            }};
         }
         tree!(PandaUrdf, 7);
         tree!(Ur5, 6);

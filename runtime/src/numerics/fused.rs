@@ -9,10 +9,14 @@
 //! [`enabled`] says the processor has both features (detected once, then one relaxed
 //! atomic load per call).
 //!
+//! The kernels generic over their scalar have twins too, which they call on `f64x4`
+//! lanes ([`fused_lanes`](super::fused_lanes)); a function too long to be emitted whole
+//! has twins of its chunks.
+//!
 //! The twin rounds differently: its results differ from the portable function's in the
 //! last bits (the tests bound by how much). Where runs must agree bit for bit across
-//! machines, or with the kernels generic over their scalar (which are always
-//! portable), turn it off with [`set_enabled`]`(false)`.
+//! machines, or with the generic kernels on scalars without twins (`f64`, `f64x2`,
+//! `f32`, duals), turn it off with [`set_enabled`]`(false)`.
 
 use std::sync::atomic::{AtomicU8, Ordering};
 

@@ -450,39 +450,9 @@ pub fn emit(
         (true, true) => quote!(let mut t = [<T as #real>::cst(0.0); #nslots_lit];),
     };
     let (name, ret, doc, vis) = (&sig.name, &sig.ret, &sig.doc, &sig.vis);
-    let dispatch = if twin && generic {
-        // On `f64x4` lanes, the twin on `F64x4` (`runtime::numerics::fused_lanes`).
-        let tname = format_ident!("__{}_fused", sig.name);
-        helpers.extend(quote! {
-            /// The fused multiply–add twin (`runtime::numerics::fused_lanes`).
-            ///
-            /// # Safety
-            /// Only on a processor with AVX2 and FMA.
-            #[cfg(target_arch = "x86_64")]
-            #[doc(hidden)]
-            #[target_feature(enable = "avx2,fma")]
-            #[allow(unused_variables, clippy::all)]
-            pub unsafe fn #tname #type_params(#(#args),*) -> #ret {
-                #align
-                #scratch
-                #fused_calls
-                #fused_body
-            }
-        });
-        let lanes = quote!(::filippov::runtime::numerics::fused_lanes);
-        quote! {
-            #[cfg(target_arch = "x86_64")]
-            if ::filippov::runtime::numerics::fused::enabled() {
-                // (No `let` chain: the user's crate may be of an edition before 2024.)
-                if let (#(Some(#arg_names),)*) = (#(#lanes::to_fused(#arg_names),)*) {
-                    // SAFETY: `enabled` holds only where the processor has AVX2 and FMA.
-                    #[allow(unused_unsafe)]
-                    let r = unsafe { Self::#tname::<#lanes::F64x4>(#(#arg_names),*) };
-                    return #lanes::from_fused::<#ret, _>(r);
-                }
-            }
-        }
-    } else if twin {
+    let dispatch = if twin {
+        // The twin: on `f64` a method, on lanes a function the generic kernel calls on
+        // `F64x4` (`runtime::numerics::fused_lanes`) when its scalar is `f64x4`.
         let tname = format_ident!("__{}_fused", sig.name);
         helpers.extend(quote! {
             /// The fused multiply–add twin (`runtime::numerics::fused`).
@@ -493,18 +463,35 @@ pub fn emit(
             #[doc(hidden)]
             #[target_feature(enable = "avx2,fma")]
             #[allow(unused_variables, clippy::all)]
-            pub unsafe fn #tname(&self, #(#args),*) -> #ret {
+            pub unsafe fn #tname #type_params(#receiver #(#args),*) -> #ret {
+                #align
                 #scratch
                 #fused_calls
                 #fused_body
             }
         });
-        quote! {
-            #[cfg(target_arch = "x86_64")]
-            if ::filippov::runtime::numerics::fused::enabled() {
-                // SAFETY: `enabled` holds only where the processor has AVX2 and FMA.
-                #[allow(unused_unsafe)]
-                return unsafe { self.#tname(#(#arg_names),*) };
+        if generic {
+            let lanes = quote!(::filippov::runtime::numerics::fused_lanes);
+            quote! {
+                #[cfg(target_arch = "x86_64")]
+                if ::filippov::runtime::numerics::fused::enabled() {
+                    // (No `let` chain: the user's crate may be of an edition before 2024.)
+                    if let (#(Some(#arg_names),)*) = (#(#lanes::to_fused(#arg_names),)*) {
+                        // SAFETY: `enabled` holds only where the processor has AVX2 and FMA.
+                        #[allow(unused_unsafe)]
+                        let r = unsafe { Self::#tname::<#lanes::F64x4>(#(#arg_names),*) };
+                        return #lanes::from_fused::<#ret, _>(r);
+                    }
+                }
+            }
+        } else {
+            quote! {
+                #[cfg(target_arch = "x86_64")]
+                if ::filippov::runtime::numerics::fused::enabled() {
+                    // SAFETY: `enabled` holds only where the processor has AVX2 and FMA.
+                    #[allow(unused_unsafe)]
+                    return unsafe { self.#tname(#(#arg_names),*) };
+                }
             }
         }
     } else {

@@ -26,7 +26,7 @@ pub const WHOLE: usize = 1200;
 pub const CHUNK: usize = 200;
 /// A function with more lets than this gets no fused twin: the twin compiles the
 /// function a second time, and beyond this size the compile time it adds weighs more
-/// than the run time it saves (the humanoid's forward dynamics, about 3,000 lets, has
+/// than the run time it saves (the humanoid's forward dynamics, ten chunks of up to 200 lets, has
 /// one; the unrolled kernels of large trees, which `auto` makes compact anyway, do not).
 pub const TWIN_MAX: usize = 4 * WHOLE;
 /// Deepest expression written inline (operators nested), beyond which a `let` is bound.

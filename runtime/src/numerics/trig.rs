@@ -4,9 +4,10 @@
 //!
 //! The standard library's `sin_cos` is a call into the C library per angle, which the
 //! compiler cannot vectorise: on the Panda's forward dynamics its six calls were 14 % of
-//! the kernel's time in a default build and 22 % built for AVX2 and FMA (`perf record`). Here the angle is reduced by `π/2` and the two polynomials of
-//! the reduced angle are evaluated lane by lane with no branch and no call, so a batch
-//! of angles runs in SIMD registers (two per SSE2 register, four with AVX).
+//! the kernel's time in a default build and 22 % built for AVX2 and FMA (`perf record`).
+//! Here the angle is reduced by `π/2` and the two polynomials of the reduced angle are
+//! evaluated lane by lane with no branch and no call, so a batch of angles runs in SIMD
+//! registers (two per SSE2 register, four with AVX).
 //!
 //! **Method.** `k = round(x · 2/π)` (by adding and subtracting `1.5 · 2⁵²`, which rounds
 //! to nearest without a library call), `r = x − k π/2` in three steps with `π/2` split
@@ -92,23 +93,35 @@ fn lane<const FUSED: bool>(x: f64) -> (f64, f64) {
     (s, c)
 }
 
+/// Each `x[i]`'s sine and cosine into `s[i]` and `c[i]`: one loop of [`lane`], which the
+/// compiler vectorises, then the standard library's answer for the angles outside its
+/// range. Every batch, of an array or of a slice, runs this.
+///
+/// # Panics
+/// If `s` or `c` is shorter than `x`.
 #[inline(always)]
-fn batch<const K: usize, const FUSED: bool>(x: [f64; K]) -> ([f64; K], [f64; K]) {
-    let mut s = [0.0; K];
-    let mut c = [0.0; K];
-    for i in 0..K {
+fn fill<const FUSED: bool>(x: &[f64], s: &mut [f64], c: &mut [f64]) {
+    let (s, c) = (&mut s[..x.len()], &mut c[..x.len()]);
+    for i in 0..x.len() {
         (s[i], c[i]) = lane::<FUSED>(x[i]);
     }
     // `!(|v| < LIMIT)`: also true for NaN, in one comparison.
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     let outside = |v: f64| !(v.abs() < LIMIT);
     if x.iter().any(|&v| outside(v)) {
-        for i in 0..K {
+        for i in 0..x.len() {
             if outside(x[i]) {
                 (s[i], c[i]) = x[i].sin_cos();
             }
         }
     }
+}
+
+#[inline(always)]
+fn batch<const K: usize, const FUSED: bool>(x: [f64; K]) -> ([f64; K], [f64; K]) {
+    let mut s = [0.0; K];
+    let mut c = [0.0; K];
+    fill::<FUSED>(&x, &mut s, &mut c);
     (s, c)
 }
 
@@ -133,19 +146,7 @@ pub fn sin_cos_n_fused<const K: usize>(x: [f64; K]) -> ([f64; K], [f64; K]) {
 /// If `s` or `c` is shorter than `x`.
 #[inline(always)]
 pub fn sin_cos_slice_fused(x: &[f64], s: &mut [f64], c: &mut [f64]) {
-    let (s, c) = (&mut s[..x.len()], &mut c[..x.len()]);
-    for i in 0..x.len() {
-        (s[i], c[i]) = lane::<true>(x[i]);
-    }
-    #[allow(clippy::neg_cmp_op_on_partial_ord)]
-    let outside = |v: f64| !(v.abs() < LIMIT);
-    if x.iter().any(|&v| outside(v)) {
-        for i in 0..x.len() {
-            if outside(x[i]) {
-                (s[i], c[i]) = x[i].sin_cos();
-            }
-        }
-    }
+    fill::<true>(x, s, c);
 }
 
 /// `(sin x, cos x)` of one angle, by the same arithmetic as [`sin_cos_n`]'s lanes (so

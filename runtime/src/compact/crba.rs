@@ -4,7 +4,7 @@
 //! dot products are the entries of `M`.
 
 use super::algebra::{M3, Spatial, Sym, V3, add, cross, dot, mat_mul, mul, sym_rotate};
-use super::{Body, Joint, Node, placement};
+use super::{Body, Joint, Node, Pair, placement};
 use crate::real::Real;
 
 /// A rigid body's inertia `(m, h, Ī)`: mass, first moment, rotational inertia about the
@@ -87,7 +87,8 @@ fn joint_part<T: Real>(f: &Spatial<T>, joint: Joint) -> Option<(usize, T)> {
     }
 }
 
-/// `M(q)` of the tree `nodes`/`bodies` (parents before children), an array of rows.
+/// `M(q)` of the tree `nodes`/`bodies` (parents before children), an array of rows;
+/// `pairs` the tree's [`pairs`](super::pairs).
 ///
 /// Composite inertias are summed inwards in the bodies' own frames; each joint's force
 /// `F = I_c S` and every joint's motion subspace `S` are then written once in the world
@@ -96,93 +97,106 @@ fn joint_part<T: Real>(f: &Spatial<T>, joint: Joint) -> Option<(usize, T)> {
 #[inline(never)]
 pub fn mass_matrix<T: Real, const B: usize, const N: usize>(
     nodes: &[Node; B],
+    pairs: &[Pair],
     bodies: &[Body<T>; B],
     q: &[T; N],
 ) -> [[T; N]; N] {
-    mass_matrix_in(nodes, bodies, q)
+    let mut m = [[T::cst(0.0); N]; N];
+    mass_matrix_in(nodes, pairs, bodies, q, &mut m);
+    m
 }
 
-/// [`mass_matrix`]'s body, inlined into its callers: the fused twins (`super::fused`)
-/// compile it with their target features. (The public function is never inlined: on
-/// wide duals its unoptimised frame is over a megabyte, and the Jacobian that calls it
-/// in a loop would otherwise carry it in its own.)
+/// [`mass_matrix`] written into `m`, which must be zero on entry: the entries of two
+/// joints on different branches of the tree are not written. (A caller's matrix is
+/// filled in place, without a copy of its `N²` entries.)
+#[inline(never)]
+pub fn mass_matrix_into<T: Real, const B: usize, const N: usize>(
+    nodes: &[Node; B],
+    pairs: &[Pair],
+    bodies: &[Body<T>; B],
+    q: &[T; N],
+    m: &mut [[T; N]; N],
+) {
+    mass_matrix_in(nodes, pairs, bodies, q, m)
+}
+
+/// [`mass_matrix_into`]'s body, inlined into its callers: the fused twins
+/// (`super::fused`) compile it with their target features. (The public functions are
+/// never inlined: on wide duals the unoptimised frame is over a megabyte, and the
+/// Jacobian that calls it in a loop would otherwise carry it in its own.)
 #[inline(always)]
 pub(crate) fn mass_matrix_in<T: Real, const B: usize, const N: usize>(
     nodes: &[Node; B],
+    pairs: &[Pair],
     bodies: &[Body<T>; B],
     q: &[T; N],
-) -> [[T; N]; N] {
+    m: &mut [[T; N]; N],
+) {
     let zero = T::cst(0.0);
     let mut rot = [[[zero; 3]; 3]; B];
     let mut pos = [[zero; 3]; B];
+    let mut world_rot = [[[zero; 3]; 3]; B];
+    let mut world_pos = [[zero; 3]; B];
     let mut composite: [Rigid<T>; B] = std::array::from_fn(|i| Rigid {
         m: bodies[i].mass,
         h: bodies[i].first_moment,
         i: bodies[i].inertia,
     });
+    // Per coordinate: its joint's motion subspace and composite force in the world.
+    let mut subspace = [Spatial::zero(); N];
+    let mut force = [Spatial::zero(); N];
+    // Outwards: each body's placement on its parent, its axes and origin in the world,
+    // and its joint's motion subspace there.
     let trig = T::sin_cos_n(*q);
     for i in 0..B {
         let (r, p) = placement(&bodies[i], nodes[i].joint, q, &trig);
         rot[i] = r;
         pos[i] = p;
+        let (w, o) = match nodes[i].parent {
+            Some(pa) => (
+                mat_mul(&world_rot[pa], &r),
+                add(world_pos[pa], mul(&world_rot[pa], p)),
+            ),
+            None => (r, p),
+        };
+        world_rot[i] = w;
+        world_pos[i] = o;
+        let z = [w[0][2], w[1][2], w[2][2]];
+        match nodes[i].joint {
+            Joint::Revolute(k) => {
+                subspace[k] = Spatial {
+                    w: z,
+                    l: cross(o, z),
+                }
+            }
+            Joint::Prismatic(k) => subspace[k] = Spatial { w: [zero; 3], l: z },
+            Joint::Fixed => {}
+        }
     }
+    // Inwards: a body's composite inertia is whole once the loop reaches it (its
+    // children come after it), so its joint's force `I_c S` is taken there — the
+    // diagonal from it in the body's frame, and the force in the world for the rest —
+    // before the composite is carried to the parent.
     for i in (0..B).rev() {
+        let joint = nodes[i].joint;
+        if let Some(ci) = joint.coordinate() {
+            let revolute = matches!(joint, Joint::Revolute(_));
+            let f = composite[i].times_joint(revolute);
+            if let Some((_, d)) = joint_part(&f, joint) {
+                m[ci][ci] = d;
+            }
+            force[ci] = f.force_to_parent(&world_rot[i], world_pos[i]);
+        }
         if let Some(pa) = nodes[i].parent {
             let moved = composite[i].in_parent(&rot[i], pos[i]);
             composite[pa] = composite[pa].plus(&moved);
         }
     }
-    // Outwards: each body's axes and origin in the world, its joint's motion subspace
-    // and its composite force there, the diagonal from the force in the body's frame.
-    let mut world_rot = [[[zero; 3]; 3]; B];
-    let mut world_pos = [[zero; 3]; B];
-    let mut subspace = [Spatial::zero(); B];
-    let mut force = [Spatial::zero(); B];
-    let mut m = [[zero; N]; N];
-    for i in 0..B {
-        let (w, o) = match nodes[i].parent {
-            Some(pa) => (
-                mat_mul(&world_rot[pa], &rot[i]),
-                add(world_pos[pa], mul(&world_rot[pa], pos[i])),
-            ),
-            None => (rot[i], pos[i]),
-        };
-        world_rot[i] = w;
-        world_pos[i] = o;
-        let joint = nodes[i].joint;
-        let Some(ci) = joint.coordinate() else {
-            continue;
-        };
-        let revolute = matches!(joint, Joint::Revolute(_));
-        let f = composite[i].times_joint(revolute);
-        if let Some((_, d)) = joint_part(&f, joint) {
-            m[ci][ci] = d;
-        }
-        force[i] = f.force_to_parent(&w, o);
-        let z = [w[0][2], w[1][2], w[2][2]];
-        subspace[i] = if revolute {
-            Spatial {
-                w: z,
-                l: cross(o, z),
-            }
-        } else {
-            Spatial { w: [zero; 3], l: z }
-        };
+    // Off the diagonal: one dot product per pair, from the constant table.
+    for pair in pairs {
+        let (ci, cj) = (pair.row as usize, pair.col as usize);
+        let x = subspace[cj].dot(force[ci]);
+        m[ci][cj] = x;
+        m[cj][ci] = x;
     }
-    for i in 0..B {
-        let Some(ci) = nodes[i].joint.coordinate() else {
-            continue;
-        };
-        let f = force[i];
-        let mut j = i;
-        while let Some(pa) = nodes[j].parent {
-            j = pa;
-            if let Some(cj) = nodes[j].joint.coordinate() {
-                let x = subspace[j].dot(f);
-                m[ci][cj] = x;
-                m[cj][ci] = x;
-            }
-        }
-    }
-    m
 }

@@ -11,7 +11,7 @@
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 #[cfg(target_arch = "x86_64")]
-use super::{Body, Node, aba, crba};
+use super::{Body, Node, Pair, aba, crba};
 use crate::numerics::trig;
 use crate::real::Real;
 
@@ -123,7 +123,8 @@ pub unsafe fn forward_dynamics<const B: usize, const N: usize>(
     .map(|x| x.0)
 }
 
-/// [`crba::mass_matrix`] on [`Fma`].
+/// [`crba::mass_matrix_into`] on [`Fma`]: written into `m`, which must be zero on entry
+/// (the entries of two joints on different branches are not written).
 ///
 /// # Safety
 /// Only on a processor with AVX2 and FMA ([`crate::numerics::fused::available`]).
@@ -131,8 +132,13 @@ pub unsafe fn forward_dynamics<const B: usize, const N: usize>(
 #[target_feature(enable = "avx2,fma")]
 pub unsafe fn mass_matrix<const B: usize, const N: usize>(
     nodes: &[Node; B],
+    pairs: &[Pair],
     bodies: &[Body<f64>; B],
     q: &[f64; N],
-) -> [[f64; N]; N] {
-    crba::mass_matrix_in(nodes, as_fused(bodies), &q.map(Fma)).map(|r| r.map(|x| x.0))
+    m: &mut [[f64; N]; N],
+) {
+    // SAFETY: `Fma` is `repr(transparent)` over `f64`, so arrays of them have the same
+    // layout, and every `f64` is a valid `Fma`.
+    let m = unsafe { &mut *(m as *mut [[f64; N]; N]).cast::<[[Fma; N]; N]>() };
+    crba::mass_matrix_in(nodes, pairs, as_fused(bodies), &q.map(Fma), m)
 }

@@ -42,7 +42,7 @@ pub enum Joint {
 
 impl Joint {
     /// The joint's coordinate (`None` for a fixed joint).
-    pub fn coordinate(self) -> Option<usize> {
+    pub const fn coordinate(self) -> Option<usize> {
         match self {
             Joint::Revolute(k) | Joint::Prismatic(k) => Some(k),
             Joint::Fixed => None,
@@ -97,6 +97,57 @@ impl Body<f64> {
     }
 }
 
+/// An entry `M[row][col]` off the mass matrix's diagonal that a tree can make nonzero:
+/// `col` the coordinate of a joint between `row`'s joint and the root (and `M[col][row]`
+/// its mirror). The entries of two joints on different branches are zero.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Pair {
+    pub row: u32,
+    pub col: u32,
+}
+
+/// How many [`Pair`]s the tree `nodes` has: over its joints, the jointed bodies between
+/// each and the root.
+pub const fn pair_count<const B: usize>(nodes: &[Node; B]) -> usize {
+    fill_pairs(nodes, &mut [])
+}
+
+/// The [`Pair`]s of the tree `nodes`, body by body and each body's from its parent
+/// towards the root: the constant table that lets the mass matrix's off-diagonal loop
+/// run without walking the tree. `P` must be [`pair_count`]: evaluated in a `const`, a
+/// wrong `P` is a compile error.
+pub const fn pairs<const B: usize, const P: usize>(nodes: &[Node; B]) -> [Pair; P] {
+    let mut out = [Pair { row: 0, col: 0 }; P];
+    let n = fill_pairs(nodes, &mut out);
+    assert!(n == P, "`P` must be `pair_count(nodes)`");
+    out
+}
+
+/// Writes the tree's pairs into `out` as far as it reaches; returns how many there are.
+const fn fill_pairs<const B: usize>(nodes: &[Node; B], out: &mut [Pair]) -> usize {
+    let mut n = 0;
+    let mut i = 0;
+    while i < B {
+        if let Some(ci) = nodes[i].joint.coordinate() {
+            let mut j = i;
+            while let Some(pa) = nodes[j].parent {
+                j = pa;
+                if let Some(cj) = nodes[j].joint.coordinate() {
+                    if n < out.len() {
+                        out[n] = Pair {
+                            row: ci as u32,
+                            col: cj as u32,
+                        };
+                    }
+                    n += 1;
+                }
+            }
+        }
+        i += 1;
+    }
+    n
+}
+
 /// A body's transform from its parent: its axes `R` in the parent's frame and its
 /// origin `p` there. `trig` holds `(sin q, cos q)` of every coordinate
 /// ([`Real::sin_cos_n`], taken once per call of a kernel).
@@ -121,5 +172,106 @@ pub fn placement<T: Real, const N: usize>(
             )
         }
         Joint::Fixed => (body.rotation, body.translation),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Joint, Node, Pair, fill_pairs, pair_count, pairs};
+    use std::collections::BTreeSet;
+
+    /// A random tree of `B` bodies, parents before children, some joints fixed, the
+    /// coordinates numbered in a shuffled order.
+    fn tree<const B: usize>(seed: u64) -> [Node; B] {
+        let mut s = seed;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        let kinds: Vec<u64> = (0..B).map(|_| next() % 5).collect();
+        let jointed = kinds.iter().filter(|&&k| k != 0).count();
+        let mut coords: Vec<usize> = (0..jointed).collect();
+        for i in (1..jointed).rev() {
+            coords.swap(i, (next() % (i as u64 + 1)) as usize);
+        }
+        let mut c = coords.into_iter();
+        std::array::from_fn(|i| Node {
+            parent: if i == 0 || next() % 7 == 0 {
+                None
+            } else {
+                Some((next() % i as u64) as usize)
+            },
+            joint: match kinds[i] {
+                0 => Joint::Fixed,
+                1 => Joint::Prismatic(c.next().unwrap()),
+                _ => Joint::Revolute(c.next().unwrap()),
+            },
+        })
+    }
+
+    /// The pairs from each body's set of ancestors, built outwards (a different route
+    /// from `pairs`' walk towards the root).
+    fn by_ancestor_sets<const B: usize>(nodes: &[Node; B]) -> BTreeSet<(usize, usize)> {
+        let mut ancestors: Vec<BTreeSet<usize>> = Vec::new();
+        for n in nodes {
+            let mut a = BTreeSet::new();
+            if let Some(p) = n.parent {
+                a = ancestors[p].clone();
+                a.insert(p);
+            }
+            ancestors.push(a);
+        }
+        let mut out = BTreeSet::new();
+        for (i, n) in nodes.iter().enumerate() {
+            for &j in &ancestors[i] {
+                if let (Some(ci), Some(cj)) = (n.joint.coordinate(), nodes[j].joint.coordinate()) {
+                    out.insert((ci, cj));
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn pairs_are_each_joint_against_its_ancestors() {
+        for seed in 1..300u64 {
+            let nodes = tree::<24>(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+            let expected = by_ancestor_sets(&nodes);
+            let n = pair_count(&nodes);
+            assert_eq!(n, expected.len(), "seed {seed}");
+            let mut table = vec![Pair { row: 0, col: 0 }; n];
+            assert_eq!(fill_pairs(&nodes, &mut table), n);
+            let got: BTreeSet<(usize, usize)> = table
+                .iter()
+                .map(|p| (p.row as usize, p.col as usize))
+                .collect();
+            assert_eq!(got.len(), n, "seed {seed}: no pair twice");
+            assert_eq!(got, expected, "seed {seed}");
+        }
+    }
+
+    #[test]
+    fn a_wrong_count_is_refused() {
+        // Three revolute joints in a chain: pairs (1, 0), (2, 1), (2, 0).
+        let chain = [
+            Node {
+                parent: None,
+                joint: Joint::Revolute(0),
+            },
+            Node {
+                parent: Some(0),
+                joint: Joint::Revolute(1),
+            },
+            Node {
+                parent: Some(1),
+                joint: Joint::Revolute(2),
+            },
+        ];
+        let table = pairs::<3, 3>(&chain);
+        assert_eq!(table[0], Pair { row: 1, col: 0 });
+        assert!(std::panic::catch_unwind(|| pairs::<3, 2>(&chain)).is_err());
+        assert!(std::panic::catch_unwind(|| pairs::<3, 4>(&chain)).is_err());
     }
 }

@@ -98,9 +98,26 @@ pub fn compact_impl(
             quote!(::filippov::runtime::compact::Node { parent: #parent, joint: #joint })
         })
         .collect();
+    // Each joint against each jointed body between it and the root (the runtime's
+    // `pairs` builds the table; a count that disagrees with it fails to compile).
+    let pair_count: usize = (0..b)
+        .filter(|&i| !matches!(ck.tree.nodes[i].1, Joint::Fixed))
+        .map(|i| {
+            let mut n = 0;
+            let mut j = i;
+            while let Some(pa) = ck.tree.nodes[j].0 {
+                j = pa;
+                n += usize::from(!matches!(ck.tree.nodes[j].1, Joint::Fixed));
+            }
+            n
+        })
+        .sum();
     helpers.extend(quote! {
         /// The tree of the compact kernels: each body's parent and joint.
         const __FILIPPOV_NODES: [::filippov::runtime::compact::Node; #b] = [#(#nodes),*];
+        /// The mass matrix's entries off the diagonal that the tree can make nonzero.
+        const __FILIPPOV_PAIRS: [::filippov::runtime::compact::Pair; #pair_count] =
+            ::filippov::runtime::compact::pairs(&Self::__FILIPPOV_NODES);
     });
 
     // The table: constants when no parameter enters it.
@@ -297,19 +314,22 @@ pub fn compact_impl(
         fn mass_matrix(&self, q: &#vec_t) -> #mat_t {
             let q: [f64; #n] = (*q).into();
             let (bodies, _) = &#table_f64;
+            // Filled in place, zero on entry (symmetric: its rows are its columns).
+            let mut m = <#mat_t>::zeros();
             #[cfg(target_arch = "x86_64")]
             if ::filippov::runtime::numerics::fused::enabled() {
                 // SAFETY: `enabled` holds only where the processor has AVX2 and FMA.
-                let m = unsafe {
-                    ::filippov::runtime::compact::fused::mass_matrix(&Self::__FILIPPOV_NODES, bodies, &q)
+                unsafe {
+                    ::filippov::runtime::compact::fused::mass_matrix(
+                        &Self::__FILIPPOV_NODES, &Self::__FILIPPOV_PAIRS, bodies, &q, &mut m.data.0,
+                    )
                 };
-                // Symmetric: its rows are its columns.
-                return ::filippov::nalgebra::SMatrix::<f64, #n, #n>::from_data(
-                    ::filippov::nalgebra::ArrayStorage(m),
-                );
+                return m;
             }
-            let m = ::filippov::runtime::compact::crba::mass_matrix(&Self::__FILIPPOV_NODES, bodies, &q);
-            ::filippov::nalgebra::SMatrix::<f64, #n, #n>::from_data(::filippov::nalgebra::ArrayStorage(m))
+            ::filippov::runtime::compact::crba::mass_matrix_into(
+                &Self::__FILIPPOV_NODES, &Self::__FILIPPOV_PAIRS, bodies, &q, &mut m.data.0,
+            );
+            m
         }
     };
     let generic_mass = quote! {
@@ -319,7 +339,9 @@ pub fn compact_impl(
         fn mass_matrix_generic<T: ::filippov::runtime::Real>(p: &[T; #np], q: &[T; #n]) -> [[T; #n]; #n] {
             let _ = p;
             let (bodies, _) = #table_generic;
-            ::filippov::runtime::compact::crba::mass_matrix(&Self::__FILIPPOV_NODES, &bodies, q)
+            ::filippov::runtime::compact::crba::mass_matrix(
+                &Self::__FILIPPOV_NODES, &Self::__FILIPPOV_PAIRS, &bodies, q,
+            )
         }
     };
     Compact {

@@ -331,3 +331,43 @@ fn fused_twins_agree_with_the_portable_loops() {
     assert!(worst.0 <= 4.0, "accelerations differ by {} ε κ", worst.0);
     assert!(worst.1 <= 8.0, "mass matrices differ by {} ε", worst.1);
 }
+
+/// The compact forward dynamics' lanes twin (`runtime::compact::fused::forward_dynamics_lanes`,
+/// what the generic kernel calls on `f64x4` where the processor has AVX2 and FMA), called
+/// directly on four random states: each lane is the fused `f64` twin bit for bit.
+#[test]
+#[cfg(target_arch = "x86_64")]
+fn fused_lanes_are_the_fused_scalar_twin_bit_for_bit() {
+    use filippov::runtime::compact::fused;
+    use filippov::runtime::numerics::fused_lanes::F64x4;
+    if !filippov::runtime::numerics::fused::available() {
+        eprintln!("this processor has no AVX2 and FMA: no fused twins to compare");
+        return;
+    }
+    let (bodies, gravity) = &PandaCompact::__FILIPPOV_TABLE;
+    let nodes = &PandaCompact::__FILIPPOV_NODES;
+    let lanes = |x: &[[f64; 7]]| -> [F64x4; 7] {
+        std::array::from_fn(|k| F64x4(std::array::from_fn(|l| x[l][k])))
+    };
+    let mut rng = Rng::new(11);
+    for _ in 0..50 {
+        let (q, v, tau) = four_states(&mut rng);
+        // SAFETY: `available` says the processor has AVX2 and FMA.
+        let out = unsafe {
+            fused::forward_dynamics_lanes(
+                nodes,
+                &PandaCompact::__FILIPPOV_TABLE_LANES,
+                *gravity,
+                &lanes(&q),
+                &lanes(&v),
+                &lanes(&tau),
+            )
+        };
+        for l in 0..4 {
+            let one =
+                unsafe { fused::forward_dynamics(nodes, bodies, *gravity, &q[l], &v[l], &tau[l]) };
+            let lane: [f64; 7] = std::array::from_fn(|k| out[k].0[l]);
+            assert_eq!(lane.map(f64::to_bits), one.map(f64::to_bits), "lane {l}");
+        }
+    }
+}

@@ -476,6 +476,7 @@ mod tests {
         tree!(PandaUrdf, 7);
         tree!(Ur5, 6);
         tree!(ThreeLinkArm, 3);
+        tree!(Oblique36, 36);
         free!(Solo12, 18, 19);
         free!(Humanoid, 35, 36);
     }

@@ -6,12 +6,17 @@
 //! multiply–add, inside functions compiled for AVX2 and FMA, the same loops take one
 //! instruction where they took two, and the joint angles' sines and cosines run four to
 //! a register. The derive calls these twins from a compact scene's `f64` forward
-//! dynamics and mass matrix where the processor has the features (x86-64 only).
+//! dynamics and mass matrix where the processor has the features (x86-64 only), and
+//! [`forward_dynamics_lanes`] from its generic forward dynamics on `f64x4`: the same
+//! loop on four states, in the lanes of [`F64x4`].
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 #[cfg(target_arch = "x86_64")]
 use super::{Body, Node, Pair, aba, crba};
+use crate::numerics::fused_lanes::F64x4;
+#[cfg(target_arch = "x86_64")]
+use crate::numerics::fused_lanes::align_frame;
 use crate::numerics::trig;
 use crate::real::Real;
 
@@ -97,6 +102,75 @@ fn as_fused<const B: usize>(bodies: &[Body<f64>; B]) -> &[Body<Fma>; B] {
     unsafe { &*(bodies as *const [Body<f64>; B]).cast::<[Body<Fma>; B]>() }
 }
 
+/// [`aba::forward_dynamics`] on four states at once, in [`F64x4`] lanes with fused
+/// multiply–adds: each lane is [`forward_dynamics`] of that lane's state, bit for bit.
+/// The generic kernel of a compact scene whose table is constant calls it for `f64x4`
+/// where the processor has AVX2 and FMA.
+///
+/// # Safety
+/// Only on a processor with AVX2 and FMA ([`crate::numerics::fused::available`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+pub unsafe fn forward_dynamics_lanes<const B: usize, const N: usize>(
+    nodes: &[Node; B],
+    bodies: &[Body<F64x4>; B],
+    gravity: [f64; 3],
+    q: &[F64x4; N],
+    v: &[F64x4; N],
+    tau: &[F64x4; N],
+) -> [F64x4; N] {
+    align_frame();
+    aba::forward_dynamics_in(nodes, bodies, gravity.map(F64x4::cst), q, v, tau)
+}
+
+/// The table with each constant in all four lanes, for [`forward_dynamics_lanes`]: the
+/// derive evaluates it in a `const`, so that no call spreads the table again.
+pub const fn lanes_table<const B: usize>(bodies: &[Body<f64>; B]) -> [Body<F64x4>; B] {
+    const fn splat(x: f64) -> F64x4 {
+        F64x4([x; 4])
+    }
+    let zero = splat(0.0);
+    let mut out = [Body {
+        rotation: [[zero; 3]; 3],
+        translation: [zero; 3],
+        mass: zero,
+        first_moment: [zero; 3],
+        inertia: [zero; 6],
+    }; B];
+    let mut i = 0;
+    while i < B {
+        let (b, o) = (&bodies[i], &mut out[i]);
+        let mut k = 0;
+        while k < 3 {
+            let mut c = 0;
+            while c < 3 {
+                o.rotation[k][c] = splat(b.rotation[k][c]);
+                c += 1;
+            }
+            o.translation[k] = splat(b.translation[k]);
+            o.first_moment[k] = splat(b.first_moment[k]);
+            k += 1;
+        }
+        o.mass = splat(b.mass);
+        let mut k = 0;
+        while k < 6 {
+            o.inertia[k] = splat(b.inertia[k]);
+            k += 1;
+        }
+        i += 1;
+    }
+    out
+}
+
+/// An array of `f64` read as [`Fma`]s, without a copy.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn as_fused_array<const N: usize>(x: &[f64; N]) -> &[Fma; N] {
+    // SAFETY: `Fma` is `repr(transparent)` over `f64`, so arrays of them have the same
+    // layout.
+    unsafe { &*(x as *const [f64; N]).cast::<[Fma; N]>() }
+}
+
 /// [`aba::forward_dynamics`] on [`Fma`].
 ///
 /// # Safety
@@ -111,14 +185,13 @@ pub unsafe fn forward_dynamics<const B: usize, const N: usize>(
     v: &[f64; N],
     tau: &[f64; N],
 ) -> [f64; N] {
-    let f = |x: &[f64; N]| x.map(Fma);
     aba::forward_dynamics_in(
         nodes,
         as_fused(bodies),
         gravity.map(Fma),
-        &f(q),
-        &f(v),
-        &f(tau),
+        as_fused_array(q),
+        as_fused_array(v),
+        as_fused_array(tau),
     )
     .map(|x| x.0)
 }
@@ -140,5 +213,5 @@ pub unsafe fn mass_matrix<const B: usize, const N: usize>(
     // SAFETY: `Fma` is `repr(transparent)` over `f64`, so arrays of them have the same
     // layout, and every `f64` is a valid `Fma`.
     let m = unsafe { &mut *(m as *mut [[f64; N]; N]).cast::<[[Fma; N]; N]>() };
-    crba::mass_matrix_in(nodes, pairs, as_fused(bodies), &q.map(Fma), m)
+    crba::mass_matrix_in(nodes, pairs, as_fused(bodies), as_fused_array(q), m)
 }

@@ -134,6 +134,11 @@ pub fn compact_impl(
                 /// The bodies of the compact kernels in their joint-aligned frames, and gravity.
                 #[allow(clippy::all)]
                 const __FILIPPOV_TABLE: #ty = #value;
+                /// The bodies with each constant in four lanes, for the lanes twin of the
+                /// forward dynamics (spread here, at compile time, not in each call).
+                const __FILIPPOV_TABLE_LANES: [::filippov::runtime::compact::Body<
+                    ::filippov::runtime::numerics::fused_lanes::F64x4,
+                >; #b] = ::filippov::runtime::compact::fused::lanes_table(&Self::__FILIPPOV_TABLE.0);
             });
             (
                 quote!(Self::__FILIPPOV_TABLE),
@@ -268,6 +273,34 @@ pub fn compact_impl(
             }
         }
     };
+    // Four states in `f64x4` run the fused lanes twin, where the table is constant (a
+    // table of parameters would be lanes too).
+    let lanes = quote!(::filippov::runtime::numerics::fused_lanes);
+    let lanes_twin = match &constant {
+        Some(_) => quote! {
+            #[cfg(target_arch = "x86_64")]
+            if ::filippov::runtime::numerics::fused::enabled() {
+                // (No `let` chain: the user's crate may be of an edition before 2024.)
+                if let (Some(q4), Some(v4), Some(t4)) =
+                    (#lanes::to_fused(q), #lanes::to_fused(v), #lanes::to_fused(&tau))
+                {
+                    // SAFETY: `enabled` holds only where the processor has AVX2 and FMA.
+                    let r = unsafe {
+                        ::filippov::runtime::compact::fused::forward_dynamics_lanes(
+                            &Self::__FILIPPOV_NODES,
+                            &Self::__FILIPPOV_TABLE_LANES,
+                            Self::__FILIPPOV_TABLE.1,
+                            q4,
+                            v4,
+                            t4,
+                        )
+                    };
+                    return #lanes::from_fused::<[T; #n], _>(r);
+                }
+            }
+        },
+        None => quote!(),
+    };
     let generic = quote! {
         #[doc = " `v̇ = M⁻¹ (τ + τ_p − C v − g)` on any scalar, the parameters `p` in \
                  declaration order, by the compact articulated-body algorithm."]
@@ -280,6 +313,7 @@ pub fn compact_impl(
         ) -> [T; #n] {
             let _ = p;
             let tau = #forces_generic;
+            #lanes_twin
             let (bodies, gravity) = #table_generic;
             ::filippov::runtime::compact::aba::forward_dynamics(
                 &Self::__FILIPPOV_NODES, &bodies, gravity, q, v, &tau,

@@ -192,11 +192,19 @@ pub(crate) fn mass_matrix_in<T: Real, const B: usize, const N: usize>(
             composite[pa] = composite[pa].plus(&moved);
         }
     }
-    // Off the diagonal: one dot product per pair, from the constant table.
-    for pair in pairs {
-        let (ci, cj) = (pair.row as usize, pair.col as usize);
-        let x = subspace[cj].dot(force[ci]);
-        m[ci][cj] = x;
-        m[cj][ci] = x;
+    // Off the diagonal: one dot product per pair, from the constant table. The pairs of
+    // one joint are consecutive, and its force is loaded once for them all: the loop is
+    // bound by its loads.
+    let mut k = 0;
+    while k < pairs.len() {
+        let ci = pairs[k].row as usize;
+        let f = force[ci];
+        while k < pairs.len() && pairs[k].row as usize == ci {
+            let cj = pairs[k].col as usize;
+            let x = subspace[cj].dot(f);
+            m[ci][cj] = x;
+            m[cj][ci] = x;
+            k += 1;
+        }
     }
 }

@@ -137,11 +137,11 @@ pub(crate) fn mass_matrix_in<T: Real, const B: usize, const N: usize>(
     let mut pos = [[zero; 3]; B];
     let mut world_rot = [[[zero; 3]; 3]; B];
     let mut world_pos = [[zero; 3]; B];
-    let mut composite: [Rigid<T>; B] = std::array::from_fn(|i| Rigid {
-        m: bodies[i].mass,
-        h: bodies[i].first_moment,
-        i: bodies[i].inertia,
-    });
+    let mut composite = [Rigid {
+        m: zero,
+        h: [zero; 3],
+        i: [zero; 6],
+    }; B];
     // Per coordinate: its joint's motion subspace and composite force in the world.
     let mut subspace = [Spatial::zero(); N];
     let mut force = [Spatial::zero(); N];
@@ -152,6 +152,11 @@ pub(crate) fn mass_matrix_in<T: Real, const B: usize, const N: usize>(
         let (r, p) = placement(&bodies[i], nodes[i].joint, q, &trig);
         rot[i] = r;
         pos[i] = p;
+        composite[i] = Rigid {
+            m: bodies[i].mass,
+            h: bodies[i].first_moment,
+            i: bodies[i].inertia,
+        };
         let (w, o) = match nodes[i].parent {
             Some(pa) => (
                 mat_mul(&world_rot[pa], &r),

@@ -306,10 +306,11 @@ fn fused_twins_agree_with_the_portable_loops() {
         let tau: [f64; 7] = rng.vector::<7>(5.0).into();
         // SAFETY: `available` says the processor has AVX2 and FMA.
         let pairs = &PandaCompact::__FILIPPOV_PAIRS;
-        let mut m = [[0.0; 7]; 7];
-        let a = unsafe {
-            fused::mass_matrix(nodes, pairs, bodies, &q, &mut m);
-            fused::forward_dynamics(nodes, bodies, *gravity, &q, &v, &tau)
+        let (a, m) = unsafe {
+            (
+                fused::forward_dynamics(nodes, bodies, *gravity, &q, &v, &tau),
+                fused::mass_matrix(nodes, pairs, bodies, &q),
+            )
         };
         let a0 = PandaCompact.forward_dynamics_as::<f64>(&q, &v, &tau);
         let m0 = PandaCompact.mass_matrix_as::<f64>(&q);

@@ -101,38 +101,24 @@ pub fn mass_matrix<T: Real, const B: usize, const N: usize>(
     bodies: &[Body<T>; B],
     q: &[T; N],
 ) -> [[T; N]; N] {
-    let mut m = [[T::cst(0.0); N]; N];
-    mass_matrix_in(nodes, pairs, bodies, q, &mut m);
-    m
+    mass_matrix_in(nodes, pairs, bodies, q, |x| x)
 }
 
-/// [`mass_matrix`] written into `m`, which must be zero on entry: the entries of two
-/// joints on different branches of the tree are not written. (A caller's matrix is
-/// filled in place, without a copy of its `N²` entries.)
-#[inline(never)]
-pub fn mass_matrix_into<T: Real, const B: usize, const N: usize>(
-    nodes: &[Node; B],
-    pairs: &[Pair],
-    bodies: &[Body<T>; B],
-    q: &[T; N],
-    m: &mut [[T; N]; N],
-) {
-    mass_matrix_in(nodes, pairs, bodies, q, m)
-}
-
-/// [`mass_matrix_into`]'s body, inlined into its callers: the fused twins
-/// (`super::fused`) compile it with their target features. (The public functions are
-/// never inlined: on wide duals the unoptimised frame is over a megabyte, and the
-/// Jacobian that calls it in a loop would otherwise carry it in its own.)
+/// [`mass_matrix`]'s body, inlined into its callers: the fused twins (`super::fused`)
+/// compile it with their target features, and the matrix is built where the caller
+/// returns it, without a copy. (The public function is never inlined: on wide duals its
+/// unoptimised frame is over a megabyte, and the Jacobian that calls it in a loop would
+/// otherwise carry it in its own.)
 #[inline(always)]
-pub(crate) fn mass_matrix_in<T: Real, const B: usize, const N: usize>(
+pub(crate) fn mass_matrix_in<T: Real, U: Copy, const B: usize, const N: usize>(
     nodes: &[Node; B],
     pairs: &[Pair],
     bodies: &[Body<T>; B],
     q: &[T; N],
-    m: &mut [[T; N]; N],
-) {
+    out: impl Fn(T) -> U,
+) -> [[U; N]; N] {
     let zero = T::cst(0.0);
+    let mut diagonal = [zero; N];
     let mut rot = [[[zero; 3]; 3]; B];
     let mut pos = [[zero; 3]; B];
     let mut world_rot = [[[zero; 3]; 3]; B];
@@ -188,7 +174,7 @@ pub(crate) fn mass_matrix_in<T: Real, const B: usize, const N: usize>(
             let revolute = matches!(joint, Joint::Revolute(_));
             let f = composite[i].times_joint(revolute);
             if let Some((_, d)) = joint_part(&f, joint) {
-                m[ci][ci] = d;
+                diagonal[ci] = d;
             }
             force[ci] = f.force_to_parent(&world_rot[i], world_pos[i]);
         }
@@ -197,19 +183,37 @@ pub(crate) fn mass_matrix_in<T: Real, const B: usize, const N: usize>(
             composite[pa] = composite[pa].plus(&moved);
         }
     }
-    // Off the diagonal: one dot product per pair, from the constant table. The pairs of
-    // one joint are consecutive, and its force is loaded once for them all: the loop is
-    // bound by its loads.
+    assemble(&diagonal, &subspace, &force, pairs, out)
+}
+
+/// `M` from its diagonal and, off it, one dot product per pair of the constant table.
+/// The pairs of one joint are consecutive, and its force is loaded once for them all:
+/// the loop is bound by its loads. (Its own function, so that the matrix, zeroed and
+/// filled here alone, is built in the caller's place rather than copied there; `out`
+/// gives its entries the caller's scalar, `f64` for the fused twin's.)
+#[inline(always)]
+fn assemble<T: Real, U: Copy, const N: usize>(
+    diagonal: &[T; N],
+    subspace: &[Spatial<T>; N],
+    force: &[Spatial<T>; N],
+    pairs: &[Pair],
+    out: impl Fn(T) -> U,
+) -> [[U; N]; N] {
+    let mut m = [[out(T::cst(0.0)); N]; N];
+    for (k, d) in diagonal.iter().enumerate() {
+        m[k][k] = out(*d);
+    }
     let mut k = 0;
     while k < pairs.len() {
         let ci = pairs[k].row as usize;
         let f = force[ci];
         while k < pairs.len() && pairs[k].row as usize == ci {
             let cj = pairs[k].col as usize;
-            let x = subspace[cj].dot(f);
+            let x = out(subspace[cj].dot(f));
             m[ci][cj] = x;
             m[cj][ci] = x;
             k += 1;
         }
     }
+    m
 }

@@ -196,8 +196,7 @@ pub unsafe fn forward_dynamics<const B: usize, const N: usize>(
     .map(|x| x.0)
 }
 
-/// [`crba::mass_matrix_into`] on [`Fma`]: written into `m`, which must be zero on entry
-/// (the entries of two joints on different branches are not written).
+/// [`crba::mass_matrix`] on [`Fma`].
 ///
 /// # Safety
 /// Only on a processor with AVX2 and FMA ([`crate::numerics::fused::available`]).
@@ -208,10 +207,6 @@ pub unsafe fn mass_matrix<const B: usize, const N: usize>(
     pairs: &[Pair],
     bodies: &[Body<f64>; B],
     q: &[f64; N],
-    m: &mut [[f64; N]; N],
-) {
-    // SAFETY: `Fma` is `repr(transparent)` over `f64`, so arrays of them have the same
-    // layout, and every `f64` is a valid `Fma`.
-    let m = unsafe { &mut *(m as *mut [[f64; N]; N]).cast::<[[Fma; N]; N]>() };
-    crba::mass_matrix_in(nodes, pairs, as_fused(bodies), as_fused_array(q), m)
+) -> [[f64; N]; N] {
+    crba::mass_matrix_in(nodes, pairs, as_fused(bodies), as_fused_array(q), |x| x.0)
 }

@@ -348,22 +348,25 @@ pub fn compact_impl(
         fn mass_matrix(&self, q: &#vec_t) -> #mat_t {
             let q: [f64; #n] = (*q).into();
             let (bodies, _) = &#table_f64;
-            // Filled in place, zero on entry (symmetric: its rows are its columns).
-            let mut m = <#mat_t>::zeros();
+            // Symmetric: its rows are its columns. Each branch returns the kernel's
+            // result directly, so that it is built in the caller's place (one `let` for
+            // both would be a copy of its N² entries).
             #[cfg(target_arch = "x86_64")]
             if ::filippov::runtime::numerics::fused::enabled() {
                 // SAFETY: `enabled` holds only where the processor has AVX2 and FMA.
-                unsafe {
-                    ::filippov::runtime::compact::fused::mass_matrix(
-                        &Self::__FILIPPOV_NODES, &Self::__FILIPPOV_PAIRS, bodies, &q, &mut m.data.0,
-                    )
-                };
-                return m;
+                return ::filippov::nalgebra::SMatrix::<f64, #n, #n>::from_data(
+                    ::filippov::nalgebra::ArrayStorage(unsafe {
+                        ::filippov::runtime::compact::fused::mass_matrix(
+                            &Self::__FILIPPOV_NODES, &Self::__FILIPPOV_PAIRS, bodies, &q,
+                        )
+                    }),
+                );
             }
-            ::filippov::runtime::compact::crba::mass_matrix_into(
-                &Self::__FILIPPOV_NODES, &Self::__FILIPPOV_PAIRS, bodies, &q, &mut m.data.0,
-            );
-            m
+            ::filippov::nalgebra::SMatrix::<f64, #n, #n>::from_data(::filippov::nalgebra::ArrayStorage(
+                ::filippov::runtime::compact::crba::mass_matrix(
+                    &Self::__FILIPPOV_NODES, &Self::__FILIPPOV_PAIRS, bodies, &q,
+                ),
+            ))
         }
     };
     let generic_mass = quote! {

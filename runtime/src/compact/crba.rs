@@ -1,9 +1,10 @@
 //! The mass matrix of a compact tree by the composite-rigid-body algorithm
-//! (Featherstone, *Rigid Body Dynamics Algorithms*, §6.2): composite inertias inwards,
-//! then each joint's force `I_c S` and motion subspace `S` in the world frame, whose
-//! dot products are the entries of `M`.
+//! (Featherstone, *Rigid Body Dynamics Algorithms*, §6.2), in the world frame: each
+//! body's inertia and joint motion subspace `S` are written there once, outwards; the
+//! composite inertias are then plain sums inwards, each joint's force `I_c S` is taken
+//! from its composite, and the entries of `M` are dot products `S_jᵀ I_c S_i`.
 
-use super::algebra::{M3, Spatial, Sym, V3, add, cross, dot, mat_mul, mul, sym_rotate};
+use super::algebra::{M3, Spatial, Sym, V3, add, cross, dot, mat_mul, mul, sym_mul, sym_rotate};
 use super::{Body, Joint, Node, Pair, placement};
 use crate::real::Real;
 
@@ -56,44 +57,31 @@ impl<T: Real> Rigid<T> {
         }
     }
 
-    /// `I S` for a joint along `z`: the force a unit motion of the joint needs.
+    /// `I s` of a motion `s = (ω, v)`: `(Ī ω + h × v, m v − h × ω)` (for a joint along
+    /// `z` in the body's frame, `(Ī e_z, e_z × h)` turning and `(h × e_z, m e_z)`
+    /// sliding).
     #[inline(always)]
-    fn times_joint(&self, revolute: bool) -> Spatial<T> {
-        let z = T::cst(0.0);
-        let h = self.h;
-        if revolute {
-            // (Ī e_z, e_z × h): Ī's third column.
-            Spatial {
-                w: [self.i[4], self.i[5], self.i[2]],
-                l: [-h[1], h[0], z],
-            }
-        } else {
-            // (h × e_z, m e_z).
-            Spatial {
-                w: [h[1], -h[0], z],
-                l: [z, z, self.m],
-            }
+    fn times(&self, s: Spatial<T>) -> Spatial<T> {
+        let (hv, hw) = (cross(self.h, s.l), cross(self.h, s.w));
+        let iw = sym_mul(&self.i, s.w);
+        Spatial {
+            w: add(iw, hv),
+            l: [
+                self.m.mul_add(s.l[0], -hw[0]),
+                self.m.mul_add(s.l[1], -hw[1]),
+                self.m.mul_add(s.l[2], -hw[2]),
+            ],
         }
-    }
-}
-
-/// `Sᵀ f` of a joint along `z`.
-#[inline(always)]
-fn joint_part<T: Real>(f: &Spatial<T>, joint: Joint) -> Option<(usize, T)> {
-    match joint {
-        Joint::Revolute(k) => Some((k, f.w[2])),
-        Joint::Prismatic(k) => Some((k, f.l[2])),
-        Joint::Fixed => None,
     }
 }
 
 /// `M(q)` of the tree `nodes`/`bodies` (parents before children), an array of rows;
 /// `pairs` the tree's [`pairs`](super::pairs).
 ///
-/// Composite inertias are summed inwards in the bodies' own frames; each joint's force
-/// `F = I_c S` and every joint's motion subspace `S` are then written once in the world
-/// frame, so that each entry `M_ij = S_jᵀ F_i` is one independent six-term dot product
-/// instead of a force carried link by link towards the root.
+/// Every body's inertia and joint motion subspace are written once in the world frame,
+/// where a composite inertia is a sum with nothing to transform, and each entry
+/// `M_ij = S_jᵀ F_i` (`F_i = I_c S_i`) is one independent six-term dot product instead of
+/// a force carried link by link towards the root.
 #[inline(never)]
 pub fn mass_matrix<T: Real, const B: usize, const N: usize>(
     nodes: &[Node; B],
@@ -119,8 +107,6 @@ pub(crate) fn mass_matrix_in<T: Real, U: Copy, const B: usize, const N: usize>(
 ) -> [[U; N]; N] {
     let zero = T::cst(0.0);
     let mut diagonal = [zero; N];
-    let mut rot = [[[zero; 3]; 3]; B];
-    let mut pos = [[zero; 3]; B];
     let mut world_rot = [[[zero; 3]; 3]; B];
     let mut world_pos = [[zero; 3]; B];
     let mut composite = [Rigid {
@@ -131,18 +117,12 @@ pub(crate) fn mass_matrix_in<T: Real, U: Copy, const B: usize, const N: usize>(
     // Per coordinate: its joint's motion subspace and composite force in the world.
     let mut subspace = [Spatial::zero(); N];
     let mut force = [Spatial::zero(); N];
-    // Outwards: each body's placement on its parent, its axes and origin in the world,
-    // and its joint's motion subspace there.
+    // Outwards: each body's axes and origin in the world, its joint's motion subspace
+    // there, and its inertia there (about the world's origin). Each body's is
+    // independent of the others' once its frame is known.
     let trig = T::sin_cos_n(*q);
     for i in 0..B {
         let (r, p) = placement(&bodies[i], nodes[i].joint, q, &trig);
-        rot[i] = r;
-        pos[i] = p;
-        composite[i] = Rigid {
-            m: bodies[i].mass,
-            h: bodies[i].first_moment,
-            i: bodies[i].inertia,
-        };
         let (w, o) = match nodes[i].parent {
             Some(pa) => (
                 mat_mul(&world_rot[pa], &r),
@@ -163,24 +143,27 @@ pub(crate) fn mass_matrix_in<T: Real, U: Copy, const B: usize, const N: usize>(
             Joint::Prismatic(k) => subspace[k] = Spatial { w: [zero; 3], l: z },
             Joint::Fixed => {}
         }
+        let own = Rigid {
+            m: bodies[i].mass,
+            h: bodies[i].first_moment,
+            i: bodies[i].inertia,
+        };
+        composite[i] = own.in_parent(&w, o);
     }
-    // Inwards: a body's composite inertia is whole once the loop reaches it (its
-    // children come after it), so its joint's force `I_c S` is taken there — the
-    // diagonal from it in the body's frame, and the force in the world for the rest —
-    // before the composite is carried to the parent.
+    // Inwards: in the world frame a composite is a sum, nothing to transform. A body's
+    // is whole once the loop reaches it (its children come after it), so its joint's
+    // force `I_c S` and the diagonal `Sᵀ I_c S` are taken there, before the composite
+    // is added to the parent's.
     for i in (0..B).rev() {
-        let joint = nodes[i].joint;
-        if let Some(ci) = joint.coordinate() {
-            let revolute = matches!(joint, Joint::Revolute(_));
-            let f = composite[i].times_joint(revolute);
-            if let Some((_, d)) = joint_part(&f, joint) {
-                diagonal[ci] = d;
-            }
-            force[ci] = f.force_to_parent(&world_rot[i], world_pos[i]);
+        let c = composite[i];
+        if let Some(ci) = nodes[i].joint.coordinate() {
+            let s = subspace[ci];
+            let f = c.times(s);
+            diagonal[ci] = s.dot(f);
+            force[ci] = f;
         }
         if let Some(pa) = nodes[i].parent {
-            let moved = composite[i].in_parent(&rot[i], pos[i]);
-            composite[pa] = composite[pa].plus(&moved);
+            composite[pa] = composite[pa].plus(&c);
         }
     }
     assemble(&diagonal, &subspace, &force, pairs, out)

@@ -1,8 +1,9 @@
 //! The spatial algebra of the compact kernels, on any [`Real`]: 3-vectors, 3×3 blocks,
-//! motion and force vectors as pairs of 3-vectors, and articulated inertias as three
-//! 3×3 blocks (Featherstone, *Rigid Body Dynamics Algorithms*, ch. 2 and 7). Every
-//! function is `#[inline(always)]`: the loops of [`aba`](super::aba) and
-//! [`crba`](super::crba) are the only code.
+//! motion and force vectors as pairs of 3-vectors, rigid-body inertias as mass, first
+//! moment and rotational inertia, and articulated inertias as three 3×3 blocks
+//! (Featherstone, *Rigid Body Dynamics Algorithms*, ch. 2 and 7). Every function is
+//! `#[inline(always)]`: the loops of [`aba`](super::aba) and [`crba`](super::crba) are
+//! the only code.
 
 use crate::real::Real;
 
@@ -188,6 +189,73 @@ impl<T: Real> Spatial<T> {
     #[inline(always)]
     pub fn dot(self, o: Self) -> T {
         dot(self.w, o.w) + dot(self.l, o.l)
+    }
+}
+
+/// A rigid body's inertia `(m, h, Ī)`: mass, first moment, rotational inertia about the
+/// frame's origin.
+#[derive(Clone, Copy, Debug)]
+pub struct Rigid<T> {
+    pub m: T,
+    pub h: V3<T>,
+    pub i: Sym<T>,
+}
+
+impl<T: Real> Rigid<T> {
+    /// In the parent's frame: `h' = R h + m p`,
+    /// `Ī' = R Ī Rᵀ − (p aᵀ + a pᵀ − 2 (a·p) 1) − m (p pᵀ − |p|² 1)` with `a = R h`.
+    #[inline(always)]
+    pub fn in_parent(&self, r: &M3<T>, p: V3<T>) -> Self {
+        let a = mul(r, self.h);
+        let ri = sym_rotate(r, &self.i);
+        let ap = dot(a, p);
+        let pp = dot(p, p);
+        let two = T::cst(2.0);
+        let diag = self.m.mul_add(pp, two * ap);
+        let e = |i: usize, j: usize| (self.m * p[i]).mul_add(p[j], a[i].mul_add(p[j], p[i] * a[j]));
+        let m = self.m;
+        Rigid {
+            m,
+            h: [
+                m.mul_add(p[0], a[0]),
+                m.mul_add(p[1], a[1]),
+                m.mul_add(p[2], a[2]),
+            ],
+            i: [
+                ri[0] - e(0, 0) + diag,
+                ri[1] - e(1, 1) + diag,
+                ri[2] - e(2, 2) + diag,
+                ri[3] - e(0, 1),
+                ri[4] - e(0, 2),
+                ri[5] - e(1, 2),
+            ],
+        }
+    }
+
+    #[inline(always)]
+    pub fn plus(&self, o: &Self) -> Self {
+        Rigid {
+            m: self.m + o.m,
+            h: add(self.h, o.h),
+            i: std::array::from_fn(|k| self.i[k] + o.i[k]),
+        }
+    }
+
+    /// `I s` of a motion `s = (ω, v)`: `(Ī ω + h × v, m v − h × ω)` (for a joint along
+    /// `z` in the body's frame, `(Ī e_z, e_z × h)` turning and `(h × e_z, m e_z)`
+    /// sliding).
+    #[inline(always)]
+    pub fn times(&self, s: Spatial<T>) -> Spatial<T> {
+        let (hv, hw) = (cross(self.h, s.l), cross(self.h, s.w));
+        let iw = sym_mul(&self.i, s.w);
+        Spatial {
+            w: add(iw, hv),
+            l: [
+                self.m.mul_add(s.l[0], -hw[0]),
+                self.m.mul_add(s.l[1], -hw[1]),
+                self.m.mul_add(s.l[2], -hw[2]),
+            ],
+        }
     }
 }
 

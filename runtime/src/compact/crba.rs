@@ -4,76 +4,9 @@
 //! composite inertias are then plain sums inwards, each joint's force `I_c S` is taken
 //! from its composite, and the entries of `M` are dot products `S_jᵀ I_c S_i`.
 
-use super::algebra::{M3, Spatial, Sym, V3, add, cross, dot, mat_mul, mul, sym_mul, sym_rotate};
+use super::algebra::{Rigid, Spatial, add, cross, mat_mul, mul};
 use super::{Body, Joint, Node, Pair, placement};
 use crate::real::Real;
-
-/// A rigid body's inertia `(m, h, Ī)`: mass, first moment, rotational inertia about the
-/// frame's origin.
-#[derive(Clone, Copy, Debug)]
-struct Rigid<T> {
-    m: T,
-    h: V3<T>,
-    i: Sym<T>,
-}
-
-impl<T: Real> Rigid<T> {
-    /// In the parent's frame: `h' = R h + m p`,
-    /// `Ī' = R Ī Rᵀ − (p aᵀ + a pᵀ − 2 (a·p) 1) − m (p pᵀ − |p|² 1)` with `a = R h`.
-    #[inline(always)]
-    fn in_parent(&self, r: &M3<T>, p: V3<T>) -> Self {
-        let a = mul(r, self.h);
-        let ri = sym_rotate(r, &self.i);
-        let ap = dot(a, p);
-        let pp = dot(p, p);
-        let two = T::cst(2.0);
-        let diag = self.m.mul_add(pp, two * ap);
-        let e = |i: usize, j: usize| (self.m * p[i]).mul_add(p[j], a[i].mul_add(p[j], p[i] * a[j]));
-        let m = self.m;
-        Rigid {
-            m,
-            h: [
-                m.mul_add(p[0], a[0]),
-                m.mul_add(p[1], a[1]),
-                m.mul_add(p[2], a[2]),
-            ],
-            i: [
-                ri[0] - e(0, 0) + diag,
-                ri[1] - e(1, 1) + diag,
-                ri[2] - e(2, 2) + diag,
-                ri[3] - e(0, 1),
-                ri[4] - e(0, 2),
-                ri[5] - e(1, 2),
-            ],
-        }
-    }
-
-    #[inline(always)]
-    fn plus(&self, o: &Self) -> Self {
-        Rigid {
-            m: self.m + o.m,
-            h: add(self.h, o.h),
-            i: std::array::from_fn(|k| self.i[k] + o.i[k]),
-        }
-    }
-
-    /// `I s` of a motion `s = (ω, v)`: `(Ī ω + h × v, m v − h × ω)` (for a joint along
-    /// `z` in the body's frame, `(Ī e_z, e_z × h)` turning and `(h × e_z, m e_z)`
-    /// sliding).
-    #[inline(always)]
-    fn times(&self, s: Spatial<T>) -> Spatial<T> {
-        let (hv, hw) = (cross(self.h, s.l), cross(self.h, s.w));
-        let iw = sym_mul(&self.i, s.w);
-        Spatial {
-            w: add(iw, hv),
-            l: [
-                self.m.mul_add(s.l[0], -hw[0]),
-                self.m.mul_add(s.l[1], -hw[1]),
-                self.m.mul_add(s.l[2], -hw[2]),
-            ],
-        }
-    }
-}
 
 /// `M(q)` of the tree `nodes`/`bodies` (parents before children), an array of rows;
 /// `pairs` the tree's [`pairs`](super::pairs).

@@ -333,9 +333,10 @@ fn fused_twins_agree_with_the_portable_loops() {
     assert!(worst.1 <= 8.0, "mass matrices differ by {} ε", worst.1);
 }
 
-/// The compact forward dynamics' lanes twin (`runtime::compact::fused::forward_dynamics_lanes`,
-/// what the generic kernel calls on `f64x4` where the processor has AVX2 and FMA), called
-/// directly on four random states: each lane is the fused `f64` twin bit for bit.
+/// The compact kernels' lanes twins (`runtime::compact::fused::forward_dynamics_lanes` and
+/// `mass_matrix_lanes`, what the generic kernels call on `f64x4` where the processor has
+/// AVX2 and FMA), called directly on four random states: each lane is the fused `f64`
+/// twin bit for bit.
 #[test]
 #[cfg(target_arch = "x86_64")]
 fn fused_lanes_are_the_fused_scalar_twin_bit_for_bit() {
@@ -364,11 +365,28 @@ fn fused_lanes_are_the_fused_scalar_twin_bit_for_bit() {
                 &lanes(&tau),
             )
         };
+        let pairs = &PandaCompact::__FILIPPOV_PAIRS;
+        let m4 = unsafe {
+            fused::mass_matrix_lanes(
+                nodes,
+                pairs,
+                &PandaCompact::__FILIPPOV_TABLE_LANES,
+                &lanes(&q),
+            )
+        };
         for l in 0..4 {
             let one =
                 unsafe { fused::forward_dynamics(nodes, bodies, *gravity, &q[l], &v[l], &tau[l]) };
             let lane: [f64; 7] = std::array::from_fn(|k| out[k].0[l]);
             assert_eq!(lane.map(f64::to_bits), one.map(f64::to_bits), "lane {l}");
+            let m1 = unsafe { fused::mass_matrix(nodes, pairs, bodies, &q[l]) };
+            let lane: [[f64; 7]; 7] =
+                std::array::from_fn(|i| std::array::from_fn(|j| m4[i][j].0[l]));
+            assert_eq!(
+                lane.map(|r| r.map(f64::to_bits)),
+                m1.map(|r| r.map(f64::to_bits)),
+                "M, lane {l}"
+            );
         }
     }
 }

@@ -123,8 +123,28 @@ pub unsafe fn forward_dynamics_lanes<const B: usize, const N: usize>(
     aba::forward_dynamics_in(nodes, bodies, gravity.map(F64x4::cst), q, v, tau)
 }
 
+/// [`crba::mass_matrix`] on four states at once, in [`F64x4`] lanes with fused
+/// multiply–adds: each lane is [`mass_matrix`] of that lane's state, bit for bit. The
+/// generic kernel of a compact scene whose table is constant calls it for `f64x4` where
+/// the processor has AVX2 and FMA.
+///
+/// # Safety
+/// Only on a processor with AVX2 and FMA ([`crate::numerics::fused::available`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+pub unsafe fn mass_matrix_lanes<const B: usize, const N: usize>(
+    nodes: &[Node; B],
+    pairs: &[Pair],
+    bodies: &[Body<F64x4>; B],
+    q: &[F64x4; N],
+) -> [[F64x4; N]; N] {
+    align_frame();
+    crba::mass_matrix_in(nodes, pairs, bodies, q, |x| x)
+}
+
 /// The table with each constant in all four lanes, for [`forward_dynamics_lanes`]: the
-/// derive evaluates it in a `const`, so that no call spreads the table again.
+/// derive evaluates it in a `const`, so that no call spreads the table again. (And for
+/// [`mass_matrix_lanes`].)
 pub const fn lanes_table<const B: usize>(bodies: &[Body<f64>; B]) -> [Body<F64x4>; B] {
     const fn splat(x: f64) -> F64x4 {
         F64x4([x; 4])

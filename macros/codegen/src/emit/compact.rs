@@ -369,12 +369,33 @@ pub fn compact_impl(
             ))
         }
     };
+    let mass_lanes_twin = match &constant {
+        Some(_) => quote! {
+            #[cfg(target_arch = "x86_64")]
+            if ::filippov::runtime::numerics::fused::enabled() {
+                if let Some(q4) = #lanes::to_fused(q) {
+                    // SAFETY: `enabled` holds only where the processor has AVX2 and FMA.
+                    let m = unsafe {
+                        ::filippov::runtime::compact::fused::mass_matrix_lanes(
+                            &Self::__FILIPPOV_NODES,
+                            &Self::__FILIPPOV_PAIRS,
+                            &Self::__FILIPPOV_TABLE_LANES,
+                            q4,
+                        )
+                    };
+                    return #lanes::from_fused::<[[T; #n]; #n], _>(m);
+                }
+            }
+        },
+        None => quote!(),
+    };
     let generic_mass = quote! {
         #[doc = " `M(q)` on any scalar, an array of rows, by the compact composite-rigid-body \
                  algorithm."]
         #[inline]
         fn mass_matrix_generic<T: ::filippov::runtime::Real>(p: &[T; #np], q: &[T; #n]) -> [[T; #n]; #n] {
             let _ = p;
+            #mass_lanes_twin
             let (bodies, _) = #table_generic;
             ::filippov::runtime::compact::crba::mass_matrix(
                 &Self::__FILIPPOV_NODES, &Self::__FILIPPOV_PAIRS, &bodies, q,

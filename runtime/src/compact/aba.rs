@@ -42,6 +42,8 @@ pub(crate) fn forward_dynamics_in<T: Real, const B: usize, const N: usize>(
     let mut vel = [Spatial::zero(); B];
     let mut bias_acc = [Spatial::zero(); B];
     let mut bias = [Spatial::zero(); B];
+    // Per body, the articulated inertias its children pass it (its own is added when
+    // the inward loop reaches it).
     let mut art = [Inertia::rigid(zero, [zero; 3], [zero; 6]); B];
     // Per joint: U = I S, 1 / (Sᵀ I S), and τ − Sᵀ p.
     let mut u_col = [Spatial::zero(); B];
@@ -81,7 +83,6 @@ pub(crate) fn forward_dynamics_in<T: Real, const B: usize, const N: usize>(
             l: sub(scale(body.mass, vi.l), cross(h, vi.w)),
         };
         bias[i] = vi.cross_force(momentum);
-        art[i] = Inertia::rigid(body.mass, h, body.inertia);
         vel[i] = vi;
         bias_acc[i] = ci;
         rot[i] = r;
@@ -90,7 +91,8 @@ pub(crate) fn forward_dynamics_in<T: Real, const B: usize, const N: usize>(
 
     // Inwards: articulated inertias and bias forces.
     for i in (0..B).rev() {
-        let ia = art[i];
+        let body = &bodies[i];
+        let ia = art[i].plus_rigid(body.mass, body.first_moment, &body.inertia);
         let (ia_child, pa_child) = match nodes[i].joint {
             Joint::Revolute(k) | Joint::Prismatic(k) => {
                 let revolute = matches!(nodes[i].joint, Joint::Revolute(_));

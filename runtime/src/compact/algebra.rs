@@ -280,6 +280,21 @@ impl<T: Real> Inertia<T> {
         }
     }
 
+    /// `self + ` the rigid body's inertia ([`rigid`](Self::rigid)), its zeros not added.
+    #[inline(always)]
+    pub fn plus_rigid(&self, m: T, h: V3<T>, i: &Sym<T>) -> Self {
+        let (a, b, c) = (&self.a, &self.b, &self.c);
+        Inertia {
+            a: std::array::from_fn(|k| a[k] + i[k]),
+            b: [
+                [b[0][0], b[0][1] - h[2], b[0][2] + h[1]],
+                [b[1][0] + h[2], b[1][1], b[1][2] - h[0]],
+                [b[2][0] - h[1], b[2][1] + h[0], b[2][2]],
+            ],
+            c: [c[0] + m, c[1] + m, c[2] + m, c[3], c[4], c[5]],
+        }
+    }
+
     /// `I x`.
     #[inline(always)]
     pub fn apply(&self, x: Spatial<T>) -> Spatial<T> {

@@ -3,9 +3,10 @@
 //! and bias terms outwards, articulated inertias inwards, accelerations outwards.
 //! Gravity is the world's acceleration `−γ`.
 
-use super::algebra::{Inertia, Spatial, add, cross, scale, sub, sym_mul};
+use super::algebra::{Inertia, M3, Spatial, V3, add, cross, scale, sub, sym_mul};
 use super::{Body, Joint, Node, placement};
 use crate::real::Real;
+use std::mem::MaybeUninit;
 
 /// `v̇ = M(q)⁻¹ (τ − C(q, v) v − g(q))` of the tree `nodes`/`bodies` (parents before
 /// children) under gravity `gravity` (world frame), `N` its coordinates.
@@ -37,11 +38,13 @@ pub(crate) fn forward_dynamics_in<T: Real, const B: usize, const N: usize>(
     tau: &[T; N],
 ) -> [T; N] {
     let zero = T::cst(0.0);
-    let mut rot = [[[zero; 3]; 3]; B];
-    let mut pos = [[zero; 3]; B];
-    let mut vel = [Spatial::zero(); B];
-    let mut bias_acc = [Spatial::zero(); B];
-    let mut bias = [Spatial::zero(); B];
+    // Written for every body by the outward loop, in order, before any read (not
+    // zeroed first).
+    let mut rot = [const { MaybeUninit::<M3<T>>::uninit() }; B];
+    let mut pos = [const { MaybeUninit::<V3<T>>::uninit() }; B];
+    let mut vel = [const { MaybeUninit::<Spatial<T>>::uninit() }; B];
+    let mut bias_acc = [const { MaybeUninit::<Spatial<T>>::uninit() }; B];
+    let mut bias = [const { MaybeUninit::<Spatial<T>>::uninit() }; B];
     // Per body, the articulated inertias its children pass it (its own is added when
     // the inward loop reaches it).
     let mut art = [Inertia::rigid(zero, [zero; 3], [zero; 6]); B];
@@ -57,7 +60,11 @@ pub(crate) fn forward_dynamics_in<T: Real, const B: usize, const N: usize>(
         let (node, body) = (&nodes[i], &bodies[i]);
         let (r, p) = placement(body, node.joint, q, &trig);
         let mut vi = match node.parent {
-            Some(pa) => vel[pa].motion_to_child(&r, p),
+            Some(pa) => {
+                assert!(pa < i, "a parent after its child in the table");
+                // SAFETY: the loop wrote entry `pa < i` in an earlier turn.
+                unsafe { vel[pa].assume_init() }.motion_to_child(&r, p)
+            }
             None => Spatial::zero(),
         };
         let mut ci = Spatial::zero();
@@ -82,12 +89,22 @@ pub(crate) fn forward_dynamics_in<T: Real, const B: usize, const N: usize>(
             w: add(sym_mul(&body.inertia, vi.w), cross(h, vi.l)),
             l: sub(scale(body.mass, vi.l), cross(h, vi.w)),
         };
-        bias[i] = vi.cross_force(momentum);
-        vel[i] = vi;
-        bias_acc[i] = ci;
-        rot[i] = r;
-        pos[i] = p;
+        bias[i].write(vi.cross_force(momentum));
+        vel[i].write(vi);
+        bias_acc[i].write(ci);
+        rot[i].write(r);
+        pos[i].write(p);
     }
+    // SAFETY: the loop above wrote every entry of these arrays, and `MaybeUninit<X>` has
+    // `X`'s layout, arrays of them alike.
+    let (rot, pos, bias_acc, bias) = unsafe {
+        (
+            &*rot.as_ptr().cast::<[M3<T>; B]>(),
+            &*pos.as_ptr().cast::<[V3<T>; B]>(),
+            &*bias_acc.as_ptr().cast::<[Spatial<T>; B]>(),
+            &mut *bias.as_mut_ptr().cast::<[Spatial<T>; B]>(),
+        )
+    };
 
     // Inwards: articulated inertias and bias forces.
     for i in (0..B).rev() {

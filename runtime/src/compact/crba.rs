@@ -4,9 +4,10 @@
 //! composite inertias are then plain sums inwards, each joint's force `I_c S` is taken
 //! from its composite, and the entries of `M` are dot products `S_jᵀ I_c S_i`.
 
-use super::algebra::{Rigid, Spatial, add, cross, mat_mul, mul};
+use super::algebra::{M3, Rigid, Spatial, V3, add, cross, mat_mul, mul};
 use super::{Body, Joint, Node, Pair, placement};
 use crate::real::Real;
+use std::mem::MaybeUninit;
 
 /// `M(q)` of the tree `nodes`/`bodies` (parents before children), an array of rows;
 /// `pairs` the tree's [`pairs`](super::pairs).
@@ -40,13 +41,11 @@ pub(crate) fn mass_matrix_in<T: Real, U: Copy, const B: usize, const N: usize>(
 ) -> [[U; N]; N] {
     let zero = T::cst(0.0);
     let mut diagonal = [zero; N];
-    let mut world_rot = [[[zero; 3]; 3]; B];
-    let mut world_pos = [[zero; 3]; B];
-    let mut composite = [Rigid {
-        m: zero,
-        h: [zero; 3],
-        i: [zero; 6],
-    }; B];
+    // Written for every body by the outward loop, in order, before any read (not
+    // zeroed first).
+    let mut world_rot = [const { MaybeUninit::<M3<T>>::uninit() }; B];
+    let mut world_pos = [const { MaybeUninit::<V3<T>>::uninit() }; B];
+    let mut composite = [const { MaybeUninit::<Rigid<T>>::uninit() }; B];
     // Per coordinate: its joint's motion subspace and composite force in the world.
     let mut subspace = [Spatial::zero(); N];
     let mut force = [Spatial::zero(); N];
@@ -57,14 +56,17 @@ pub(crate) fn mass_matrix_in<T: Real, U: Copy, const B: usize, const N: usize>(
     for i in 0..B {
         let (r, p) = placement(&bodies[i], nodes[i].joint, q, &trig);
         let (w, o) = match nodes[i].parent {
-            Some(pa) => (
-                mat_mul(&world_rot[pa], &r),
-                add(world_pos[pa], mul(&world_rot[pa], p)),
-            ),
+            Some(pa) => {
+                assert!(pa < i, "a parent after its child in the table");
+                // SAFETY: the loop wrote entry `pa < i` in an earlier turn.
+                let (wp, op) =
+                    unsafe { (world_rot[pa].assume_init_ref(), world_pos[pa].assume_init()) };
+                (mat_mul(wp, &r), add(op, mul(wp, p)))
+            }
             None => (r, p),
         };
-        world_rot[i] = w;
-        world_pos[i] = o;
+        world_rot[i].write(w);
+        world_pos[i].write(o);
         let z = [w[0][2], w[1][2], w[2][2]];
         match nodes[i].joint {
             Joint::Revolute(k) => {
@@ -81,8 +83,11 @@ pub(crate) fn mass_matrix_in<T: Real, U: Copy, const B: usize, const N: usize>(
             h: bodies[i].first_moment,
             i: bodies[i].inertia,
         };
-        composite[i] = own.in_parent(&w, o);
+        composite[i].write(own.in_parent(&w, o));
     }
+    // SAFETY: the loop above wrote every entry, and `MaybeUninit<Rigid<T>>` has
+    // `Rigid<T>`'s layout, arrays of them alike.
+    let composite = unsafe { &mut *composite.as_mut_ptr().cast::<[Rigid<T>; B]>() };
     // Inwards: in the world frame a composite is a sum, nothing to transform. A body's
     // is whole once the loop reaches it (its children come after it), so its joint's
     // force `I_c S` and the diagonal `Sᵀ I_c S` are taken there, before the composite

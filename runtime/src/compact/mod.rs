@@ -252,6 +252,49 @@ mod tests {
         }
     }
 
+    /// The loops read a parent's entries only after writing them, which needs parents
+    /// before children: a table that breaks the order is refused with a panic.
+    #[test]
+    fn a_parent_after_its_child_is_refused() {
+        use super::{Body, aba, crba};
+        let body = Body {
+            rotation: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            translation: [0.0, 0.0, 0.5],
+            mass: 1.0,
+            first_moment: [0.0, 0.0, 0.2],
+            inertia: [0.1, 0.1, 0.05, 0.0, 0.0, 0.0],
+        };
+        let bad = [
+            Node {
+                parent: Some(1),
+                joint: Joint::Revolute(0),
+            },
+            Node {
+                parent: None,
+                joint: Joint::Revolute(1),
+            },
+        ];
+        let good = [
+            bad[1],
+            Node {
+                parent: Some(0),
+                ..bad[0]
+            },
+        ];
+        let (q, v, tau): ([f64; 2], [f64; 2], [f64; 2]) = ([0.3, -0.2], [0.1, 0.4], [0.0, 0.0]);
+        let g = [0.0, 0.0, -9.81];
+        assert!(
+            aba::forward_dynamics(&good, &[body; 2], g, &q, &v, &tau)
+                .iter()
+                .all(|x: &f64| x.is_finite())
+        );
+        let fd =
+            std::panic::catch_unwind(|| aba::forward_dynamics(&bad, &[body; 2], g, &q, &v, &tau));
+        assert!(fd.is_err());
+        let m = std::panic::catch_unwind(|| crba::mass_matrix(&bad, &[], &[body; 2], &q));
+        assert!(m.is_err());
+    }
+
     #[test]
     fn a_wrong_count_is_refused() {
         // Three revolute joints in a chain: pairs (1, 0), (2, 1), (2, 0).

@@ -5,8 +5,9 @@
 //! generic kernels on dual parameters and SIMD lanes, on a parametric oblique tree with
 //! springs and dampers and on URDF robots. `tests/random_trees.rs` checks compact trees
 //! against the numeric implementation too. The bit-for-bit comparisons are of the `f64`
-//! kernels' portable path; their fused multiply–add twins (`runtime::compact::fused`)
-//! are compared to rounding.
+//! kernels' portable path, and of the fused twins on lanes against the fused twins on
+//! `f64`; the fused multiply–add twins (`runtime::compact::fused`) are compared with
+//! the portable path to rounding.
 
 // clippy's duplicated_attributes misreads repeated derive-helper attributes.
 #![allow(clippy::duplicated_attributes)]

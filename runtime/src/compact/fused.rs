@@ -7,8 +7,8 @@
 //! instruction where they took two, and the joint angles' sines and cosines run four to
 //! a register. The derive calls these twins from a compact scene's `f64` forward
 //! dynamics and mass matrix where the processor has the features (x86-64 only), and
-//! [`forward_dynamics_lanes`] from its generic forward dynamics on `f64x4`: the same
-//! loop on four states, in the lanes of [`F64x4`].
+//! [`forward_dynamics_lanes`] and [`mass_matrix_lanes`] from its generic ones on
+//! `f64x4`: the same loops on four states, in the lanes of [`F64x4`].
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -142,9 +142,10 @@ pub unsafe fn mass_matrix_lanes<const B: usize, const N: usize>(
     crba::mass_matrix_in(nodes, pairs, bodies, q, |x| x)
 }
 
-/// The table with each constant in all four lanes, for [`forward_dynamics_lanes`]: the
-/// derive evaluates it in a `const`, so that no call spreads the table again. (And for
-/// [`mass_matrix_lanes`].)
+/// The table with each constant in all four lanes, for [`forward_dynamics_lanes`] and
+/// [`mass_matrix_lanes`]: the derive evaluates it in a `const`, so that no call spreads
+/// the table again. ([`Body::map`] does the same at run time; it takes a closure, which
+/// a `const fn` cannot call.)
 pub const fn lanes_table<const B: usize>(bodies: &[Body<f64>; B]) -> [Body<F64x4>; B] {
     const fn splat(x: f64) -> F64x4 {
         F64x4([x; 4])

@@ -13,12 +13,13 @@
 //! of products, whatever the URDF's axis. The link's own frame is a constant rotation
 //! away and never appears at run time.
 //!
-//! - [`algebra`]: 3-vectors, 3×3 blocks and articulated inertias on any [`Real`];
+//! - [`algebra`]: 3-vectors, 3×3 blocks, rigid and articulated inertias on any [`Real`];
 //! - [`aba`]: forward dynamics by the articulated-body algorithm;
-//! - [`crba`]: the mass matrix by the composite-rigid-body algorithm;
+//! - [`crba`]: the mass matrix by the composite-rigid-body algorithm, its entries off the
+//!   diagonal from the tree's constant table of [`pairs`];
 //! - [`jacobian`]: its Jacobian with respect to `(q, v)`, by dual numbers through it;
-//! - [`fused`]: the forward dynamics and mass matrix on `f64` with fused multiply–adds,
-//!   for processors with AVX2 and FMA.
+//! - [`fused`]: the forward dynamics and mass matrix with fused multiply–adds on `f64`
+//!   and on four lanes of states, for processors with AVX2 and FMA.
 
 pub mod aba;
 pub mod algebra;

@@ -98,26 +98,15 @@ pub fn compact_impl(
             quote!(::filippov::runtime::compact::Node { parent: #parent, joint: #joint })
         })
         .collect();
-    // Each joint against each jointed body between it and the root (the runtime's
-    // `pairs` builds the table; a count that disagrees with it fails to compile).
-    let pair_count: usize = (0..b)
-        .filter(|&i| !matches!(ck.tree.nodes[i].1, Joint::Fixed))
-        .map(|i| {
-            let mut n = 0;
-            let mut j = i;
-            while let Some(pa) = ck.tree.nodes[j].0 {
-                j = pa;
-                n += usize::from(!matches!(ck.tree.nodes[j].1, Joint::Fixed));
-            }
-            n
-        })
-        .sum();
     helpers.extend(quote! {
         /// The tree of the compact kernels: each body's parent and joint.
         const __FILIPPOV_NODES: [::filippov::runtime::compact::Node; #b] = [#(#nodes),*];
         /// The mass matrix's entries off the diagonal that the tree can make nonzero.
-        const __FILIPPOV_PAIRS: [::filippov::runtime::compact::Pair; #pair_count] =
-            ::filippov::runtime::compact::pairs(&Self::__FILIPPOV_NODES);
+        /// (The length repeats the tree: an array's length may not name `Self`.)
+        const __FILIPPOV_PAIRS: [
+            ::filippov::runtime::compact::Pair;
+            ::filippov::runtime::compact::pair_count(&[#(#nodes),*])
+        ] = ::filippov::runtime::compact::pairs(&Self::__FILIPPOV_NODES);
     });
 
     // The table: constants when no parameter enters it.
@@ -134,8 +123,9 @@ pub fn compact_impl(
                 /// The bodies of the compact kernels in their joint-aligned frames, and gravity.
                 #[allow(clippy::all)]
                 const __FILIPPOV_TABLE: #ty = #value;
-                /// The bodies with each constant in four lanes, for the lanes twin of the
-                /// forward dynamics (spread here, at compile time, not in each call).
+                /// The bodies with each constant in four lanes, for the lanes twins of the
+                /// forward dynamics and mass matrix (spread here, at compile time, not in
+                /// each call).
                 const __FILIPPOV_TABLE_LANES: [::filippov::runtime::compact::Body<
                     ::filippov::runtime::numerics::fused_lanes::F64x4,
                 >; #b] = ::filippov::runtime::compact::fused::lanes_table(&Self::__FILIPPOV_TABLE.0);

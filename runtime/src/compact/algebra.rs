@@ -149,6 +149,23 @@ impl<T: Real> Spatial<T> {
         }
     }
 
+    /// From its six components, angular first.
+    #[inline(always)]
+    pub fn of(x: [T; 6]) -> Self {
+        Spatial {
+            w: [x[0], x[1], x[2]],
+            l: [x[3], x[4], x[5]],
+        }
+    }
+
+    /// Its six components, angular first.
+    #[inline(always)]
+    pub fn array(self) -> [T; 6] {
+        [
+            self.w[0], self.w[1], self.w[2], self.l[0], self.l[1], self.l[2],
+        ]
+    }
+
     #[inline(always)]
     pub fn plus(self, o: Self) -> Self {
         Spatial {

@@ -1,13 +1,19 @@
 //! The mass matrix of a compact tree by the composite-rigid-body algorithm
 //! (Featherstone, *Rigid Body Dynamics Algorithms*, §6.2), in the world frame: each
-//! body's inertia and joint motion subspace `S` are written there once, outwards; the
-//! composite inertias are then plain sums inwards, each joint's force `I_c S` is taken
-//! from its composite, and the entries of `M` are dot products `S_jᵀ I_c S_i`.
+//! body's inertia and joint motion subspace `S` are written there once; the composite
+//! inertias are then plain sums inwards, each joint's force `I_c S` is taken from its
+//! composite, and the entries of `M` are dot products `S_jᵀ I_c S_i`.
+//!
+//! Only the bodies' frames and the composites' sums need the tree's order. Turning each
+//! body's inertia into the world and each joint's force out of its composite are
+//! independent from body to body, so those loops run over arrays kept component by
+//! component (a structure of arrays, [`Columns`](super::columns::Columns)), which the compiler turns into vector
+//! instructions over several bodies at once.
 
-use super::algebra::{M3, Rigid, Spatial, V3, add, cross, mat_mul, mul};
+use super::algebra::{M3, Rigid, Spatial, add, cross, mat_mul, mul};
+use super::columns::{Columns, get};
 use super::{Body, Joint, Node, Pair, placement};
 use crate::real::Real;
-use std::mem::MaybeUninit;
 
 /// `M(q)` of the tree `nodes`/`bodies` (parents before children), an array of rows;
 /// `pairs` the tree's [`pairs`](super::pairs).
@@ -40,97 +46,129 @@ pub(crate) fn mass_matrix_in<T: Real, U: Copy, const B: usize, const N: usize>(
     out: impl Fn(T) -> U,
 ) -> [[U; N]; N] {
     let zero = T::cst(0.0);
-    let mut diagonal = [zero; N];
-    // Written for every body by the outward loop, in order, before any read (not
+    // Per body, component by component (structure of arrays), so that the loops whose
+    // bodies are independent run over several bodies at once in vector registers.
+    // Each is written for every body by the loop that makes it, before any read (not
     // zeroed first).
-    let mut world_rot = [const { MaybeUninit::<M3<T>>::uninit() }; B];
-    let mut world_pos = [const { MaybeUninit::<V3<T>>::uninit() }; B];
-    let mut composite = [const { MaybeUninit::<Rigid<T>>::uninit() }; B];
-    // Per coordinate: its joint's motion subspace and composite force in the world.
-    let mut subspace = [Spatial::zero(); N];
-    let mut force = [Spatial::zero(); N];
-    // Outwards: each body's axes and origin in the world, its joint's motion subspace
-    // there, and its inertia there (about the world's origin). Each body's is
-    // independent of the others' once its frame is known.
+    let mut rot = Columns::<T, B, 9>::new();
+    let mut pos = Columns::<T, B, 3>::new();
+    let mut subspace = Columns::<T, B, 6>::new();
+    let mut comp = Columns::<T, B, 10>::new();
+    let mut force = Columns::<T, B, 6>::new();
+    let mut dsum = Columns::<T, B, 1>::new();
     let trig = T::sin_cos_n(*q);
+    // Outwards, one body after another: each body's axes and origin in the world, and
+    // its joint's motion subspace there.
     for i in 0..B {
         let (r, p) = placement(&bodies[i], nodes[i].joint, q, &trig);
         let (w, o) = match nodes[i].parent {
             Some(pa) => {
                 assert!(pa < i, "a parent after its child in the table");
                 // SAFETY: the loop wrote entry `pa < i` in an earlier turn.
-                let (wp, op) =
-                    unsafe { (world_rot[pa].assume_init_ref(), world_pos[pa].assume_init()) };
-                (mat_mul(wp, &r), add(op, mul(wp, p)))
+                let (wp, op) = unsafe { (m3(rot.get(pa)), pos.get(pa)) };
+                (mat_mul(&wp, &r), add(op, mul(&wp, p)))
             }
             None => (r, p),
         };
-        world_rot[i].write(w);
-        world_pos[i].write(o);
+        rot.set(i, flat(&w));
+        pos.set(i, o);
         let z = [w[0][2], w[1][2], w[2][2]];
-        match nodes[i].joint {
-            Joint::Revolute(k) => {
-                subspace[k] = Spatial {
-                    w: z,
-                    l: cross(o, z),
-                }
-            }
-            Joint::Prismatic(k) => subspace[k] = Spatial { w: [zero; 3], l: z },
-            Joint::Fixed => {}
-        }
+        let s = match nodes[i].joint {
+            Joint::Revolute(_) => Spatial {
+                w: z,
+                l: cross(o, z),
+            },
+            Joint::Prismatic(_) => Spatial { w: [zero; 3], l: z },
+            Joint::Fixed => Spatial::zero(),
+        };
+        subspace.set(i, s.array());
+    }
+    // SAFETY: the loop above wrote every body's entries.
+    let (rot, pos, subspace) = unsafe { (rot.whole(), pos.whole(), subspace.whole()) };
+    // Every body's inertia in the world (about its origin): independent of the others'.
+    for i in 0..B {
         let own = Rigid {
             m: bodies[i].mass,
             h: bodies[i].first_moment,
             i: bodies[i].inertia,
         };
-        composite[i].write(own.in_parent(&w, o));
+        let c = own.in_parent(&m3(get(rot, i)), get(pos, i));
+        comp.set(
+            i,
+            [
+                c.m, c.h[0], c.h[1], c.h[2], c.i[0], c.i[1], c.i[2], c.i[3], c.i[4], c.i[5],
+            ],
+        );
     }
-    // SAFETY: the loop above wrote every entry, and `MaybeUninit<Rigid<T>>` has
-    // `Rigid<T>`'s layout, arrays of them alike.
-    let composite = unsafe { &mut *composite.as_mut_ptr().cast::<[Rigid<T>; B]>() };
-    // Inwards: in the world frame a composite is a sum, nothing to transform. A body's
-    // is whole once the loop reaches it (its children come after it), so its joint's
-    // force `I_c S` and the diagonal `Sᵀ I_c S` are taken there, before the composite
-    // is added to the parent's.
+    // SAFETY: the loop above wrote every body's entries.
+    let comp = unsafe { comp.whole_mut() };
+    // Inwards: in the world frame a composite is a sum, nothing to transform.
     for i in (0..B).rev() {
-        let c = composite[i];
-        if let Some(ci) = nodes[i].joint.coordinate() {
-            let s = subspace[ci];
-            let f = c.times(s);
-            diagonal[ci] = s.dot(f);
-            force[ci] = f;
-        }
         if let Some(pa) = nodes[i].parent {
-            composite[pa] = composite[pa].plus(&c);
+            for k in 0..10 {
+                comp[k][pa] = comp[k][pa] + comp[k][i];
+            }
         }
     }
-    assemble(&diagonal, &subspace, &force, pairs, out)
+    // Each joint's force `I_c S` and the diagonal `Sᵀ I_c S`: independent again.
+    for i in 0..B {
+        let c = get(comp, i);
+        let c = Rigid {
+            m: c[0],
+            h: [c[1], c[2], c[3]],
+            i: [c[4], c[5], c[6], c[7], c[8], c[9]],
+        };
+        let s = Spatial::of(get(subspace, i));
+        let f = c.times(s);
+        dsum.set(i, [s.dot(f)]);
+        force.set(i, f.array());
+    }
+    // SAFETY: the loop above wrote every body's entries.
+    let (force, diagonal) = unsafe { (force.whole(), &dsum.whole()[0]) };
+    assemble(nodes, diagonal, subspace, force, pairs, out)
 }
 
-/// `M` from its diagonal and, off it, one dot product per pair of the constant table.
-/// The pairs of one joint are consecutive, and its force is loaded once for them all:
-/// the loop is bound by its loads. (Its own function, so that the matrix, zeroed and
-/// filled here alone, is built in the caller's place rather than copied there; `out`
-/// gives its entries the caller's scalar, `f64` for the fused twin's.)
 #[inline(always)]
-fn assemble<T: Real, U: Copy, const N: usize>(
-    diagonal: &[T; N],
-    subspace: &[Spatial<T>; N],
-    force: &[Spatial<T>; N],
+fn m3<T: Copy>(x: [T; 9]) -> M3<T> {
+    [[x[0], x[1], x[2]], [x[3], x[4], x[5]], [x[6], x[7], x[8]]]
+}
+
+#[inline(always)]
+fn flat<T: Copy>(x: &M3<T>) -> [T; 9] {
+    [
+        x[0][0], x[0][1], x[0][2], x[1][0], x[1][1], x[1][2], x[2][0], x[2][1], x[2][2],
+    ]
+}
+
+/// `M` from its diagonal (`diagonal[i]` that of body `i`'s joint) and, off it, one dot
+/// product per pair of the constant table. The pairs of one joint are consecutive, and
+/// its force is loaded once for them all. (Its own function, so that the matrix, zeroed
+/// and filled here alone, is built in the caller's place rather than copied there;
+/// `out` gives its entries the caller's scalar, `f64` for the fused twin's.)
+#[inline(always)]
+fn assemble<T: Real, U: Copy, const B: usize, const N: usize>(
+    nodes: &[Node; B],
+    diagonal: &[T; B],
+    subspace: &[[T; B]; 6],
+    force: &[[T; B]; 6],
     pairs: &[Pair],
     out: impl Fn(T) -> U,
 ) -> [[U; N]; N] {
     let mut m = [[out(T::cst(0.0)); N]; N];
-    for (k, d) in diagonal.iter().enumerate() {
-        m[k][k] = out(*d);
+    for (node, d) in nodes.iter().zip(diagonal) {
+        if let Some(k) = node.joint.coordinate() {
+            m[k][k] = out(*d);
+        }
     }
     let mut k = 0;
     while k < pairs.len() {
         let ci = pairs[k].row as usize;
-        let f = force[ci];
+        let f = get(force, pairs[k].row_body as usize);
         while k < pairs.len() && pairs[k].row as usize == ci {
             let cj = pairs[k].col as usize;
-            let x = out(subspace[cj].dot(f));
+            let s = get(subspace, pairs[k].col_body as usize);
+            // One chain of multiply–adds: fewer instructions than two sums of three.
+            let x = out((1..6).fold(s[0] * f[0], |a, n| s[n].mul_add(f[n], a)));
             m[ci][cj] = x;
             m[cj][ci] = x;
             k += 1;

@@ -14,6 +14,8 @@
 //! away and never appears at run time.
 //!
 //! - [`algebra`]: 3-vectors, 3×3 blocks, rigid and articulated inertias on any [`Real`];
+//! - [`columns`]: values kept per body component by component, for the loops over
+//!   independent bodies that run several at once in vector registers;
 //! - [`aba`]: forward dynamics by the articulated-body algorithm;
 //! - [`crba`]: the mass matrix by the composite-rigid-body algorithm, its entries off the
 //!   diagonal from the tree's constant table of [`pairs`];
@@ -23,6 +25,7 @@
 
 pub mod aba;
 pub mod algebra;
+pub mod columns;
 pub mod crba;
 pub mod fused;
 pub mod jacobian;
@@ -100,11 +103,14 @@ impl Body<f64> {
 
 /// An entry `M[row][col]` off the mass matrix's diagonal that a tree can make nonzero:
 /// `col` the coordinate of a joint between `row`'s joint and the root (and `M[col][row]`
-/// its mirror). The entries of two joints on different branches are zero.
+/// its mirror); `row_body` and `col_body` the bodies the two joints move, where the
+/// kernel keeps their terms. The entries of two joints on different branches are zero.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Pair {
-    pub row: u32,
-    pub col: u32,
+    pub row: u16,
+    pub col: u16,
+    pub row_body: u16,
+    pub col_body: u16,
 }
 
 /// How many [`Pair`]s the tree `nodes` has: over its joints, the jointed bodies between
@@ -118,7 +124,12 @@ pub const fn pair_count<const B: usize>(nodes: &[Node; B]) -> usize {
 /// run without walking the tree. `P` must be [`pair_count`]: evaluated in a `const`, a
 /// wrong `P` is a compile error.
 pub const fn pairs<const B: usize, const P: usize>(nodes: &[Node; B]) -> [Pair; P] {
-    let mut out = [Pair { row: 0, col: 0 }; P];
+    let mut out = [Pair {
+        row: 0,
+        col: 0,
+        row_body: 0,
+        col_body: 0,
+    }; P];
     let n = fill_pairs(nodes, &mut out);
     assert!(n == P, "`P` must be `pair_count(nodes)`");
     out
@@ -135,9 +146,15 @@ const fn fill_pairs<const B: usize>(nodes: &[Node; B], out: &mut [Pair]) -> usiz
                 j = pa;
                 if let Some(cj) = nodes[j].joint.coordinate() {
                     if n < out.len() {
+                        assert!(
+                            B <= u16::MAX as usize,
+                            "a compact tree has at most 65,535 bodies"
+                        );
                         out[n] = Pair {
-                            row: ci as u32,
-                            col: cj as u32,
+                            row: ci as u16,
+                            col: cj as u16,
+                            row_body: i as u16,
+                            col_body: j as u16,
                         };
                     }
                     n += 1;
@@ -242,8 +259,21 @@ mod tests {
             let expected = by_ancestor_sets(&nodes);
             let n = pair_count(&nodes);
             assert_eq!(n, expected.len(), "seed {seed}");
-            let mut table = vec![Pair { row: 0, col: 0 }; n];
+            let mut table = vec![
+                Pair {
+                    row: 0,
+                    col: 0,
+                    row_body: 0,
+                    col_body: 0
+                };
+                n
+            ];
             assert_eq!(fill_pairs(&nodes, &mut table), n);
+            for p in &table {
+                let coordinate = |b: u16| nodes[b as usize].joint.coordinate();
+                assert_eq!(coordinate(p.row_body), Some(p.row as usize), "seed {seed}");
+                assert_eq!(coordinate(p.col_body), Some(p.col as usize), "seed {seed}");
+            }
             let got: BTreeSet<(usize, usize)> = table
                 .iter()
                 .map(|p| (p.row as usize, p.col as usize))
@@ -314,7 +344,15 @@ mod tests {
             },
         ];
         let table = pairs::<3, 3>(&chain);
-        assert_eq!(table[0], Pair { row: 1, col: 0 });
+        assert_eq!(
+            table[0],
+            Pair {
+                row: 1,
+                col: 0,
+                row_body: 1,
+                col_body: 0
+            }
+        );
         assert!(std::panic::catch_unwind(|| pairs::<3, 2>(&chain)).is_err());
         assert!(std::panic::catch_unwind(|| pairs::<3, 4>(&chain)).is_err());
     }

@@ -72,8 +72,11 @@ impl Real for Fma {
     }
     #[inline(always)]
     fn sin_cos_n<const K: usize>(x: [Self; K]) -> ([Self; K], [Self; K]) {
-        let (s, c) = trig::sin_cos_n_fused(x.map(|x| x.0));
-        (s.map(Fma), c.map(Fma))
+        // Read and written in place: mapped between `f64` and `Fma`, the arrays were
+        // copied five times per call.
+        let mut out = ([Fma(0.0); K], [Fma(0.0); K]);
+        trig::sin_cos_slice_fused(f64s(&x), f64s_mut(&mut out.0), f64s_mut(&mut out.1));
+        out
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
@@ -91,6 +94,21 @@ impl Real for Fma {
     fn mul_add(self, a: Self, b: Self) -> Self {
         Fma(self.0.mul_add(a.0, b.0))
     }
+}
+
+/// `Fma`s read as the `f64`s they wrap.
+#[inline(always)]
+fn f64s(x: &[Fma]) -> &[f64] {
+    // SAFETY: `Fma` is a `repr(transparent)` `f64`, so a slice of them is a slice of
+    // `f64` of the same length.
+    unsafe { std::slice::from_raw_parts(x.as_ptr().cast(), x.len()) }
+}
+
+/// [`f64s`], to write.
+#[inline(always)]
+fn f64s_mut(x: &mut [Fma]) -> &mut [f64] {
+    // SAFETY: as in `f64s`; the borrow is unique for as long as the result lives.
+    unsafe { std::slice::from_raw_parts_mut(x.as_mut_ptr().cast(), x.len()) }
 }
 
 /// The table read as [`Fma`]s, without a copy.

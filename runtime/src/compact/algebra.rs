@@ -49,6 +49,26 @@ pub fn cross<T: Real>(a: V3<T>, b: V3<T>) -> V3<T> {
     ]
 }
 
+/// `a · b` of two six-vectors (spatial vectors as their components) as one chain of
+/// multiply–adds: on the fused twins one instruction per term.
+#[inline(always)]
+pub fn dot6<T: Real>(a: [T; 6], b: [T; 6]) -> T {
+    (1..6).fold(a[0] * b[0], |s, n| a[n].mul_add(b[n], s))
+}
+
+/// A 3×3 block from its nine entries, row by row.
+#[inline(always)]
+pub fn m3<T: Copy>(x: [T; 9]) -> M3<T> {
+    [[x[0], x[1], x[2]], [x[3], x[4], x[5]], [x[6], x[7], x[8]]]
+}
+
+/// A 3×3 block's nine entries, row by row.
+#[inline(always)]
+pub fn flat<T: Copy>(x: &M3<T>) -> [T; 9] {
+    let [a, b, c] = *x;
+    [a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2]]
+}
+
 /// `R x`.
 #[inline(always)]
 pub fn mul<T: Real>(r: &M3<T>, x: V3<T>) -> V3<T> {
@@ -219,6 +239,23 @@ pub struct Rigid<T> {
 }
 
 impl<T: Real> Rigid<T> {
+    /// From its ten numbers `[m, h, Ī]`.
+    #[inline(always)]
+    pub fn of(x: [T; 10]) -> Self {
+        Rigid {
+            m: x[0],
+            h: [x[1], x[2], x[3]],
+            i: [x[4], x[5], x[6], x[7], x[8], x[9]],
+        }
+    }
+
+    /// Its ten numbers `[m, h, Ī]`.
+    #[inline(always)]
+    pub fn array(&self) -> [T; 10] {
+        let (h, i) = (self.h, self.i);
+        [self.m, h[0], h[1], h[2], i[0], i[1], i[2], i[3], i[4], i[5]]
+    }
+
     /// In the parent's frame: `h' = R h + m p`,
     /// `Ī' = R Ī Rᵀ − (p aᵀ + a pᵀ − 2 (a·p) 1) − m (p pᵀ − |p|² 1)` with `a = R h`.
     #[inline(always)]

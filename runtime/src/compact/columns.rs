@@ -1,26 +1,19 @@
 //! Values kept per body component by component (a structure of arrays, `[[T; B]; K]`):
 //! the layout in which a loop whose bodies are independent of each other runs over
 //! several bodies at once in vector registers. [`Columns`] is such an array written
-//! body by body before it is read whole, and not zeroed first.
+//! body by body before it is read whole, and not zeroed first. (Crate-private: the
+//! compact kernels' working layout, not an interface.)
 
 use std::mem::MaybeUninit;
 
-/// Body `i`'s `K` values.
+/// Body `i`'s `K` values in a whole array of columns.
 #[inline(always)]
-pub fn get<T: Copy, const B: usize, const K: usize>(a: &[[T; B]; K], i: usize) -> [T; K] {
+pub fn body<T: Copy, const B: usize, const K: usize>(a: &[[T; B]; K], i: usize) -> [T; K] {
     std::array::from_fn(|k| a[k][i])
 }
 
-/// Sets body `i`'s `K` values.
-#[inline(always)]
-pub fn set<T: Copy, const B: usize, const K: usize>(a: &mut [[T; B]; K], i: usize, x: [T; K]) {
-    for (c, x) in a.iter_mut().zip(x) {
-        c[i] = x;
-    }
-}
-
-/// `K` values per body, component by component, each body's written once before the
-/// whole is read.
+/// `K` values per body, component by component, each body's written (at least once)
+/// before the whole is read.
 pub struct Columns<T, const B: usize, const K: usize>([[MaybeUninit<T>; B]; K]);
 
 impl<T: Copy, const B: usize, const K: usize> Columns<T, B, K> {
@@ -30,6 +23,9 @@ impl<T: Copy, const B: usize, const K: usize> Columns<T, B, K> {
     }
 
     /// Writes body `i`'s values.
+    ///
+    /// # Panics
+    /// If `i >= B` (before anything is written).
     #[inline(always)]
     pub fn set(&mut self, i: usize, x: [T; K]) {
         for (c, x) in self.0.iter_mut().zip(x) {
@@ -42,7 +38,7 @@ impl<T: Copy, const B: usize, const K: usize> Columns<T, B, K> {
     /// # Safety
     /// [`set`](Self::set) has written them.
     #[inline(always)]
-    pub unsafe fn get(&self, i: usize) -> [T; K] {
+    pub unsafe fn read(&self, i: usize) -> [T; K] {
         // SAFETY: the caller's promise.
         std::array::from_fn(|k| unsafe { self.0[k][i].assume_init() })
     }
@@ -55,7 +51,7 @@ impl<T: Copy, const B: usize, const K: usize> Columns<T, B, K> {
     pub unsafe fn whole(&self) -> &[[T; B]; K] {
         // SAFETY: every entry is written (the caller's promise), and `MaybeUninit<T>`
         // has `T`'s layout, arrays of them alike.
-        unsafe { &*self.0.as_ptr().cast::<[[T; B]; K]>() }
+        unsafe { &*(&raw const self.0).cast::<[[T; B]; K]>() }
     }
 
     /// [`whole`](Self::whole), to change.
@@ -65,6 +61,6 @@ impl<T: Copy, const B: usize, const K: usize> Columns<T, B, K> {
     #[inline(always)]
     pub unsafe fn whole_mut(&mut self) -> &mut [[T; B]; K] {
         // SAFETY: as in `whole`.
-        unsafe { &mut *self.0.as_mut_ptr().cast::<[[T; B]; K]>() }
+        unsafe { &mut *(&raw mut self.0).cast::<[[T; B]; K]>() }
     }
 }

@@ -7,11 +7,11 @@
 //! Only the bodies' frames and the composites' sums need the tree's order. Turning each
 //! body's inertia into the world and each joint's force out of its composite are
 //! independent from body to body, so those loops run over arrays kept component by
-//! component (a structure of arrays, [`Columns`](super::columns::Columns)), which the compiler turns into vector
-//! instructions over several bodies at once.
+//! component (a structure of arrays, `compact::columns`), which the compiler turns into
+//! vector instructions over several bodies at once.
 
-use super::algebra::{M3, Rigid, Spatial, add, cross, mat_mul, mul};
-use super::columns::{Columns, get};
+use super::algebra::{Rigid, Spatial, add, cross, dot6, flat, m3, mat_mul, mul};
+use super::columns::{Columns, body};
 use super::{Body, Joint, Node, Pair, placement};
 use crate::real::Real;
 
@@ -53,9 +53,9 @@ pub(crate) fn mass_matrix_in<T: Real, U: Copy, const B: usize, const N: usize>(
     let mut rot = Columns::<T, B, 9>::new();
     let mut pos = Columns::<T, B, 3>::new();
     let mut subspace = Columns::<T, B, 6>::new();
-    let mut comp = Columns::<T, B, 10>::new();
+    let mut composite = Columns::<T, B, 10>::new();
     let mut force = Columns::<T, B, 6>::new();
-    let mut dsum = Columns::<T, B, 1>::new();
+    let mut diagonal = Columns::<T, B, 1>::new();
     let trig = T::sin_cos_n(*q);
     // Outwards, one body after another: each body's axes and origin in the world, and
     // its joint's motion subspace there.
@@ -65,7 +65,7 @@ pub(crate) fn mass_matrix_in<T: Real, U: Copy, const B: usize, const N: usize>(
             Some(pa) => {
                 assert!(pa < i, "a parent after its child in the table");
                 // SAFETY: the loop wrote entry `pa < i` in an earlier turn.
-                let (wp, op) = unsafe { (m3(rot.get(pa)), pos.get(pa)) };
+                let (wp, op) = unsafe { (m3(rot.read(pa)), pos.read(pa)) };
                 (mat_mul(&wp, &r), add(op, mul(&wp, p)))
             }
             None => (r, p),
@@ -86,61 +86,38 @@ pub(crate) fn mass_matrix_in<T: Real, U: Copy, const B: usize, const N: usize>(
     // SAFETY: the loop above wrote every body's entries.
     let (rot, pos, subspace) = unsafe { (rot.whole(), pos.whole(), subspace.whole()) };
     // Every body's inertia in the world (about its origin): independent of the others'.
-    for i in 0..B {
+    for (i, b) in bodies.iter().enumerate() {
         let own = Rigid {
-            m: bodies[i].mass,
-            h: bodies[i].first_moment,
-            i: bodies[i].inertia,
+            m: b.mass,
+            h: b.first_moment,
+            i: b.inertia,
         };
-        let c = own.in_parent(&m3(get(rot, i)), get(pos, i));
-        comp.set(
-            i,
-            [
-                c.m, c.h[0], c.h[1], c.h[2], c.i[0], c.i[1], c.i[2], c.i[3], c.i[4], c.i[5],
-            ],
-        );
+        composite.set(i, own.in_parent(&m3(body(rot, i)), body(pos, i)).array());
     }
     // SAFETY: the loop above wrote every body's entries.
-    let comp = unsafe { comp.whole_mut() };
+    let composite = unsafe { composite.whole_mut() };
     // Inwards: in the world frame a composite is a sum, nothing to transform.
     for i in (0..B).rev() {
         if let Some(pa) = nodes[i].parent {
-            for k in 0..10 {
-                comp[k][pa] = comp[k][pa] + comp[k][i];
+            for c in composite.iter_mut() {
+                c[pa] = c[pa] + c[i];
             }
         }
     }
     // Each joint's force `I_c S` and the diagonal `Sᵀ I_c S`: independent again.
     for i in 0..B {
-        let c = get(comp, i);
-        let c = Rigid {
-            m: c[0],
-            h: [c[1], c[2], c[3]],
-            i: [c[4], c[5], c[6], c[7], c[8], c[9]],
-        };
-        let s = Spatial::of(get(subspace, i));
-        let f = c.times(s);
-        dsum.set(i, [s.dot(f)]);
+        let s = Spatial::of(body(subspace, i));
+        let f = Rigid::of(body(composite, i)).times(s);
+        diagonal.set(i, [dot6(s.array(), f.array())]);
         force.set(i, f.array());
     }
     // SAFETY: the loop above wrote every body's entries.
-    let (force, diagonal) = unsafe { (force.whole(), &dsum.whole()[0]) };
+    let (force, diagonal) = unsafe { (force.whole(), &diagonal.whole()[0]) };
     assemble(nodes, diagonal, subspace, force, pairs, out)
 }
 
-#[inline(always)]
-fn m3<T: Copy>(x: [T; 9]) -> M3<T> {
-    [[x[0], x[1], x[2]], [x[3], x[4], x[5]], [x[6], x[7], x[8]]]
-}
-
-#[inline(always)]
-fn flat<T: Copy>(x: &M3<T>) -> [T; 9] {
-    [
-        x[0][0], x[0][1], x[0][2], x[1][0], x[1][1], x[1][2], x[2][0], x[2][1], x[2][2],
-    ]
-}
-
-/// `M` from its diagonal (`diagonal[i]` that of body `i`'s joint) and, off it, one dot
+/// `M` from its diagonal (`diagonal[i]` that of body `i`'s joint, not read for a fixed
+/// joint) and, off it, one dot
 /// product per pair of the constant table. The pairs of one joint are consecutive, and
 /// its force is loaded once for them all. (Its own function, so that the matrix, zeroed
 /// and filled here alone, is built in the caller's place rather than copied there;
@@ -163,12 +140,20 @@ fn assemble<T: Real, U: Copy, const B: usize, const N: usize>(
     let mut k = 0;
     while k < pairs.len() {
         let ci = pairs[k].row as usize;
-        let f = get(force, pairs[k].row_body as usize);
+        debug_assert_eq!(
+            nodes[pairs[k].row_body as usize].joint.coordinate(),
+            Some(ci),
+            "a pair's body and coordinate disagree"
+        );
+        let f = body(force, pairs[k].row_body as usize);
         while k < pairs.len() && pairs[k].row as usize == ci {
             let cj = pairs[k].col as usize;
-            let s = get(subspace, pairs[k].col_body as usize);
-            // One chain of multiply–adds: fewer instructions than two sums of three.
-            let x = out((1..6).fold(s[0] * f[0], |a, n| s[n].mul_add(f[n], a)));
+            debug_assert_eq!(
+                nodes[pairs[k].col_body as usize].joint.coordinate(),
+                Some(cj),
+                "a pair's body and coordinate disagree"
+            );
+            let x = out(dot6(body(subspace, pairs[k].col_body as usize), f));
             m[ci][cj] = x;
             m[cj][ci] = x;
             k += 1;

@@ -72,8 +72,8 @@ impl Real for Fma {
     }
     #[inline(always)]
     fn sin_cos_n<const K: usize>(x: [Self; K]) -> ([Self; K], [Self; K]) {
-        // Read and written in place: mapped between `f64` and `Fma`, the arrays were
-        // copied five times per call.
+        // The angles read and the results written through `f64` views of the arrays,
+        // without mapping them between `f64` and `Fma`.
         let mut out = ([Fma(0.0); K], [Fma(0.0); K]);
         trig::sin_cos_slice_fused(f64s(&x), f64s_mut(&mut out.0), f64s_mut(&mut out.1));
         out

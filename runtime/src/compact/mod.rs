@@ -236,6 +236,20 @@ mod tests {
         })
     }
 
+    /// The tree's pairs in a vector, by `fill_pairs`.
+    fn table<const B: usize>(nodes: &[Node; B]) -> Vec<Pair> {
+        let zero = Pair {
+            row: 0,
+            col: 0,
+            row_body: 0,
+            col_body: 0,
+        };
+        let mut table = vec![zero; pair_count(nodes)];
+        let n = fill_pairs(nodes, &mut table);
+        assert_eq!(n, table.len());
+        table
+    }
+
     /// The pairs from each body's set of ancestors, built outwards (a different route
     /// from `pairs`' walk towards the root).
     fn by_ancestor_sets<const B: usize>(nodes: &[Node; B]) -> BTreeSet<(usize, usize)> {
@@ -266,16 +280,8 @@ mod tests {
             let expected = by_ancestor_sets(&nodes);
             let n = pair_count(&nodes);
             assert_eq!(n, expected.len(), "seed {seed}");
-            let mut table = vec![
-                Pair {
-                    row: 0,
-                    col: 0,
-                    row_body: 0,
-                    col_body: 0
-                };
-                n
-            ];
-            assert_eq!(fill_pairs(&nodes, &mut table), n);
+            let table = table(&nodes);
+            assert_eq!(table.len(), n);
             for p in &table {
                 let coordinate = |b: u16| nodes[b as usize].joint.coordinate();
                 assert_eq!(coordinate(p.row_body), Some(p.row as usize), "seed {seed}");
@@ -297,6 +303,7 @@ mod tests {
     #[test]
     fn mass_matrix_inverts_the_forward_dynamics_on_random_trees() {
         use super::{Body, aba, crba};
+        use crate::geometry::so3::UnitQuat;
         const B: usize = 24;
         const N: usize = 19;
         let mut found = 0;
@@ -318,27 +325,10 @@ mod tests {
                 (s >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
             };
             let bodies: [Body<f64>; B] = std::array::from_fn(|_| {
-                let mut qt = [unit(), unit(), unit(), unit()];
-                let n = qt.iter().map(|x| x * x).sum::<f64>().sqrt();
-                qt.iter_mut().for_each(|x| *x /= n);
-                let [w, x, y, z] = qt;
-                let rotation = [
-                    [
-                        1.0 - 2.0 * (y * y + z * z),
-                        2.0 * (x * y - w * z),
-                        2.0 * (x * z + w * y),
-                    ],
-                    [
-                        2.0 * (x * y + w * z),
-                        1.0 - 2.0 * (x * x + z * z),
-                        2.0 * (y * z - w * x),
-                    ],
-                    [
-                        2.0 * (x * z - w * y),
-                        2.0 * (y * z + w * x),
-                        1.0 - 2.0 * (x * x + y * y),
-                    ],
-                ];
+                let r = UnitQuat::try_new(unit(), unit(), unit(), unit())
+                    .expect("a random quaternion")
+                    .to_matrix();
+                let rotation = std::array::from_fn(|i| std::array::from_fn(|j| r[(i, j)]));
                 let m = 1.25 + 0.75 * unit();
                 let c = [0.2 * unit(), 0.2 * unit(), 0.2 * unit()];
                 let own = [
@@ -362,16 +352,7 @@ mod tests {
                     ],
                 }
             });
-            let mut table = vec![
-                Pair {
-                    row: 0,
-                    col: 0,
-                    row_body: 0,
-                    col_body: 0
-                };
-                pair_count(&nodes)
-            ];
-            fill_pairs(&nodes, &mut table);
+            let table = table(&nodes);
             let q: [f64; N] = std::array::from_fn(|_| 3.0 * unit());
             let m = crba::mass_matrix(&nodes, &table, &bodies, &q);
             let big = m.iter().flatten().fold(0.0f64, |a, x| a.max(x.abs()));
@@ -380,9 +361,9 @@ mod tests {
                 tau[j] = 1.0;
                 let x = aba::forward_dynamics(&nodes, &bodies, [0.0; 3], &q, &[0.0; N], &tau);
                 let size = x.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-                for i in 0..N {
-                    assert_eq!(m[i][j], m[j][i], "seed {seed}: M symmetric");
-                    let mx: f64 = (0..N).map(|k| m[i][k] * x[k]).sum();
+                for (i, row) in m.iter().enumerate() {
+                    assert_eq!(row[j], m[j][i], "seed {seed}: M symmetric");
+                    let mx: f64 = row.iter().zip(&x).map(|(a, b)| a * b).sum();
                     let want = if i == j { 1.0 } else { 0.0 };
                     assert!(
                         (mx - want).abs() <= 1e-11 * big * size * N as f64,

@@ -286,15 +286,6 @@ impl<T: Real> Rigid<T> {
         }
     }
 
-    #[inline(always)]
-    pub fn plus(&self, o: &Self) -> Self {
-        Rigid {
-            m: self.m + o.m,
-            h: add(self.h, o.h),
-            i: std::array::from_fn(|k| self.i[k] + o.i[k]),
-        }
-    }
-
     /// `I s` of a motion `s = (ω, v)`: `(Ī ω + h × v, m v − h × ω)` (for a joint along
     /// `z` in the body's frame, `(Ī e_z, e_z × h)` turning and `(h × e_z, m e_z)`
     /// sliding).

@@ -117,11 +117,11 @@ pub(crate) fn mass_matrix_in<T: Real, U: Copy, const B: usize, const N: usize>(
 }
 
 /// `M` from its diagonal (`diagonal[i]` that of body `i`'s joint, not read for a fixed
-/// joint) and, off it, one dot
-/// product per pair of the constant table. The pairs of one joint are consecutive, and
-/// its force is loaded once for them all. (Its own function, so that the matrix, zeroed
-/// and filled here alone, is built in the caller's place rather than copied there;
-/// `out` gives its entries the caller's scalar, `f64` for the fused twin's.)
+/// joint) and, off it, one dot product per pair of the constant table. The pairs of one
+/// joint are consecutive, and its force is loaded once for them all. (Its own function,
+/// so that the matrix, zeroed and filled here alone, is built in the caller's place
+/// rather than copied there; `out` gives its entries the caller's scalar, `f64` for the
+/// fused twin's.)
 #[inline(always)]
 fn assemble<T: Real, U: Copy, const B: usize, const N: usize>(
     nodes: &[Node; B],
